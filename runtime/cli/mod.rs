@@ -1,0 +1,81 @@
+//! The `magbubble` command line. `main.rs` calls [`main_entry`]; each subcommand lives in its
+//! own file with its clap `Args` struct and a `run(args) -> anyhow::Result<()>`.
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+pub mod accuracy;
+pub mod coefficients;
+pub mod compare;
+pub mod convergence;
+pub mod figure;
+pub mod floquet;
+pub mod modes;
+pub mod run;
+pub mod scene;
+pub mod stability;
+
+#[derive(Debug, Parser)]
+#[command(name = "magbubble", version, about = "Oscillations of an encapsulated magnetic microbubble")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate a scene: writes series.csv and summary.json.
+    Run(run::RunArgs),
+    /// Print the generated Legendre-coupling coefficients of a field.
+    Coefficients(coefficients::CoefficientsArgs),
+    /// Write, explain or check scenes.
+    #[command(subcommand)]
+    Scene(scene::SceneCommand),
+    /// Natural frequencies (and the damped linear spectrum) of a scene.
+    Modes(modes::ModesArgs),
+    /// Floquet stability of the periodic orbit of a driven scene.
+    Floquet(floquet::FloquetArgs),
+    /// Stability diagrams: critical pressure (or current) against frequency.
+    Stability(stability::StabilityArgs),
+    /// Join the shards of a sharded stability sweep.
+    Merge(stability::MergeArgs),
+    /// Time-step convergence of the full model (fig 3).
+    Convergence(convergence::ConvergenceArgs),
+    /// Boundary-layer vs full vorticity model on one scene (fig 4).
+    Compare(compare::CompareArgs),
+    /// Work–precision: what accuracy costs in time.
+    Accuracy(accuracy::AccuracyArgs),
+    /// Reproduce the paper's figures from scenes/figures.
+    Figure(figure::FigureArgs),
+}
+
+/// Parses the arguments, runs the subcommand, prints the whole error chain on failure.
+pub fn main_entry() -> ExitCode {
+    let cli = Cli::parse();
+    match dispatch(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err}");
+            for cause in err.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn dispatch(command: Command) -> anyhow::Result<()> {
+    match command {
+        Command::Run(a) => run::run(&a),
+        Command::Coefficients(a) => coefficients::run(&a),
+        Command::Scene(c) => scene::run(&c),
+        Command::Modes(a) => modes::run(&a),
+        Command::Floquet(a) => floquet::run(&a),
+        Command::Stability(a) => stability::run(&a),
+        Command::Merge(a) => stability::merge(&a),
+        Command::Convergence(a) => convergence::run(&a),
+        Command::Compare(a) => compare::run(&a),
+        Command::Accuracy(a) => accuracy::run(&a),
+        Command::Figure(a) => figure::run(&a),
+    }
+}

@@ -1,0 +1,25 @@
+//! magbubble — radial and non-spherical oscillations of a lipid-coated magnetic microbubble.
+//!
+//! The model is the self-consistent formulation of `shared/FORMULATION.md` (the normative
+//! version of Krishna & Tamadapu, "Nonspherical oscillations of an encapsulated magnetic
+//! microbubble"). Where the paper and FORMULATION.md differ, the code follows FORMULATION.md
+//! and the doc comments cite both.
+//!
+//! The tree mirrors the concepts:
+//! - [`coefficients`]: the Legendre-coupling tables generated at build time from `derivations/`.
+//! - [`scene`]: what a researcher describes (TOML), raw and validated.
+//! - [`field`]: coil and dipole fields → magnetic loads at time t.
+//! - [`model`]: the equations (a [`integrate::OdeSystem`]), assembled with only the effects a scene asks for.
+//! - [`integrate`]: the steppers (fixed RK4, adaptive explicit RK, implicit Radau).
+//! - [`analysis`]: natural frequencies, Floquet, stability diagrams, convergence, accuracy.
+//! - [`output`]: CSV / JSON writers (atomic), [`plot`]: figures.
+
+pub mod analysis;
+pub mod coefficients;
+pub mod field;
+pub mod integrate;
+pub mod model;
+pub mod output;
+pub mod plot;
+pub mod scene;
+pub mod cli;

@@ -1,0 +1,3 @@
+fn main() -> std::process::ExitCode {
+    magbubble::cli::main_entry()
+}

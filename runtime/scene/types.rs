@@ -1,0 +1,235 @@
+//! The validated scene: every value resolved (defaults applied), in SI units, and checked.
+//!
+//! This is the contract between the scene parser (`scene::raw` → `TryFrom`) and the model.
+//! Defaults are those of FORMULATION.md (table "Conventions that the paper leaves open").
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// A fully resolved, validated scene. Construct it with `Scene::try_from(RawScene)`
+/// (see `scene::parse`), never by hand outside tests.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Scene {
+    pub bubble: Bubble,
+    pub shell: Shell,
+    pub gas: Gas,
+    pub liquid: Liquid,
+    /// `None`: p∞ = p0 (no acoustic drive).
+    pub drive: Option<Drive>,
+    /// `None`: no magnetic field (no magnetic term is assembled).
+    pub field: Option<Field>,
+    pub modes: Modes,
+    pub vorticity: VorticityGrid,
+    pub run: Run,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Bubble {
+    /// R0 [m], the reference (natural) radius.
+    pub radius: f64,
+    pub initial: Initial,
+}
+
+/// Initial state. Default: at rest, R = R0, a_k = b_k = 0.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Initial {
+    /// R(0) [m]
+    pub radius: f64,
+    /// Ṙ(0) [m/s]
+    pub velocity: f64,
+    /// a_k(0) [m], keyed by k (even, 2 ≤ k ≤ max_order)
+    pub a: BTreeMap<usize, f64>,
+    /// ȧ_k(0) [m/s]
+    pub a_velocity: BTreeMap<usize, f64>,
+    /// b_k(0) [m]
+    pub b: BTreeMap<usize, f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MembraneForm {
+    /// Divergence of the Cauchy stress (eqs 2.26–2.29), the paper's form. Default.
+    Paper,
+    /// Divergence of the tension εσ/α (FORMULATION §2, audit 9): adds ΔS¹₁, ΔS¹₂ ∝ σ̂0.
+    Tension,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Shell {
+    /// c1 = ε C1 [N/m]
+    pub c1: f64,
+    /// c2 = ε C2 [N/m]
+    pub c2: f64,
+    /// ε [m]
+    pub thickness: f64,
+    /// χ (dimensionless); χ_s = ε χ [m] enters the loads.
+    pub susceptibility: f64,
+    pub form: MembraneForm,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Gas {
+    /// κ: p_in = p_g0 (R0/R)^{3κ}
+    pub polytropic_exponent: f64,
+    /// p_g0 [Pa]; default p0 (FORMULATION audit 7).
+    pub reference_pressure: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Liquid {
+    /// ρ [kg/m³]
+    pub density: f64,
+    /// η [Pa s]
+    pub viscosity: f64,
+    /// p0 [Pa]
+    pub ambient_pressure: f64,
+}
+
+/// p∞(t) = p0 (1 + ε_p cos(2π f t)).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Drive {
+    /// ε_p (dimensionless)
+    pub amplitude: f64,
+    /// f_d [Hz]; ω_d = 2π f_d (FORMULATION: "ω_d = 1 MHz" is a frequency)
+    pub frequency_hz: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Field {
+    Coil(Coil),
+    Dipole(Dipole),
+}
+
+/// Two opposed coils (eqs 2.30–2.33), H_2n = −(I/a) N1 sin θc P¹_2n(cos θc) (2.31).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Coil {
+    /// N1
+    pub turns: f64,
+    /// a [m] (mean distance when it oscillates)
+    pub distance: f64,
+    /// θc [rad]; default acos(sqrt(3/7)), the positive root of P¹_4, so H_4 = 0.
+    pub angle: f64,
+    pub current: Current,
+    /// a(t) = a (1 + β cos 2π f3 t)
+    pub distance_oscillation: Option<Oscillation>,
+    /// Keep the H_4 term of the Boridy expansion (only matters when θc is not a root of P¹_4).
+    pub include_h4: bool,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Current {
+    /// I [A]
+    Static { value: f64 },
+    /// I(t) = I0 cos(2π f2 t)
+    Cosine { amplitude: f64, frequency_hz: f64 },
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Oscillation {
+    /// β (dimensionless, small)
+    pub amplitude: f64,
+    pub frequency_hz: f64,
+}
+
+/// Two dipoles placed symmetrically (eqs 2.34–2.38).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Dipole {
+    /// M [A m²]
+    pub moment: f64,
+    /// z [m]
+    pub distance: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Viscous {
+    /// FORMULATION §4.3: J_k ≈ 0, Ĩ_k ≈ δ_k T_w / R.
+    BoundaryLayer,
+    /// FORMULATION §4.2: the toroidal-vorticity PDE per mode.
+    Vorticity,
+}
+
+/// Which frequency sets the boundary-layer thickness δ_k = min(√(ν/ω), R/(2k)) (audit 13).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BoundaryLayerFrequency {
+    /// ω = ω_d when driven, ω_k otherwise (the default).
+    Auto,
+    /// ω = ω_k (natural frequency of mode k) always.
+    Natural,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Modes {
+    /// Largest even shape mode N; 0 = radial only. Modes are k = 2, 4, …, N.
+    pub max_order: usize,
+    pub viscous: Viscous,
+    pub boundary_layer_frequency: BoundaryLayerFrequency,
+}
+
+impl Modes {
+    /// The simulated shape modes k = 2, 4, …, N.
+    pub fn orders(&self) -> impl Iterator<Item = usize> {
+        (2..=self.max_order).step_by(2)
+    }
+    /// M = N/2, the number of shape modes.
+    pub fn count(&self) -> usize {
+        self.max_order / 2
+    }
+}
+
+/// The radial grid of the vorticity PDE, y = r/R ∈ [1, Y_max] (FORMULATION §4.2).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VorticityGrid {
+    pub y_max: f64,
+    /// Number of grid points including both ends.
+    pub points: usize,
+    /// Ratio of the last to the first spacing (1 = uniform; > 1 clusters at the wall).
+    pub stretching: f64,
+    /// `staggered` (the paper's §5 scheme) or `monolithic` (method of lines, implicit).
+    pub scheme: VorticityScheme,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VorticityScheme {
+    Staggered,
+    Monolithic,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Classical fixed-step RK4 (the paper's).
+    Rk4,
+    /// Dormand–Prince 5(4), adaptive.
+    Dopri5,
+    /// Dormand–Prince 8(5,3), adaptive.
+    Dop853,
+    /// Radau IIA, 3 stages, order 5, implicit (stiff).
+    Radau5,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IntegratorSettings {
+    pub method: Method,
+    pub rtol: f64,
+    pub atol: f64,
+    /// Fixed step Δt [s] for RK4 (and the staggered vorticity scheme); initial step hint otherwise.
+    pub dt: f64,
+    /// Hard cap on the number of steps (a run that needs more fails with a clear reason).
+    pub max_steps: u64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Run {
+    /// [s]
+    pub duration: f64,
+    /// Output sampling interval [s].
+    pub sample_interval: f64,
+    pub integrator: IntegratorSettings,
+    /// A run is classified `blow_up` when max_k |a_k|/R0 or |b_k|/R0 exceeds this (or R leaves (0, ∞)).
+    pub blow_up_threshold: f64,
+}
