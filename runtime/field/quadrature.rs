@@ -29,7 +29,7 @@ use super::appendix::{CouplingId, PaperField};
 ///
 /// Chosen from a scan (see `tests/coefficients_crosscheck.rs`): the truncation error
 /// ~ (h k²/R)⁶ and the round-off ~ 1e-16 R/(h k²) balance near 1e-3.
-pub const STEP: f64 = 2e-3;
+pub const STEP: f64 = 1e-2;
 
 /// Physical values the check is evaluated at. The results, in units of ℋ, must not depend on
 /// them; a test varies them.
@@ -237,7 +237,9 @@ pub fn linear_response(set: &Setting, field: PaperField, k: usize, amp_b: bool, 
     let jmax = k + 4;
     let nodes = gauss_legendre(node_count(k));
     let kf = k as f64;
-    let h = step * set.r / (kf * (kf + 1.0) + 2.0);
+    // The response varies on the scale a ~ R/k (a enters through r_Θ = a P^1_k) and
+    // b ~ R/k² (b enters through θ_Θ = 1 + (b/R) dP^1_k/dΘ).
+    let h = if amp_b { step * set.r / (kf * (kf + 1.0) + 2.0) } else { step * set.r / (kf + 1.0) };
     let at = |eps: f64| {
         let pert = if amp_b { Perturbation { k, a: 0.0, b: eps } } else { Perturbation { k, a: eps, b: 0.0 } };
         project(set, field, pert, jmax, &nodes)
