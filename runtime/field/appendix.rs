@@ -75,6 +75,34 @@ pub fn coupling_id(name: &str) -> Option<CouplingId> {
     COUPLINGS.iter().copied().find(|c| c.name == name)
 }
 
+/// Relative tolerance (absolute below magnitude 1) beyond which a derived value "differs" from
+/// the printed one. Exact tables against exact formulas differ only by f64 rounding (~1e-15).
+pub const DIFFERS_TOL: f64 = 1e-9;
+
+/// Target modes k ≤ `kmax` at which a derived coupling is compared with the printed formula:
+/// F5, F6 and their tangential partners from k = 4 (eq. 2.40 sums them from k = 4), the others
+/// from k = 2 (the modes of the model; issue 2's cross-check range).
+pub fn printed_range(c: &CouplingId, kmax: usize) -> std::ops::RangeInclusive<usize> {
+    if c.offset < 0 {
+        4..=kmax
+    } else {
+        2..=kmax
+    }
+}
+
+/// Whether `derived` (target k → value in units of ℋ, `None` where it does not exist) differs
+/// from the printed formula at some k of [`printed_range`]. A k where either side is absent or
+/// the printed formula is not finite is skipped.
+pub fn differs(field: PaperField, c: &CouplingId, kmax: usize, derived: impl Fn(usize) -> Option<f64>) -> bool {
+    printed_range(c, kmax).any(|k| {
+        let printed = coupling(field, c.name, k as f64).filter(|v| v.is_finite());
+        match (derived(k), printed) {
+            (Some(d), Some(p)) => (d - p).abs() > DIFFERS_TOL * p.abs().max(1.0),
+            _ => false,
+        }
+    })
+}
+
 /// Zero-order terms as printed, in units of ℋR (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ZeroOrder {
