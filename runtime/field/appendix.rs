@@ -79,15 +79,16 @@ pub fn coupling_id(name: &str) -> Option<CouplingId> {
 /// the printed one. Exact tables against exact formulas differ only by f64 rounding (~1e-15).
 pub const DIFFERS_TOL: f64 = 1e-9;
 
-/// Target modes k ≤ `kmax` at which a derived coupling is compared with the printed formula:
-/// F5, F6 and their tangential partners from k = 4 (eq. 2.40 sums them from k = 4), the others
-/// from k = 2 (the modes of the model; issue 2's cross-check range).
+/// Target modes k ≤ `kmax` at which the paper prints coupling `c` (the sums of eq. 2.40): F3, F4
+/// (and F^1_3, F^1_4) from k = 0, F1, F2 (and partners) from k = 2, F5, F6 (and partners) from
+/// k = 4. The derived and printed values are compared on this range.
 pub fn printed_range(c: &CouplingId, kmax: usize) -> std::ops::RangeInclusive<usize> {
-    if c.offset < 0 {
-        4..=kmax
-    } else {
-        2..=kmax
-    }
+    let first = match c.offset {
+        2 => 0,
+        0 => 2,
+        _ => 4,
+    };
+    first..=kmax
 }
 
 /// Whether `derived` (target k → value in units of ℋ, `None` where it does not exist) differs
