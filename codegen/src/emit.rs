@@ -46,7 +46,10 @@ pub fn monomial_text(c: &Rat, m: &Mono) -> String {
 fn monomial(c: &Rat, m: &Mono) -> TokenStream {
     let coeff = f(rat_f64(c));
     let exact = rat_text(c);
-    let powers = m.0.iter().map(|(s, p)| quote!((#s, #p)));
+    let powers = m.0.iter().map(|(s, p)| {
+        let p = Literal::i32_unsuffixed(*p);
+        quote!((#s, #p))
+    });
     let text = monomial_text(c, m);
     quote!(Monomial { coeff: #coeff, coeff_exact: #exact, powers: &[#(#powers),*], text: #text })
 }
@@ -61,7 +64,7 @@ fn coupling(c: &CouplingData) -> TokenStream {
         Amp::A => quote!(Amp::A),
         Amp::B => quote!(Amp::B),
     };
-    let offset = c.offset;
+    let offset = Literal::i32_unsuffixed(c.offset);
     let values = c.values.iter().map(|v| match v {
         Some(v) => {
             let x = f(rat_f64(v));
@@ -87,11 +90,12 @@ fn coupling(c: &CouplingData) -> TokenStream {
 
 fn component(c: &ComponentData) -> TokenStream {
     let pre = monomial(&c.prefactor.0, &c.prefactor.1);
-    let m = c.r_power;
+    let m = Literal::i32_unsuffixed(c.r_power);
     let pairs = |v: &[(usize, Rat)]| -> Vec<TokenStream> {
         v.iter()
             .map(|(j, x)| {
                 let x = f(rat_f64(x));
+                let j = Literal::usize_unsuffixed(*j);
                 quote!((#j, #x))
             })
             .collect()
@@ -198,7 +202,7 @@ pub fn header(d: &Derived) -> String {
 
 /// The Rust source of the tables (see docs/architecture.md).
 pub fn rust(d: &Derived) -> Result<String, CodegenError> {
-    let kmax = d.kmax;
+    let kmax = Literal::usize_unsuffixed(d.kmax);
     let fields = d.fields.iter().map(field);
     let membrane = membrane(&d.membrane)?;
     let tokens = quote! {

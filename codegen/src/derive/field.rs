@@ -207,7 +207,11 @@ fn component(
         let name = coupling_name(load, amp, offset, paper_names);
         couplings.push(CouplingData { name, load, amp, offset, closed: fit_rational(&points), values });
     }
-    couplings.sort_by_key(|c| (c.load, paper_index(c.amp, c.offset), c.offset, c.amp));
+    if paper_names {
+        couplings.sort_by_key(|c| (c.load, paper_index(c.amp, c.offset)));
+    } else {
+        couplings.sort_by_key(|c| (c.load, c.offset, c.amp));
+    }
     Ok(ComponentData {
         amplitudes: amp_mono,
         prefactor: (unit.clone(), mono),
