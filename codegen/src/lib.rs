@@ -1,1 +1,109 @@
-pub fn placeholder() {}
+//! codegen — derives magbubble's coefficient tables from the physics specs in `derivations/`.
+//!
+//! Pipeline (one module per step): `spec::parse` (syn → AST, errors with file:line:column) →
+//! `spec::validate` → `derive` (an exact interpreter over first-order dual numbers of
+//! BigRational Laurent polynomials; the engine computes the force, the rotation, the area
+//! factor, the linearization and the Galerkin projection) → `emit` (quote + prettyplease).
+//! Contract of the output: `docs/architecture.md`.
+
+pub mod algebra;
+pub mod derive;
+pub mod emit;
+pub mod error;
+pub mod spec;
+
+pub use error::CodegenError;
+
+use derive::field::FieldData;
+use derive::membrane::Membrane;
+use spec::validate::{validate, SpecKind};
+use spec::Spec;
+use std::path::{Path, PathBuf};
+
+/// Default largest mode of the tables.
+pub const DEFAULT_KMAX: usize = 64;
+
+/// What to generate.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// Directory of the specs: `kinematics.rs`, `membrane.rs`, and one `<field>.rs` per field table.
+    pub derivations: PathBuf,
+    /// Directory name shown in messages and in the header (e.g. `derivations`).
+    pub display: String,
+    /// Largest target mode k of the tables.
+    pub kmax: usize,
+}
+
+impl Config {
+    pub fn new(derivations: impl Into<PathBuf>, display: impl Into<String>, kmax: usize) -> Config {
+        Config { derivations: derivations.into(), display: display.into(), kmax }
+    }
+}
+
+/// The generated sources.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Generated {
+    /// `coefficients.rs` (the runtime `include!`s it).
+    pub rust: String,
+    /// A readable table of every coefficient.
+    pub markdown: String,
+}
+
+/// Everything derived, exact (before emission).
+#[derive(Clone, Debug)]
+pub struct Derived {
+    pub kmax: usize,
+    /// The spec paths, in the order read.
+    pub specs: Vec<String>,
+    pub fields: Vec<FieldData>,
+    pub membrane: Membrane,
+}
+
+/// Read and parse one spec file.
+pub fn read_spec(cfg: &Config, file: &str) -> Result<Spec, CodegenError> {
+    let path = cfg.derivations.join(file);
+    let text = std::fs::read_to_string(&path).map_err(|e| CodegenError::Io { path: path.display().to_string(), source: e })?;
+    spec::parse::parse_spec(&format!("{}/{file}", cfg.display), &text)
+}
+
+/// The field spec files of a derivations directory (every `*.rs` but kinematics and membrane), sorted.
+pub fn field_files(dir: &Path) -> Result<Vec<String>, CodegenError> {
+    let rd = std::fs::read_dir(dir).map_err(|e| CodegenError::Io { path: dir.display().to_string(), source: e })?;
+    let mut v: Vec<String> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".rs") && n != "kinematics.rs" && n != "membrane.rs")
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+/// Parse, validate and derive everything (exact).
+pub fn derive(cfg: &Config) -> Result<Derived, CodegenError> {
+    let kin_spec = read_spec(cfg, "kinematics.rs")?;
+    validate(&kin_spec, SpecKind::Kinematics, &[])?;
+    let mem_spec = read_spec(cfg, "membrane.rs")?;
+    let kin_names: Vec<String> = kin_spec.lets.iter().map(|l| l.name.clone()).collect();
+    validate(&mem_spec, SpecKind::Membrane, &kin_names)?;
+    let mut field_specs = Vec::new();
+    for file in field_files(&cfg.derivations)? {
+        let s = read_spec(cfg, &file)?;
+        validate(&s, SpecKind::Field, &[])?;
+        field_specs.push((file.trim_end_matches(".rs").to_string(), s));
+    }
+    let kin = derive::eval::eval_spec(&kin_spec, derive::eval::kinematic_env())?;
+    let mut specs = vec![kin_spec.path.clone(), mem_spec.path.clone()];
+    let mut fields = Vec::new();
+    for (name, s) in &field_specs {
+        specs.push(s.path.clone());
+        fields.push(derive::field::derive_field(name, &kin_spec, &kin, s, cfg.kmax)?);
+    }
+    let membrane = derive::membrane::derive_membrane(&mem_spec, &kin)?;
+    Ok(Derived { kmax: cfg.kmax, specs, fields, membrane })
+}
+
+/// Generate the Rust tables and the markdown review table.
+pub fn generate(cfg: &Config) -> Result<Generated, CodegenError> {
+    let d = derive(cfg)?;
+    Ok(Generated { rust: emit::rust(&d)?, markdown: emit::markdown(&d) })
+}

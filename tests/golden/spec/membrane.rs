@@ -1,0 +1,15 @@
+// Fixture: a neo-Hookean membrane (C2 = 0 form of eq 2.24), same curvature/divergence as derivations/membrane.rs.
+let symbols = [C1];
+let W = C1 * (lambda1.powi(2) + lambda2.powi(2) + (lambda1 * lambda2).powi(-2) - 3);
+let sigma1 = lambda1 * diff(W, lambda1);
+let sigma2 = lambda2 * diff(W, lambda2);
+let acc_r = d(g1_r, Theta) - g1_theta * d(theta, Theta);
+let acc_theta = d(g1_theta, Theta) + g1_r * d(theta, Theta);
+let kappa1 = (g1_r * acc_theta - g1_theta * acc_r) / g1_norm.powi(3);
+let rho = r * sin(theta);
+let kappa2 = (n_r * sin(theta) + n_theta * cos(theta)) / rho;
+let alpha = lambda1 * lambda2;
+let paper_n = (kappa1 * sigma1 + kappa2 * sigma2) / alpha;
+let paper_t = -(d(sigma1, Theta) / g1_norm + d(rho, Theta) / g1_norm / rho * (sigma1 - sigma2)) / alpha;
+let tension_n = paper_n;
+let tension_t = -(d(sigma1 / alpha, Theta) / g1_norm + d(rho, Theta) / g1_norm / rho * (sigma1 - sigma2) / alpha);
