@@ -17,7 +17,8 @@
 //!    (norm 2j(j+1)/(2j+1)). With `k + 16` nodes the linear integrands (polynomials of degree
 //!    ≤ 2k + 5) are integrated exactly.
 //! 5. The linear part: a 6-point central difference in the amplitude (error O(h⁶)), with
-//!    h = [`STEP`]/(k(k+1)+2)·R, since the response varies on the scale of a·k²/R.
+//!    h = [`STEP`]·R/(k+1) for a_k and [`STEP`]·R/(k(k+1)+2) for b_k: a_k enters through
+//!    r_Θ = a_k P^1_k (scale R/k), b_k through θ_Θ = 1 + (b_k/R) dP^1_k/dΘ (scale R/k²).
 //!
 //! Results are in units of the prefactor ℋ of docs/architecture.md: coil
 //! ℋ = μ0χ_sH2²R0²/(4a²R²), dipole ℋ = −36μ0χ_sM²R0²/(z⁸R²) (the appendix's, dimension
