@@ -91,3 +91,21 @@ fn a_non_invertible_division_is_located() {
     let e = error_for(&field("let h_r = G / (r + G);\nlet h_theta = G;\n"));
     assert!(e.starts_with("derivations/bad.rs:3:11: cannot divide by it"), "{e}");
 }
+
+#[test]
+fn missing_final_semicolon_points_at_the_end_of_the_file() {
+    let e = error_for(&format!("{HEAD}let h_r = G;\nlet h_theta = G;\nlet susceptibility = mu0 * chi_s;\nlet unit = 1"));
+    assert!(e.starts_with("derivations/bad.rs:6:13: expected"), "{e}");
+}
+
+#[test]
+fn unclosed_parenthesis_is_a_syntax_error() {
+    let e = error_for(&field("let h_r = (G * r;\nlet h_theta = G;\n"));
+    assert!(e.starts_with("derivations/bad.rs:3:"), "{e}");
+}
+
+#[test]
+fn first_line_columns_are_exact() {
+    let e = error_for("let symbols = [mu0, chi_s, Q2 + 1];\n");
+    assert!(e.starts_with("derivations/bad.rs:1:28: expected a symbol name"), "{e}");
+}

@@ -6,9 +6,12 @@ use crate::error::CodegenError;
 use num_bigint::BigInt;
 use syn::spanned::Spanned;
 
+/// 1-based position of a span of the wrapped text `{<spec>\n}` (see [`parse_spec`]): on line 1
+/// the added `{` shifts columns by one.
 fn pos(span: proc_macro2::Span) -> Pos {
     let s = span.start();
-    Pos { line: s.line, column: s.column + 1 }
+    let column = if s.line == 1 { s.column } else { s.column + 1 };
+    Pos { line: s.line, column: column.max(1) }
 }
 
 pub(crate) fn err(path: &str, p: Pos, message: impl Into<String>) -> CodegenError {
@@ -17,10 +20,23 @@ pub(crate) fn err(path: &str, p: Pos, message: impl Into<String>) -> CodegenErro
 
 /// Parse the text of a spec file; `path` is used in messages.
 pub fn parse_spec(path: &str, text: &str) -> Result<Spec, CodegenError> {
-    use syn::parse::Parser;
-    let stmts = syn::Block::parse_within
-        .parse_str(text)
-        .map_err(|e| err(path, pos(e.span()), format!("expected `let NAME = expression;`: {e}")))?;
+    if let Err(e) = text.parse::<proc_macro2::TokenStream>() {
+        let s = e.span().start();
+        let p = Pos { line: s.line.max(1), column: s.column + 1 };
+        return Err(err(path, p, "expected balanced `( )`, `[ ]`, `{ }` and valid tokens (unclosed or unexpected delimiter)"));
+    }
+    // Wrapped in braces so that an error at the end of the input points at the end of the file.
+    let wrapped = format!("{{{text}\n}}");
+    let block: syn::Block = syn::parse_str(&wrapped).map_err(|e| {
+        let mut p = pos(e.span());
+        let lines: Vec<&str> = text.lines().collect();
+        if p.line > lines.len() {
+            let last = lines.iter().rposition(|l| !l.trim().is_empty()).unwrap_or(0);
+            p = Pos { line: last + 1, column: lines.get(last).map_or(0, |l| l.chars().count()) + 1 };
+        }
+        err(path, p, format!("expected `let NAME = expression;`: {e}"))
+    })?;
+    let stmts = block.stmts;
     let mut lets = Vec::new();
     for st in stmts {
         let syn::Stmt::Local(local) = &st else {
