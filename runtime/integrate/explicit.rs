@@ -219,6 +219,8 @@ pub struct ExplicitRk {
     /// Dopri5 dense-output coefficients of the last step (r1..r5 of `contd5`).
     rcont: Vec<Vec<f64>>,
     err_old: f64,
+    /// Fixed step (no error control) when set; see [`ExplicitRk::with_fixed_step`].
+    fixed: Option<f64>,
     stats: Stats,
 }
 
@@ -261,6 +263,7 @@ impl ExplicitRk {
             k,
             rcont: vec![vec![0.0; n]; nd],
             err_old: 1e-4,
+            fixed: None,
             stats,
             tab,
         })
@@ -269,6 +272,14 @@ impl ExplicitRk {
     /// Step size proposed for the next attempt.
     pub fn h(&self) -> f64 {
         self.h
+    }
+
+    /// Turns off error control: every step has size `h` (the last one shortened to land on
+    /// `t_stop`). For convergence-order measurements and step-size ladders.
+    pub fn with_fixed_step(mut self, h: f64) -> Self {
+        self.fixed = Some(h);
+        self.h = h;
+        self
     }
 
     /// Computes all stages but the first, y_new and the scaled error norm for step h.
@@ -375,6 +386,9 @@ impl super::Stepper for ExplicitRk {
             }
             let err = self.attempt(sys, h);
             let finite = err.is_finite() && first_non_finite(&self.y_new).is_none();
+            if !finite && self.fixed.is_some() {
+                return Err(IntegrateError::NonFinite { t: self.t, component: self.non_finite_component() });
+            }
             if !finite {
                 non_finite_run += 1;
                 self.stats.rejected += 1;
@@ -386,10 +400,10 @@ impl super::Stepper for ExplicitRk {
                 continue;
             }
             let fac11 = err.powf(expo1);
-            if err <= 1.0 {
+            if err <= 1.0 || self.fixed.is_some() {
                 // PI controller (dopri5.f): fac = fac11 / err_old^β, bounded.
                 let fac = (fac11 / self.err_old.powf(BETA) / SAFE).clamp(1.0 / ratio_max, 1.0 / ratio_min);
-                let mut h_new = h / fac;
+                let mut h_new = self.fixed.unwrap_or(h / fac);
                 if rejected_once {
                     h_new = h_new.min(h);
                 }

@@ -100,8 +100,10 @@ impl<T: Scalar> ShiftedLu<T> {
             if !(best > 0.0) || !best.is_finite() {
                 return Err(k);
             }
+            // LINPACK style: only columns k.. are swapped, so the multipliers of earlier
+            // columns stay where the interleaved forward substitution of `solve` expects them.
             if p != k {
-                for j in 0..n {
+                for j in k..n {
                     a.swap(k * n + j, p * n + j);
                 }
             }

@@ -151,6 +151,8 @@ pub struct Radau5 {
     h_acc: f64,
     err_acc: f64,
     accepted: u64,
+    /// Fixed step (no error control) when set; see [`Radau5::with_fixed_step`].
+    fixed: Option<f64>,
     stats: Stats,
 }
 
@@ -201,6 +203,7 @@ impl Radau5 {
             h_acc: 0.0,
             err_acc: 0.0,
             accepted: 0,
+            fixed: None,
             stats,
         })
     }
@@ -208,6 +211,15 @@ impl Radau5 {
     /// Step size proposed for the next attempt.
     pub fn h(&self) -> f64 {
         self.h
+    }
+
+    /// Turns off error control: every step has size `h` (the last one shortened to land on
+    /// `t_stop`); Newton iterates to convergence (up to 7 iterations) or the step fails with
+    /// [`IntegrateError::NewtonFailed`]. For convergence-order measurements.
+    pub fn with_fixed_step(mut self, h: f64) -> Self {
+        self.fixed = Some(h);
+        self.h = h;
+        self
     }
 
     fn rms(&self, a: &[f64]) -> f64 {
@@ -293,7 +305,7 @@ impl Radau5 {
                 if theta < 0.99 {
                     self.faccon = theta / (1.0 - theta);
                     let dyth = self.faccon * dyno * theta.powi((NIT - 1 - newt) as i32) / fnewt;
-                    if dyth >= 1.0 {
+                    if dyth >= 1.0 && self.fixed.is_none() {
                         let qnewt = dyth.clamp(1e-4, 20.0);
                         let hhfac = 0.8 * qnewt.powf(-1.0 / (4.0 + (NIT - 1 - newt) as f64));
                         return (Newton::Slow(hhfac), newt, theta);
@@ -420,6 +432,13 @@ impl super::Stepper for Radau5 {
             }
             self.starting_values(h);
             let (outcome, newt, theta) = self.newton(sys, h);
+            if self.fixed.is_some() {
+                match outcome {
+                    Newton::Converged | Newton::Slow(_) => {}
+                    Newton::Failed => return Err(IntegrateError::NewtonFailed { t: self.t }),
+                    Newton::NonFinite(c) => return Err(IntegrateError::NonFinite { t: self.t, component: c }),
+                }
+            }
             match outcome {
                 Newton::Converged => {}
                 Newton::Slow(fac) => {
@@ -438,7 +457,7 @@ impl super::Stepper for Radau5 {
                     continue;
                 }
             }
-            let err = self.error_estimate(sys, h);
+            let err = if self.fixed.is_some() { 0.0 } else { self.error_estimate(sys, h) };
             if !err.is_finite() {
                 last_failure = LastFailure::NonFinite(first_non_finite(&self.err_v).unwrap_or(0));
                 failures += 1;
@@ -449,12 +468,12 @@ impl super::Stepper for Radau5 {
             let cfac = SAFE * (1 + 2 * NIT) as f64;
             let fac = SAFE.min(cfac / (newt + 2 * NIT) as f64);
             let mut quot = (err.powf(0.25) / fac).clamp(FACR, FACL);
-            let mut h_new = h / quot;
+            let mut h_new = self.fixed.unwrap_or(h / quot);
             if err < 1.0 {
                 self.first = false;
                 self.accepted += 1;
                 // Gustafsson's predictive controller (HW II, eq. IV.8.25).
-                if self.accepted > 1 {
+                if self.accepted > 1 && self.fixed.is_none() {
                     let facgus = ((self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / SAFE).clamp(FACR, FACL);
                     quot = quot.max(facgus);
                     h_new = h / quot;
@@ -489,7 +508,12 @@ impl super::Stepper for Radau5 {
                 self.reject = false;
                 self.jac_current = false;
                 let qt = h_new / h;
-                if theta <= THET && (1.0..=1.2).contains(&qt) && !last {
+                if self.fixed.is_some() {
+                    self.h = h_new;
+                    if theta > THET {
+                        self.need_jac = true;
+                    }
+                } else if theta <= THET && (1.0..=1.2).contains(&qt) && !last {
                     self.h = h;
                 } else {
                     self.h = h_new;
