@@ -463,3 +463,21 @@ fn invalid_settings_are_errors() {
     let r = solve(&Harmonic, 0.0, &[1.0], 1.0, &Method::Rk4 { dt: 0.1 }, Output::Steps, 10, &mut |_, _| Control::Continue);
     assert_eq!(r.unwrap_err(), IntegrateError::DimensionMismatch { expected: 2, got: 1 });
 }
+
+/// The variational system of the harmonic oscillator gives Φ(t) = [[cos t, sin t], [−sin t, cos t]].
+#[test]
+fn variational_equations_give_the_fundamental_matrix() {
+    use magbubble::integrate::Variational;
+    let var = Variational::new(&Harmonic);
+    let s0 = var.initial_state(&[1.0, 0.0]);
+    let t = 2.0;
+    let sol = solve(&var, 0.0, &s0, t, &Method::Dop853 { rtol: 1e-10, atol: 1e-12 }, Output::Steps, 10_000, &mut |_, _| Control::Continue).unwrap();
+    let phi = var.fundamental(&sol.y);
+    // Column-major: phi[c * n + r].
+    let want = [t.cos(), -t.sin(), t.sin(), t.cos()];
+    for (g, w) in phi.iter().zip(want) {
+        assert!((g - w).abs() < 1e-7, "Φ = {phi:?}");
+    }
+    // One inner rhs plus n = 2 for the finite-difference Jacobian per outer call.
+    assert_eq!(var.inner_rhs_evals(), 3 * sol.stats.rhs_evals);
+}
