@@ -1,4 +1,31 @@
 //! Integrators, separate from the equations: every stepper sees only [`OdeSystem`].
+//!
+//! - [`Method::Rk4`]: classical fixed-step RK4 (the paper's scheme, sec. 4).
+//! - [`Method::Dopri5`], [`Method::Dop853`]: adaptive explicit Runge–Kutta (Dormand–Prince 5(4)
+//!   and Hairer's 8(5,3)), tableaus as data in [`tableau`].
+//! - [`Method::Radau5`]: Radau IIA, 3 stages, order 5 (Hairer's RADAU5 scheme) for the stiff
+//!   boundary-layer and vorticity systems (FORMULATION.md §4.3, audit item 12).
+//!
+//! [`solve`] is the driver (observer after every accepted step or at uniform sample times via
+//! dense output); [`Stepper`] gives one step at a time to code that owns its own loop;
+//! [`rk4_step`] is a bare RK4 step for the staggered scheme; [`Variational`] turns a system into
+//! its variational equations (state and fundamental matrix) for Floquet analysis.
+//! See `docs/integrators.md` for the choices and the measurements.
+
+mod driver;
+mod explicit;
+mod jacobian;
+mod linalg;
+mod radau;
+pub mod tableau;
+mod variational;
+
+pub use driver::{solve, stepper, Stepper};
+pub use explicit::{rk4_step, ExplicitRk, Rk4, Rk4Workspace};
+pub use radau::Radau5;
+pub use variational::Variational;
+
+use serde::Serialize;
 
 /// An explicit first-order ODE y' = f(t, y) of fixed dimension.
 ///
@@ -20,4 +47,125 @@ pub trait OdeSystem {
     fn jacobian(&self, _t: f64, _y: &[f64], _jac: &mut [f64]) -> bool {
         false
     }
+}
+
+/// Which integrator, with its settings (in the model's nondimensional time).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum Method {
+    /// Classical RK4 with fixed step `dt` (the last step is shortened to land on `t_end`).
+    Rk4 { dt: f64 },
+    /// Dormand–Prince 5(4), PI step control, 4th-order dense output.
+    Dopri5 { rtol: f64, atol: f64 },
+    /// Dormand–Prince 8(5,3) (Hairer's DOP853 error estimator), cubic Hermite dense output.
+    Dop853 { rtol: f64, atol: f64 },
+    /// Radau IIA order 5, simplified Newton, finite-difference (dense or banded) Jacobian.
+    Radau5 { rtol: f64, atol: f64 },
+}
+
+impl Method {
+    /// Maps the scene's integrator settings; `time_scale` [s] is the model's unit of time
+    /// (the model is nondimensional, §4.5), so RK4's `dt` [s] becomes `dt / time_scale`.
+    pub fn from_settings(s: &crate::scene::IntegratorSettings, time_scale: f64) -> Method {
+        use crate::scene::Method as M;
+        match s.method {
+            M::Rk4 => Method::Rk4 { dt: s.dt / time_scale },
+            M::Dopri5 => Method::Dopri5 { rtol: s.rtol, atol: s.atol },
+            M::Dop853 => Method::Dop853 { rtol: s.rtol, atol: s.atol },
+            M::Radau5 => Method::Radau5 { rtol: s.rtol, atol: s.atol },
+        }
+    }
+
+    /// Short name ("rk4", "dopri5", "dop853", "radau5").
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Rk4 { .. } => "rk4",
+            Method::Dopri5 { .. } => "dopri5",
+            Method::Dop853 { .. } => "dop853",
+            Method::Radau5 { .. } => "radau5",
+        }
+    }
+
+    /// Checks the settings: `dt`, `rtol` > 0 and finite, `atol` ≥ 0 and finite.
+    pub fn validate(&self) -> Result<(), IntegrateError> {
+        let bad = |what: &'static str, value: f64, reason: &'static str| {
+            Err(IntegrateError::InvalidSetting { what, value, reason })
+        };
+        match *self {
+            Method::Rk4 { dt } if !(dt > 0.0 && dt.is_finite()) => bad("dt", dt, "must be positive and finite"),
+            Method::Dopri5 { rtol, atol } | Method::Dop853 { rtol, atol } | Method::Radau5 { rtol, atol } => {
+                if !(rtol > 0.0 && rtol.is_finite()) {
+                    bad("rtol", rtol, "must be positive and finite")
+                } else if !(atol >= 0.0 && atol.is_finite()) {
+                    bad("atol", atol, "must be non-negative and finite")
+                } else {
+                    Ok(())
+                }
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// What an observer asks of the driver.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    Continue,
+    Stop,
+}
+
+/// When the driver calls the observer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Output {
+    /// At t0 and after every accepted step.
+    Steps,
+    /// At t0 + i·Δ (dense output, not a step constraint) and at t_end.
+    Every(f64),
+}
+
+/// Cost counters of a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected attempts (error test failed, Newton failed or a non-finite stage).
+    pub rejected: u64,
+    /// Calls to `OdeSystem::rhs` made by the integrator (including finite-difference Jacobians).
+    pub rhs_evals: u64,
+    /// Jacobian evaluations (analytic or finite-difference).
+    pub jac_evals: u64,
+    /// LU factorisations (Radau5: one real + one complex matrix count as one, as in RADAU5's NDEC).
+    pub lu_decompositions: u64,
+}
+
+/// End state of [`solve`].
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// Time of `y`: `t_end`, or the time the observer stopped the run.
+    pub t: f64,
+    pub y: Vec<f64>,
+    pub stats: Stats,
+    /// `true` when the observer returned [`Control::Stop`].
+    pub stopped: bool,
+}
+
+/// Why an integration failed. Every variant carries the time it happened.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IntegrateError {
+    #[error("step size too small at t = {t:e}: h = {h:e} (the solution may blow up or the problem is too stiff for this method)")]
+    StepSizeTooSmall { t: f64, h: f64 },
+    #[error("maximum number of steps ({steps}) reached at t = {t:e}")]
+    MaxSteps { t: f64, steps: u64 },
+    #[error("non-finite value (NaN or Inf) in component {component} of the state or right-hand side at t = {t:e}")]
+    NonFinite { t: f64, component: usize },
+    #[error("Newton iteration of the implicit method failed repeatedly at t = {t:e} (singular or divergent)")]
+    NewtonFailed { t: f64 },
+    #[error("invalid integrator setting {what} = {value}: {reason}")]
+    InvalidSetting { what: &'static str, value: f64, reason: &'static str },
+    #[error("initial state has {got} components, the system has dimension {expected}")]
+    DimensionMismatch { expected: usize, got: usize },
+}
+
+/// Index of the first non-finite entry.
+pub(crate) fn first_non_finite(v: &[f64]) -> Option<usize> {
+    v.iter().position(|x| !x.is_finite())
 }

@@ -1,0 +1,108 @@
+//! The driver [`solve`] and the one-step-at-a-time interface [`Stepper`].
+
+use super::explicit::{ExplicitRk, Rk4};
+use super::radau::Radau5;
+use super::tableau::ButcherTableau;
+use super::{Control, IntegrateError, Method, OdeSystem, Output, Solution, Stats};
+
+/// A stepper owns its state (t, y), advances it one accepted step at a time and interpolates
+/// inside the last step. Obtain one with [`stepper`]; the driver [`solve`] is built on it.
+pub trait Stepper {
+    /// Current time (end of the last accepted step).
+    fn t(&self) -> f64;
+    /// Current state.
+    fn y(&self) -> &[f64];
+    /// Start of the last accepted step (= `t()` before the first step).
+    fn t_prev(&self) -> f64;
+    /// Cost so far.
+    fn stats(&self) -> Stats;
+    /// Takes one accepted step (retrying internally after rejections), never beyond `t_stop`;
+    /// the step lands exactly on `t_stop` when it reaches it.
+    fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError>;
+    /// Dense output: y(t) for t in [t_prev(), t()] into `out` (RK4, Dop853: cubic Hermite;
+    /// Dopri5: its 4th-order continuous extension; Radau5: the collocation polynomial).
+    fn interpolate(&self, t: f64, out: &mut [f64]);
+}
+
+/// Builds the stepper of `method` at (t0, y0). `t_end` bounds the initial step of the adaptive
+/// methods. Evaluates f(t0, y0) (and, adaptive methods, one more rhs for the initial step).
+pub fn stepper(sys: &dyn OdeSystem, method: &Method, t0: f64, y0: &[f64], t_end: f64) -> Result<Box<dyn Stepper>, IntegrateError> {
+    method.validate()?;
+    if y0.len() != sys.dim() {
+        return Err(IntegrateError::DimensionMismatch { expected: sys.dim(), got: y0.len() });
+    }
+    if !t0.is_finite() {
+        return Err(IntegrateError::InvalidSetting { what: "t0", value: t0, reason: "must be finite" });
+    }
+    if !(t_end.is_finite() && t_end >= t0) {
+        return Err(IntegrateError::InvalidSetting { what: "t_end", value: t_end, reason: "must be finite and not before t0" });
+    }
+    Ok(match *method {
+        Method::Rk4 { dt } => Box::new(Rk4::new(sys, t0, y0, dt)?),
+        Method::Dopri5 { rtol, atol } => Box::new(ExplicitRk::new(sys, ButcherTableau::dopri5(), t0, y0, t_end, rtol, atol)?),
+        Method::Dop853 { rtol, atol } => Box::new(ExplicitRk::new(sys, ButcherTableau::dop853(), t0, y0, t_end, rtol, atol)?),
+        Method::Radau5 { rtol, atol } => Box::new(Radau5::new(sys, t0, y0, t_end, rtol, atol)?),
+    })
+}
+
+/// Integrates y' = f(t, y) from (t0, y0) to t_end.
+///
+/// The observer sees (t0, y0) first, then every accepted step ([`Output::Steps`]) or the
+/// samples t0 + i·Δ < t_end obtained by dense output and finally t_end ([`Output::Every`]).
+/// Returning [`Control::Stop`] ends the run with `stopped = true` at the time it was shown.
+/// More than `max_steps` accepted steps is [`IntegrateError::MaxSteps`]. NaN/Inf in the state or
+/// the rhs is [`IntegrateError::NonFinite`] (adaptive methods first retry smaller steps).
+#[allow(clippy::too_many_arguments)]
+pub fn solve(
+    sys: &dyn OdeSystem,
+    t0: f64,
+    y0: &[f64],
+    t_end: f64,
+    method: &Method,
+    output: Output,
+    max_steps: u64,
+    observer: &mut dyn FnMut(f64, &[f64]) -> Control,
+) -> Result<Solution, IntegrateError> {
+    if let Output::Every(d) = output {
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(IntegrateError::InvalidSetting { what: "output interval", value: d, reason: "must be positive and finite" });
+        }
+    }
+    let mut st = stepper(sys, method, t0, y0, t_end)?;
+    let done = |t: f64, y: &[f64], stats: Stats, stopped: bool| Solution { t, y: y.to_vec(), stats, stopped };
+    if observer(t0, y0) == Control::Stop {
+        return Ok(done(t0, y0, st.stats(), true));
+    }
+    let mut buf = vec![0.0; y0.len()];
+    let mut sample: u64 = 1;
+    while st.t() < t_end {
+        if st.stats().steps >= max_steps {
+            return Err(IntegrateError::MaxSteps { t: st.t(), steps: st.stats().steps });
+        }
+        st.step(sys, t_end)?;
+        match output {
+            Output::Steps => {
+                if observer(st.t(), st.y()) == Control::Stop {
+                    return Ok(done(st.t(), st.y(), st.stats(), true));
+                }
+            }
+            Output::Every(d) => {
+                loop {
+                    let ts = t0 + sample as f64 * d;
+                    if ts > st.t() || ts >= t_end - 1e-9 * d {
+                        break;
+                    }
+                    st.interpolate(ts, &mut buf);
+                    sample += 1;
+                    if observer(ts, &buf) == Control::Stop {
+                        return Ok(done(ts, &buf, st.stats(), true));
+                    }
+                }
+                if st.t() >= t_end && observer(t_end, st.y()) == Control::Stop {
+                    return Ok(done(t_end, st.y(), st.stats(), true));
+                }
+            }
+        }
+    }
+    Ok(done(st.t(), st.y(), st.stats(), false))
+}

@@ -1,0 +1,466 @@
+//! Explicit steppers: fixed-step RK4 ([`Rk4`], [`rk4_step`]) and adaptive embedded Runge–Kutta
+//! ([`ExplicitRk`], driven by a [`ButcherTableau`]).
+//!
+//! Step-size control is Hairer's PI controller of `dopri5.f` (Hairer–Nørsett–Wanner I,
+//! sec. II.4, eq. 4.13 and the "stabilized" variant of IV.2): h_new = h · clamp(safe ·
+//! err^(−1/q + 0.75β) · err_old^β), β = 0.04, safe = 0.9, with err the RMS of the scaled local
+//! error, sc_i = atol + rtol · max(|y_i|, |y_new,i|). The initial step follows `hinit` of the
+//! same codes (HNW I, sec. II.4) with RMS norms.
+
+use super::tableau::{ButcherTableau, DenseOutput, ErrorEstimator};
+use super::{first_non_finite, IntegrateError, OdeSystem, Stats};
+
+/// Consecutive non-finite attempts after which a run fails with [`IntegrateError::NonFinite`].
+pub(crate) const MAX_NON_FINITE: u32 = 20;
+
+/// `true` when `h` is too small to advance `t` meaningfully (or not a number).
+pub(crate) fn step_too_small(t: f64, h: f64) -> bool {
+    !(h > 8.0 * f64::EPSILON * t.abs()) || h < 1e-300
+}
+
+/// RMS norm of v / (atol + rtol |y|).
+pub(crate) fn rms_scaled(v: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {
+    let s: f64 = v.iter().zip(y).map(|(v, y)| (v / (atol + rtol * y.abs())).powi(2)).sum();
+    (s / v.len().max(1) as f64).sqrt()
+}
+
+/// Initial step (Hairer's HINIT): h₀ = 0.01 ‖y‖/‖f‖, then h₁ from a second-derivative estimate
+/// with h₁^order · max(‖f'‖, ‖f‖) = 0.01; h = min(100 h₀, h₁, h_max). Uses one rhs evaluation,
+/// counted in `stats`. `work` has length n.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn initial_step(
+    sys: &dyn OdeSystem,
+    t0: f64,
+    y0: &[f64],
+    f0: &[f64],
+    order: f64,
+    rtol: f64,
+    atol: f64,
+    h_max: f64,
+    work: &mut [f64],
+    f1: &mut [f64],
+    stats: &mut Stats,
+) -> f64 {
+    let dnf = rms_scaled(f0, y0, rtol, atol);
+    let dny = rms_scaled(y0, y0, rtol, atol);
+    let mut h = if dnf <= 1e-5 || dny <= 1e-5 { 1e-6 } else { 0.01 * dny / dnf };
+    h = h.min(h_max);
+    for i in 0..y0.len() {
+        work[i] = y0[i] + h * f0[i];
+    }
+    sys.rhs(t0 + h, work, f1);
+    stats.rhs_evals += 1;
+    for i in 0..y0.len() {
+        work[i] = f1[i] - f0[i];
+    }
+    let der2 = rms_scaled(work, y0, rtol, atol) / h;
+    let der12 = der2.max(dnf);
+    let h1 = if !(der12 > 1e-15) { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(1.0 / order) };
+    let h = (100.0 * h).min(h1).min(h_max);
+    if h.is_finite() && h > 0.0 {
+        h
+    } else {
+        1e-6_f64.min(h_max)
+    }
+}
+
+/// Cubic Hermite interpolation on [t0, t0 + h] from y and f at both ends (3rd order).
+pub(crate) fn hermite(t0: f64, h: f64, y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f64], t: f64, out: &mut [f64]) {
+    let th = (t - t0) / h;
+    for i in 0..out.len() {
+        let dy = y1[i] - y0[i];
+        out[i] = (1.0 - th) * y0[i] + th * y1[i] + th * (th - 1.0) * ((1.0 - 2.0 * th) * dy + (th - 1.0) * h * f0[i] + th * h * f1[i]);
+    }
+}
+
+/// Workspace of [`rk4_step`] (4 stage vectors and one argument vector).
+#[derive(Debug, Clone)]
+pub struct Rk4Workspace {
+    k: [Vec<f64>; 4],
+    arg: Vec<f64>,
+}
+
+impl Rk4Workspace {
+    pub fn new(n: usize) -> Self {
+        Rk4Workspace { k: std::array::from_fn(|_| vec![0.0; n]), arg: vec![0.0; n] }
+    }
+}
+
+/// One classical RK4 step from (t, y) with step h into `y_out`, for code that owns its loop
+/// (e.g. the staggered vorticity scheme). Makes exactly 4 calls to `sys.rhs`; allocation-free.
+pub fn rk4_step(sys: &dyn OdeSystem, t: f64, y: &[f64], h: f64, y_out: &mut [f64], ws: &mut Rk4Workspace) {
+    let [k1, rest @ ..] = &mut ws.k;
+    sys.rhs(t, y, k1);
+    rk4_from_k1(sys, t, y, h, k1, rest, &mut ws.arg, y_out);
+}
+
+/// RK4 with k1 = f(t, y) given; 3 rhs calls.
+#[allow(clippy::too_many_arguments)]
+fn rk4_from_k1(sys: &dyn OdeSystem, t: f64, y: &[f64], h: f64, k1: &[f64], k: &mut [Vec<f64>], arg: &mut [f64], y_out: &mut [f64]) {
+    let [k2, k3, k4] = k else { unreachable!("three stage vectors") };
+    let n = y.len();
+    for i in 0..n {
+        arg[i] = y[i] + 0.5 * h * k1[i];
+    }
+    sys.rhs(t + 0.5 * h, arg, k2);
+    for i in 0..n {
+        arg[i] = y[i] + 0.5 * h * k2[i];
+    }
+    sys.rhs(t + 0.5 * h, arg, k3);
+    for i in 0..n {
+        arg[i] = y[i] + h * k3[i];
+    }
+    sys.rhs(t + h, arg, k4);
+    for i in 0..n {
+        y_out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    }
+}
+
+/// Fixed-step classical RK4 on the grid t0 + i·dt (4 rhs calls per step: f at the end of a step
+/// is the next k1 and also serves the Hermite dense output).
+#[derive(Debug, Clone)]
+pub struct Rk4 {
+    dt: f64,
+    t0: f64,
+    i: u64,
+    t: f64,
+    t_prev: f64,
+    y: Vec<f64>,
+    f: Vec<f64>,
+    y_prev: Vec<f64>,
+    f_prev: Vec<f64>,
+    ws: Rk4Workspace,
+    stats: Stats,
+}
+
+impl Rk4 {
+    pub fn new(sys: &dyn OdeSystem, t0: f64, y0: &[f64], dt: f64) -> Result<Self, IntegrateError> {
+        let n = y0.len();
+        let mut f = vec![0.0; n];
+        sys.rhs(t0, y0, &mut f);
+        if let Some(c) = first_non_finite(y0).or_else(|| first_non_finite(&f)) {
+            return Err(IntegrateError::NonFinite { t: t0, component: c });
+        }
+        Ok(Rk4 {
+            dt,
+            t0,
+            i: 0,
+            t: t0,
+            t_prev: t0,
+            y: y0.to_vec(),
+            y_prev: y0.to_vec(),
+            f_prev: f.clone(),
+            f,
+            ws: Rk4Workspace::new(n),
+            stats: Stats { rhs_evals: 1, ..Stats::default() },
+        })
+    }
+}
+
+impl super::Stepper for Rk4 {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+    fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
+        let t_grid = self.t0 + (self.i + 1) as f64 * self.dt;
+        let t_next = if t_grid >= t_stop - 1e-9 * self.dt { t_stop } else { t_grid };
+        let h = t_next - self.t;
+        if step_too_small(self.t, h) {
+            return Err(IntegrateError::StepSizeTooSmall { t: self.t, h });
+        }
+        std::mem::swap(&mut self.y, &mut self.y_prev);
+        std::mem::swap(&mut self.f, &mut self.f_prev);
+        let [_, rest @ ..] = &mut self.ws.k;
+        rk4_from_k1(sys, self.t, &self.y_prev, h, &self.f_prev, rest, &mut self.ws.arg, &mut self.y);
+        sys.rhs(t_next, &self.y, &mut self.f);
+        self.stats.rhs_evals += 4;
+        self.stats.steps += 1;
+        if let Some(c) = first_non_finite(&self.y).or_else(|| first_non_finite(&self.f)) {
+            return Err(IntegrateError::NonFinite { t: t_next, component: c });
+        }
+        self.t_prev = self.t;
+        self.t = t_next;
+        if t_grid - t_next <= 1e-9 * self.dt {
+            self.i += 1;
+        }
+        Ok(())
+    }
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        hermite(self.t_prev, self.t - self.t_prev, &self.y_prev, &self.f_prev, &self.y, &self.f, t, out);
+    }
+}
+
+/// Adaptive explicit Runge–Kutta with an embedded error estimate (Dopri5, Dop853).
+#[derive(Debug, Clone)]
+pub struct ExplicitRk {
+    tab: ButcherTableau,
+    rtol: f64,
+    atol: f64,
+    t: f64,
+    t_prev: f64,
+    h: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    f_prev: Vec<f64>,
+    y_new: Vec<f64>,
+    arg: Vec<f64>,
+    f_new: Vec<f64>,
+    /// Stage derivatives; k[0] = f(t, y) at the current point.
+    k: Vec<Vec<f64>>,
+    /// Dopri5 dense-output coefficients of the last step (r1..r5 of `contd5`).
+    rcont: Vec<Vec<f64>>,
+    err_old: f64,
+    /// Fixed step (no error control) when set; see [`ExplicitRk::with_fixed_step`].
+    fixed: Option<f64>,
+    stats: Stats,
+}
+
+impl ExplicitRk {
+    /// `t_end` bounds the initial step. The tableau must carry an error estimator.
+    pub fn new(
+        sys: &dyn OdeSystem,
+        tab: ButcherTableau,
+        t0: f64,
+        y0: &[f64],
+        t_end: f64,
+        rtol: f64,
+        atol: f64,
+    ) -> Result<Self, IntegrateError> {
+        assert!(tab.error.is_some(), "adaptive stepping needs an error estimator");
+        let n = y0.len();
+        let s = tab.stages();
+        let mut k = vec![vec![0.0; n]; s];
+        let mut stats = Stats { rhs_evals: 1, ..Stats::default() };
+        sys.rhs(t0, y0, &mut k[0]);
+        if let Some(c) = first_non_finite(y0).or_else(|| first_non_finite(&k[0])) {
+            return Err(IntegrateError::NonFinite { t: t0, component: c });
+        }
+        let mut arg = vec![0.0; n];
+        let mut f_new = vec![0.0; n];
+        let h = initial_step(sys, t0, y0, &k[0], tab.order as f64, rtol, atol, (t_end - t0).abs(), &mut arg, &mut f_new, &mut stats);
+        let nd = if matches!(tab.dense, DenseOutput::Dopri5 { .. }) { 5 } else { 0 };
+        Ok(ExplicitRk {
+            rtol,
+            atol,
+            t: t0,
+            t_prev: t0,
+            h,
+            y: y0.to_vec(),
+            y_prev: y0.to_vec(),
+            f_prev: k[0].clone(),
+            y_new: vec![0.0; n],
+            arg,
+            f_new,
+            k,
+            rcont: vec![vec![0.0; n]; nd],
+            err_old: 1e-4,
+            fixed: None,
+            stats,
+            tab,
+        })
+    }
+
+    /// Step size proposed for the next attempt.
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+
+    /// Turns off error control: every step has size `h` (the last one shortened to land on
+    /// `t_stop`). For convergence-order measurements and step-size ladders.
+    pub fn with_fixed_step(mut self, h: f64) -> Self {
+        self.fixed = Some(h);
+        self.h = h;
+        self
+    }
+
+    /// Computes all stages but the first, y_new and the scaled error norm for step h.
+    fn attempt(&mut self, sys: &dyn OdeSystem, h: f64) -> f64 {
+        let n = self.y.len();
+        let s = self.tab.stages();
+        for i in 1..s {
+            let (done, rest) = self.k.split_at_mut(i);
+            let row = &self.tab.a[i];
+            for m in 0..n {
+                let mut acc = 0.0;
+                for (j, &a) in row.iter().enumerate() {
+                    if a != 0.0 {
+                        acc += a * done[j][m];
+                    }
+                }
+                self.arg[m] = self.y[m] + h * acc;
+            }
+            sys.rhs(self.t + self.tab.c[i] * h, &self.arg, &mut rest[0]);
+        }
+        self.stats.rhs_evals += (s - 1) as u64;
+        for m in 0..n {
+            let mut acc = 0.0;
+            for (j, &b) in self.tab.b.iter().enumerate() {
+                if b != 0.0 {
+                    acc += b * self.k[j][m];
+                }
+            }
+            self.y_new[m] = self.y[m] + h * acc;
+        }
+        let sc = |m: usize, y: &[f64], y_new: &[f64], rtol: f64, atol: f64| atol + rtol * y[m].abs().max(y_new[m].abs());
+        match self.tab.error.as_ref().expect("checked in new") {
+            ErrorEstimator::Embedded { e } => {
+                let mut sum = 0.0;
+                for m in 0..n {
+                    let mut acc = 0.0;
+                    for (j, &ej) in e.iter().enumerate() {
+                        if ej != 0.0 {
+                            acc += ej * self.k[j][m];
+                        }
+                    }
+                    sum += (h * acc / sc(m, &self.y, &self.y_new, self.rtol, self.atol)).powi(2);
+                }
+                (sum / n as f64).sqrt()
+            }
+            ErrorEstimator::Dop853 { e5, bhh } => {
+                let (mut s5, mut s3) = (0.0, 0.0);
+                for m in 0..n {
+                    let mut acc5 = 0.0;
+                    let mut accb = 0.0;
+                    for j in 0..s {
+                        acc5 += e5[j] * self.k[j][m];
+                        accb += self.tab.b[j] * self.k[j][m];
+                    }
+                    let acc3 = accb - bhh.iter().map(|&(j, w)| w * self.k[j][m]).sum::<f64>();
+                    let scm = sc(m, &self.y, &self.y_new, self.rtol, self.atol);
+                    s5 += (acc5 / scm).powi(2);
+                    s3 += (acc3 / scm).powi(2);
+                }
+                let deno = if s5 + 0.01 * s3 > 0.0 { s5 + 0.01 * s3 } else { 1.0 };
+                h.abs() * s5 * (1.0 / (n as f64 * deno)).sqrt()
+            }
+        }
+    }
+
+    fn non_finite_component(&self) -> usize {
+        first_non_finite(&self.y_new).or_else(|| self.k.iter().find_map(|k| first_non_finite(k))).unwrap_or(0)
+    }
+}
+
+impl super::Stepper for ExplicitRk {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
+        const SAFE: f64 = 0.9;
+        const BETA: f64 = 0.04;
+        let expo1 = 1.0 / self.tab.controller_order - 0.75 * BETA;
+        let (ratio_min, ratio_max) = self.tab.step_ratio;
+        let mut rejected_once = false;
+        let mut non_finite_run = 0u32;
+        loop {
+            let mut h = self.h;
+            let last = self.t + 1.01 * h >= t_stop;
+            if last {
+                h = t_stop - self.t;
+            }
+            if step_too_small(self.t, h) {
+                return Err(if non_finite_run > 0 {
+                    IntegrateError::NonFinite { t: self.t, component: self.non_finite_component() }
+                } else {
+                    IntegrateError::StepSizeTooSmall { t: self.t, h }
+                });
+            }
+            let err = self.attempt(sys, h);
+            let finite = err.is_finite() && first_non_finite(&self.y_new).is_none();
+            if !finite && self.fixed.is_some() {
+                return Err(IntegrateError::NonFinite { t: self.t, component: self.non_finite_component() });
+            }
+            if !finite {
+                non_finite_run += 1;
+                self.stats.rejected += 1;
+                if non_finite_run >= MAX_NON_FINITE {
+                    return Err(IntegrateError::NonFinite { t: self.t, component: self.non_finite_component() });
+                }
+                self.h = 0.2 * h;
+                rejected_once = true;
+                continue;
+            }
+            let fac11 = err.powf(expo1);
+            if err <= 1.0 || self.fixed.is_some() {
+                // PI controller (dopri5.f): fac = fac11 / err_old^β, bounded.
+                let fac = (fac11 / self.err_old.powf(BETA) / SAFE).clamp(1.0 / ratio_max, 1.0 / ratio_min);
+                let mut h_new = self.fixed.unwrap_or(h / fac);
+                if rejected_once {
+                    h_new = h_new.min(h);
+                }
+                self.err_old = err.max(1e-4);
+                let t_new = if last { t_stop } else { self.t + h };
+                // Dense output of the step, from the stages before they are overwritten.
+                if let DenseOutput::Dopri5 { d } = &self.tab.dense {
+                    let s = self.tab.stages();
+                    for m in 0..self.y.len() {
+                        let dy = self.y_new[m] - self.y[m];
+                        let bspl = h * self.k[0][m] - dy;
+                        self.rcont[0][m] = self.y[m];
+                        self.rcont[1][m] = dy;
+                        self.rcont[2][m] = bspl;
+                        self.rcont[3][m] = dy - h * self.k[s - 1][m] - bspl;
+                        self.rcont[4][m] = h * (0..s).map(|j| d[j] * self.k[j][m]).sum::<f64>();
+                    }
+                }
+                std::mem::swap(&mut self.y_prev, &mut self.y);
+                std::mem::swap(&mut self.y, &mut self.y_new);
+                std::mem::swap(&mut self.f_prev, &mut self.k[0]);
+                if self.tab.fsal {
+                    let s = self.tab.stages();
+                    self.k.swap(0, s - 1);
+                } else {
+                    sys.rhs(t_new, &self.y, &mut self.f_new);
+                    self.stats.rhs_evals += 1;
+                    std::mem::swap(&mut self.k[0], &mut self.f_new);
+                }
+                if let Some(c) = first_non_finite(&self.k[0]) {
+                    return Err(IntegrateError::NonFinite { t: t_new, component: c });
+                }
+                self.t_prev = self.t;
+                self.t = t_new;
+                self.h = h_new;
+                self.stats.steps += 1;
+                return Ok(());
+            }
+            non_finite_run = 0;
+            rejected_once = true;
+            self.stats.rejected += 1;
+            self.h = h / (fac11 / SAFE).min(1.0 / ratio_min);
+        }
+    }
+
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let h = self.t - self.t_prev;
+        match &self.tab.dense {
+            DenseOutput::Dopri5 { .. } => {
+                let th = (t - self.t_prev) / h;
+                let th1 = 1.0 - th;
+                let r = &self.rcont;
+                for m in 0..out.len() {
+                    out[m] = r[0][m] + th * (r[1][m] + th1 * (r[2][m] + th * (r[3][m] + th1 * r[4][m])));
+                }
+            }
+            DenseOutput::Hermite => hermite(self.t_prev, h, &self.y_prev, &self.f_prev, &self.y, &self.k[0], t, out),
+        }
+    }
+}

@@ -1,0 +1,267 @@
+//! LU factorisation with partial pivoting, dense and banded, for real and complex matrices
+//! (Radau5's E₁ = γ/h I − J and E₂ = (α + iβ)/h I − J). Own code rather than nalgebra's `LU`
+//! so that refactorisation is allocation-free and the band variant shares the interface.
+
+use nalgebra::Complex;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// The scalars the factorisations work on: f64 and Complex<f64>.
+pub(crate) trait Scalar:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    const ZERO: Self;
+    /// |x|₁-like magnitude for pivoting.
+    fn mag(self) -> f64;
+}
+
+impl Scalar for f64 {
+    const ZERO: Self = 0.0;
+    fn mag(self) -> f64 {
+        self.abs()
+    }
+}
+
+impl Scalar for Complex<f64> {
+    const ZERO: Self = Complex { re: 0.0, im: 0.0 };
+    fn mag(self) -> f64 {
+        self.re.abs() + self.im.abs()
+    }
+}
+
+/// LU of `shift·I − J` for a row-major n×n `J`, dense or banded (lower ml, upper mu).
+#[derive(Debug, Clone)]
+pub(crate) struct ShiftedLu<T: Scalar> {
+    n: usize,
+    band: Option<(usize, usize)>,
+    /// Dense: row-major n×n. Band: row i holds columns i−ml ..= i+ml+mu (width 2ml+mu+1).
+    a: Vec<T>,
+    /// Band: multipliers, ml per column.
+    l: Vec<T>,
+    piv: Vec<usize>,
+}
+
+impl<T: Scalar> ShiftedLu<T> {
+    pub(crate) fn new(n: usize, band: Option<(usize, usize)>) -> Self {
+        // A band wider than the matrix is just a dense matrix.
+        let band = band.filter(|&(ml, mu)| 2 * ml + mu + 1 < n);
+        let size = match band {
+            None => n * n,
+            Some((ml, mu)) => n * (2 * ml + mu + 1),
+        };
+        let lsize = band.map_or(0, |(ml, _)| n * ml);
+        ShiftedLu { n, band, a: vec![T::ZERO; size], l: vec![T::ZERO; lsize], piv: vec![0; n] }
+    }
+
+    /// Factors shift·I − J. Returns `Err(k)` when the matrix is singular at column k.
+    pub(crate) fn factor(&mut self, shift: T, jac: &[f64], scale: impl Fn(f64) -> T) -> Result<(), usize> {
+        let n = self.n;
+        match self.band {
+            None => {
+                for i in 0..n {
+                    for j in 0..n {
+                        self.a[i * n + j] = -scale(jac[i * n + j]);
+                    }
+                    self.a[i * n + i] = self.a[i * n + i] + shift;
+                }
+                self.factor_dense()
+            }
+            Some((ml, mu)) => {
+                let w = 2 * ml + mu + 1;
+                for i in 0..n {
+                    for c in 0..w {
+                        self.a[i * w + c] = T::ZERO;
+                    }
+                    let j0 = i.saturating_sub(ml);
+                    let j1 = (i + mu).min(n - 1);
+                    for j in j0..=j1 {
+                        self.a[i * w + j + ml - i] = -scale(jac[i * n + j]);
+                    }
+                    self.a[i * w + ml] = self.a[i * w + ml] + shift;
+                }
+                self.factor_band(ml, mu)
+            }
+        }
+    }
+
+    fn factor_dense(&mut self) -> Result<(), usize> {
+        let n = self.n;
+        let a = &mut self.a;
+        for k in 0..n {
+            let mut p = k;
+            let mut best = a[k * n + k].mag();
+            for i in k + 1..n {
+                let m = a[i * n + k].mag();
+                if m > best {
+                    best = m;
+                    p = i;
+                }
+            }
+            self.piv[k] = p;
+            if !(best > 0.0) || !best.is_finite() {
+                return Err(k);
+            }
+            // LINPACK style: only columns k.. are swapped, so the multipliers of earlier
+            // columns stay where the interleaved forward substitution of `solve` expects them.
+            if p != k {
+                for j in k..n {
+                    a.swap(k * n + j, p * n + j);
+                }
+            }
+            let pivot = a[k * n + k];
+            for i in k + 1..n {
+                let m = a[i * n + k] / pivot;
+                a[i * n + k] = m;
+                if m.mag() != 0.0 {
+                    for j in k + 1..n {
+                        a[i * n + j] = a[i * n + j] - m * a[k * n + j];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn factor_band(&mut self, ml: usize, mu: usize) -> Result<(), usize> {
+        let n = self.n;
+        let w = 2 * ml + mu + 1;
+        let idx = |i: usize, j: usize| i * w + j + ml - i;
+        let a = &mut self.a;
+        for k in 0..n {
+            let last_row = (k + ml).min(n - 1);
+            let last_col = (k + ml + mu).min(n - 1);
+            let mut p = k;
+            let mut best = a[idx(k, k)].mag();
+            for i in k + 1..=last_row {
+                let m = a[idx(i, k)].mag();
+                if m > best {
+                    best = m;
+                    p = i;
+                }
+            }
+            self.piv[k] = p;
+            if !(best > 0.0) || !best.is_finite() {
+                return Err(k);
+            }
+            if p != k {
+                for j in k..=last_col {
+                    a.swap(idx(k, j), idx(p, j));
+                }
+            }
+            let pivot = a[idx(k, k)];
+            for i in k + 1..=last_row {
+                let m = a[idx(i, k)] / pivot;
+                self.l[k * ml + (i - k - 1)] = m;
+                a[idx(i, k)] = T::ZERO;
+                if m.mag() != 0.0 {
+                    for j in k + 1..=last_col {
+                        a[idx(i, j)] = a[idx(i, j)] - m * a[idx(k, j)];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves (shift·I − J) x = b in place.
+    pub(crate) fn solve(&self, b: &mut [T]) {
+        let n = self.n;
+        match self.band {
+            None => {
+                let a = &self.a;
+                for k in 0..n {
+                    b.swap(k, self.piv[k]);
+                    let bk = b[k];
+                    for i in k + 1..n {
+                        b[i] = b[i] - a[i * n + k] * bk;
+                    }
+                }
+                for k in (0..n).rev() {
+                    let mut s = b[k];
+                    for j in k + 1..n {
+                        s = s - a[k * n + j] * b[j];
+                    }
+                    b[k] = s / a[k * n + k];
+                }
+            }
+            Some((ml, mu)) => {
+                let w = 2 * ml + mu + 1;
+                let idx = |i: usize, j: usize| i * w + j + ml - i;
+                for k in 0..n {
+                    b.swap(k, self.piv[k]);
+                    let bk = b[k];
+                    for i in k + 1..=(k + ml).min(n - 1) {
+                        b[i] = b[i] - self.l[k * ml + (i - k - 1)] * bk;
+                    }
+                }
+                for k in (0..n).rev() {
+                    let mut s = b[k];
+                    for j in k + 1..=(k + ml + mu).min(n - 1) {
+                        s = s - self.a[idx(k, j)] * b[j];
+                    }
+                    b[k] = s / self.a[idx(k, k)];
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn banded_matrix(n: usize, ml: usize, mu: usize) -> Vec<f64> {
+        let mut j = vec![0.0; n * n];
+        for r in 0..n {
+            for c in 0..n {
+                if (r as isize - c as isize) <= ml as isize && (c as isize - r as isize) <= mu as isize {
+                    // Deterministic, non-symmetric, needs pivoting (small diagonal).
+                    j[r * n + c] = ((r * 7 + c * 13) % 11) as f64 - 5.0 + if r == c { 0.01 } else { 0.0 };
+                }
+            }
+        }
+        j
+    }
+
+    fn residual<T: Scalar>(n: usize, shift: T, jac: &[f64], x: &[T], b: &[T], scale: impl Fn(f64) -> T) -> f64 {
+        (0..n)
+            .map(|i| {
+                let mut s = shift * x[i];
+                for j in 0..n {
+                    s = s - scale(jac[i * n + j]) * x[j];
+                }
+                (s - b[i]).mag()
+            })
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn dense_and_band_solve_real_and_complex() {
+        let n = 17;
+        for (ml, mu) in [(1, 1), (2, 3), (0, 2), (4, 0)] {
+            let jac = banded_matrix(n, ml, mu);
+            let b: Vec<f64> = (0..n).map(|i| (i as f64).sin() + 1.0).collect();
+            for band in [None, Some((ml, mu))] {
+                let mut lu = ShiftedLu::<f64>::new(n, band);
+                lu.factor(0.3, &jac, |x| x).unwrap();
+                let mut x = b.clone();
+                lu.solve(&mut x);
+                assert!(residual(n, 0.3, &jac, &x, &b, |x| x) < 1e-10, "real {band:?}");
+
+                let shift = Complex::new(0.3, -2.0);
+                let bc: Vec<Complex<f64>> = b.iter().map(|&v| Complex::new(v, -v)).collect();
+                let mut lu = ShiftedLu::<Complex<f64>>::new(n, band);
+                lu.factor(shift, &jac, |x| Complex::new(x, 0.0)).unwrap();
+                let mut x = bc.clone();
+                lu.solve(&mut x);
+                assert!(residual(n, shift, &jac, &x, &bc, |x| Complex::new(x, 0.0)) < 1e-10, "complex {band:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn singular_is_reported() {
+        let jac = vec![1.0, 0.0, 0.0, 1.0];
+        let mut lu = ShiftedLu::<f64>::new(2, None);
+        assert_eq!(lu.factor(1.0, &jac, |x| x), Err(0));
+    }
+}

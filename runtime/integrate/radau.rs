@@ -1,0 +1,571 @@
+//! Radau IIA, 3 stages, order 5, for stiff systems — the scheme of Hairer's RADAU5
+//! (Hairer & Wanner, *Solving ODEs II*, 2nd ed., sec. IV.8; code `radau5.f`).
+//!
+//! Stage increments Z = (Z₁, Z₂, Z₃), Z_i = h Σ_j a_ij f(t + c_j h, y + Z_j), are solved by a
+//! simplified Newton iteration with the Jacobian J frozen. In the coordinates W = (T⁻¹ ⊗ I) Z,
+//! where T⁻¹ A⁻¹ T = diag(γ, [[α, −β], [β, α]]), the 3n×3n Newton matrix splits into one real
+//! system (γ/h I − J) and one complex system ((α + iβ)/h I − J) of size n (HW II, eq. IV.8.16).
+//! T is computed here from the exact tableau (not typed in) and checked by a test.
+//!
+//! Error estimate (HW II, eq. IV.8.19–8.20): err = (γ/h I − J)⁻¹ (f(t, y) + (e·Z)/h), with the
+//! "filtered" re-evaluation after a rejection or on the first step. Step size: Hairer's
+//! controller with Gustafsson's predictive correction; J is reused while the Newton contraction
+//! θ stays below 0.001, and the LU factors too while h_new/h ∈ [1, 1.2]. As in `radau5.f`, the
+//! user tolerances are mapped to rtol' = 0.1 rtol^(2/3), atol' = rtol'·atol/rtol, because the
+//! embedded estimate is of order 3.
+
+use super::explicit::{initial_step, step_too_small, MAX_NON_FINITE};
+use super::jacobian::FdJacobian;
+use super::linalg::ShiftedLu;
+use super::{first_non_finite, IntegrateError, OdeSystem, Stats};
+use nalgebra::{Complex, Matrix3, Vector3};
+
+/// Maximum Newton iterations per step (RADAU5's NIT).
+const NIT: usize = 7;
+/// Jacobian is recomputed when the Newton contraction exceeds this (RADAU5's THET).
+const THET: f64 = 0.001;
+const SAFE: f64 = 0.9;
+/// Bounds of h / h_new: h_new ∈ [h/5, 8h] (RADAU5's FACL, FACR).
+const FACL: f64 = 5.0;
+const FACR: f64 = 0.125;
+
+/// The constants of the 3-stage Radau IIA method.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RadauConsts {
+    pub c: [f64; 3],
+    /// Error-estimate weights e_i (RADAU5's DD1..DD3).
+    pub dd: [f64; 3],
+    /// Real eigenvalue of A⁻¹ and the complex pair α ± iβ.
+    pub gamma: f64,
+    pub alpha: f64,
+    pub beta: f64,
+    pub t: Matrix3<f64>,
+    pub ti: Matrix3<f64>,
+}
+
+impl RadauConsts {
+    /// Radau IIA (Ehle 1969) with c = ((4 − √6)/10, (4 + √6)/10, 1) and its coefficient matrix
+    /// (HW II, Table IV.5.6); T from the eigenvectors of A⁻¹.
+    pub(crate) fn new() -> Self {
+        let s6 = 6f64.sqrt();
+        let a = Matrix3::new(
+            (88.0 - 7.0 * s6) / 360.0,
+            (296.0 - 169.0 * s6) / 1800.0,
+            (-2.0 + 3.0 * s6) / 225.0,
+            (296.0 + 169.0 * s6) / 1800.0,
+            (88.0 + 7.0 * s6) / 360.0,
+            (-2.0 - 3.0 * s6) / 225.0,
+            (16.0 - s6) / 36.0,
+            (16.0 + s6) / 36.0,
+            1.0 / 9.0,
+        );
+        let ainv = a.try_inverse().expect("Radau IIA matrix is invertible");
+        let (c3, c23) = (3f64.cbrt(), 3f64.powf(2.0 / 3.0));
+        let gamma = 3.0 + c23 - c3;
+        let alpha = 3.0 + 0.5 * (c3 - c23);
+        let beta = 0.5 * (3f64.powf(5.0 / 6.0) + 3f64.powf(7.0 / 6.0));
+        // Null vector of a rank-2 3×3 matrix: cross product of two rows (bilinear, no conjugate).
+        let cross = |m: &[[Complex<f64>; 3]; 3]| -> [Complex<f64>; 3] {
+            let (r, s) = (m[0], m[1]);
+            [r[1] * s[2] - r[2] * s[1], r[2] * s[0] - r[0] * s[2], r[0] * s[1] - r[1] * s[0]]
+        };
+        let shifted = |lam: Complex<f64>| {
+            let mut m = [[Complex::new(0.0, 0.0); 3]; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    m[i][j] = Complex::new(ainv[(i, j)], 0.0) - if i == j { lam } else { Complex::new(0.0, 0.0) };
+                }
+            }
+            m
+        };
+        let v1 = cross(&shifted(Complex::new(gamma, 0.0)));
+        let v1 = Vector3::new(v1[0].re, v1[1].re, v1[2].re);
+        let v1 = v1 / (v1.norm() * v1[2].signum());
+        let v = cross(&shifted(Complex::new(alpha, beta)));
+        let v: Vec<Complex<f64>> = v.iter().map(|x| x / v[2]).collect();
+        // A⁻¹(t2 − i t3) = (α + iβ)(t2 − i t3)  ⇔  A⁻¹[t2 t3] = [t2 t3] [[α, −β], [β, α]].
+        let t = Matrix3::new(v1[0], v[0].re, -v[0].im, v1[1], v[1].re, -v[1].im, v1[2], v[2].re, -v[2].im);
+        let ti = t.try_inverse().expect("eigenvector matrix is invertible");
+        RadauConsts {
+            c: [(4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0],
+            dd: [-(13.0 + 7.0 * s6) / 3.0, (-13.0 + 7.0 * s6) / 3.0, -1.0 / 3.0],
+            gamma,
+            alpha,
+            beta,
+            t,
+            ti,
+        }
+    }
+}
+
+enum Newton {
+    Converged,
+    /// Converging too slowly for this h: retry with h·factor.
+    Slow(f64),
+    Failed,
+    NonFinite(usize),
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum LastFailure {
+    None,
+    Newton,
+    Singular,
+    NonFinite(usize),
+}
+
+/// Radau IIA order-5 stepper (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct Radau5 {
+    k: RadauConsts,
+    rtol: f64,
+    atol: f64,
+    t: f64,
+    t_prev: f64,
+    h: f64,
+    /// Size of the last accepted step (0 before the first).
+    h_old: f64,
+    y: Vec<f64>,
+    f0: Vec<f64>,
+    scal: Vec<f64>,
+    z: [Vec<f64>; 3],
+    w: [Vec<f64>; 3],
+    fz: [Vec<f64>; 3],
+    arg: Vec<f64>,
+    rc: Vec<Complex<f64>>,
+    err_v: Vec<f64>,
+    f2: Vec<f64>,
+    /// Collocation polynomial of the last step (RADAU5's CONT).
+    cont: [Vec<f64>; 4],
+    jac: Vec<f64>,
+    fd: FdJacobian,
+    e1: ShiftedLu<f64>,
+    e2: ShiftedLu<Complex<f64>>,
+    /// h of the current LU factors (NaN: none).
+    lu_h: f64,
+    jac_current: bool,
+    need_jac: bool,
+    first: bool,
+    reject: bool,
+    faccon: f64,
+    h_acc: f64,
+    err_acc: f64,
+    accepted: u64,
+    /// Fixed step (no error control) when set; see [`Radau5::with_fixed_step`].
+    fixed: Option<f64>,
+    stats: Stats,
+}
+
+impl Radau5 {
+    pub fn new(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, rtol: f64, atol: f64) -> Result<Self, IntegrateError> {
+        let n = y0.len();
+        let mut stats = Stats { rhs_evals: 1, ..Stats::default() };
+        let mut f0 = vec![0.0; n];
+        sys.rhs(t0, y0, &mut f0);
+        if let Some(c) = first_non_finite(y0).or_else(|| first_non_finite(&f0)) {
+            return Err(IntegrateError::NonFinite { t: t0, component: c });
+        }
+        let (mut w1, mut w2) = (vec![0.0; n], vec![0.0; n]);
+        let h = initial_step(sys, t0, y0, &f0, 5.0, rtol, atol, (t_end - t0).abs(), &mut w1, &mut w2, &mut stats);
+        let rtol_i = 0.1 * rtol.powf(2.0 / 3.0);
+        let atol_i = rtol_i * atol / rtol;
+        let band = sys.bandwidth();
+        let vecs = || std::array::from_fn(|_| vec![0.0; n]);
+        Ok(Radau5 {
+            k: RadauConsts::new(),
+            rtol: rtol_i,
+            atol: atol_i,
+            t: t0,
+            t_prev: t0,
+            h,
+            h_old: 0.0,
+            scal: y0.iter().map(|y| atol_i + rtol_i * y.abs()).collect(),
+            y: y0.to_vec(),
+            f0,
+            z: vecs(),
+            w: vecs(),
+            fz: vecs(),
+            arg: vec![0.0; n],
+            rc: vec![Complex::new(0.0, 0.0); n],
+            err_v: vec![0.0; n],
+            f2: vec![0.0; n],
+            cont: std::array::from_fn(|_| y0.to_vec()),
+            jac: vec![0.0; n * n],
+            fd: FdJacobian::new(n),
+            e1: ShiftedLu::new(n, band),
+            e2: ShiftedLu::new(n, band),
+            lu_h: f64::NAN,
+            jac_current: false,
+            need_jac: true,
+            first: true,
+            reject: false,
+            faccon: 1.0,
+            h_acc: 0.0,
+            err_acc: 0.0,
+            accepted: 0,
+            fixed: None,
+            stats,
+        })
+    }
+
+    /// Step size proposed for the next attempt.
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+
+    /// Turns off error control: every step has size `h` (the last one shortened to land on
+    /// `t_stop`); Newton iterates to convergence (up to 7 iterations) or the step fails with
+    /// [`IntegrateError::NewtonFailed`]. For convergence-order measurements.
+    pub fn with_fixed_step(mut self, h: f64) -> Self {
+        self.fixed = Some(h);
+        self.h = h;
+        self
+    }
+
+    fn rms(&self, a: &[f64]) -> f64 {
+        let s: f64 = a.iter().zip(&self.scal).map(|(v, s)| (v / s).powi(2)).sum();
+        (s / a.len().max(1) as f64).sqrt()
+    }
+
+    /// Starting values of Z (and W = T⁻¹Z): zero on the first step, otherwise the collocation
+    /// polynomial of the last step extrapolated (RADAU5, label 20).
+    fn starting_values(&mut self, h: f64) {
+        let n = self.y.len();
+        let [c1, c2, _] = self.k.c;
+        if self.first || self.h_old == 0.0 {
+            for i in 0..3 {
+                self.z[i].iter_mut().for_each(|v| *v = 0.0);
+                self.w[i].iter_mut().for_each(|v| *v = 0.0);
+            }
+            return;
+        }
+        let c3q = h / self.h_old;
+        let q = [c1 * c3q, c2 * c3q, c3q];
+        let ti = &self.k.ti;
+        for m in 0..n {
+            let (a1, a2, a3) = (self.cont[1][m], self.cont[2][m], self.cont[3][m]);
+            let mut zm = [0.0; 3];
+            for i in 0..3 {
+                zm[i] = q[i] * (a1 + (q[i] - (c2 - 1.0)) * (a2 + (q[i] - (c1 - 1.0)) * a3));
+                self.z[i][m] = zm[i];
+            }
+            for i in 0..3 {
+                self.w[i][m] = ti[(i, 0)] * zm[0] + ti[(i, 1)] * zm[1] + ti[(i, 2)] * zm[2];
+            }
+        }
+    }
+
+    /// Simplified Newton iteration for the stage values (RADAU5, label 40).
+    fn newton(&mut self, sys: &dyn OdeSystem, h: f64) -> (Newton, usize, f64) {
+        let n = self.y.len();
+        let (fac1, alphn, betan) = (self.k.gamma / h, self.k.alpha / h, self.k.beta / h);
+        let fnewt = (10.0 * f64::EPSILON / self.rtol).max(0.03f64.min(self.rtol.sqrt()));
+        self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
+        let mut theta = THET;
+        let (mut dynold, mut thqold) = (0.0, 0.0);
+        let mut newt = 0;
+        loop {
+            if newt >= NIT {
+                return (Newton::Failed, newt, theta);
+            }
+            for i in 0..3 {
+                for m in 0..n {
+                    self.arg[m] = self.y[m] + self.z[i][m];
+                }
+                sys.rhs(self.t + self.k.c[i] * h, &self.arg, &mut self.fz[i]);
+            }
+            self.stats.rhs_evals += 3;
+            if let Some(c) = self.fz.iter().find_map(|f| first_non_finite(f)) {
+                return (Newton::NonFinite(c), newt, theta);
+            }
+            newt += 1;
+            let ti = &self.k.ti;
+            for m in 0..n {
+                let f = [self.fz[0][m], self.fz[1][m], self.fz[2][m]];
+                let a = |i: usize| ti[(i, 0)] * f[0] + ti[(i, 1)] * f[1] + ti[(i, 2)] * f[2];
+                let (w1, w2, w3) = (self.w[0][m], self.w[1][m], self.w[2][m]);
+                self.z[0][m] = a(0) - fac1 * w1;
+                self.rc[m] = Complex::new(a(1) - alphn * w2 + betan * w3, a(2) - betan * w2 - alphn * w3);
+            }
+            self.e1.solve(&mut self.z[0]);
+            self.e2.solve(&mut self.rc);
+            let mut sum = 0.0;
+            for m in 0..n {
+                let s2 = self.scal[m] * self.scal[m];
+                sum += (self.z[0][m].powi(2) + self.rc[m].re.powi(2) + self.rc[m].im.powi(2)) / s2;
+            }
+            let dyno = (sum / (3 * n).max(1) as f64).sqrt();
+            if !dyno.is_finite() {
+                return (Newton::Failed, newt, theta);
+            }
+            if newt > 1 && newt < NIT {
+                let thq = dyno / dynold;
+                theta = if newt == 2 { thq } else { (thq * thqold).sqrt() };
+                thqold = thq;
+                if theta < 0.99 {
+                    self.faccon = theta / (1.0 - theta);
+                    let dyth = self.faccon * dyno * theta.powi((NIT - 1 - newt) as i32) / fnewt;
+                    if dyth >= 1.0 && self.fixed.is_none() {
+                        let qnewt = dyth.clamp(1e-4, 20.0);
+                        let hhfac = 0.8 * qnewt.powf(-1.0 / (4.0 + (NIT - 1 - newt) as f64));
+                        return (Newton::Slow(hhfac), newt, theta);
+                    }
+                } else {
+                    return (Newton::Failed, newt, theta);
+                }
+            }
+            dynold = dyno.max(f64::EPSILON);
+            let t = &self.k.t;
+            for m in 0..n {
+                self.w[0][m] += self.z[0][m];
+                self.w[1][m] += self.rc[m].re;
+                self.w[2][m] += self.rc[m].im;
+                let w = [self.w[0][m], self.w[1][m], self.w[2][m]];
+                for i in 0..3 {
+                    self.z[i][m] = t[(i, 0)] * w[0] + t[(i, 1)] * w[1] + t[(i, 2)] * w[2];
+                }
+            }
+            if self.faccon * dyno <= fnewt {
+                return (Newton::Converged, newt, theta);
+            }
+        }
+    }
+
+    /// Scaled error estimate of the converged step (RADAU5's ESTRAD).
+    fn error_estimate(&mut self, sys: &dyn OdeSystem, h: f64) -> f64 {
+        let n = self.y.len();
+        let hee = self.k.dd.map(|d| d / h);
+        for m in 0..n {
+            self.f2[m] = hee[0] * self.z[0][m] + hee[1] * self.z[1][m] + hee[2] * self.z[2][m];
+            self.err_v[m] = self.f2[m] + self.f0[m];
+        }
+        self.e1.solve(&mut self.err_v);
+        let mut err = self.rms(&self.err_v).max(1e-10);
+        if err >= 1.0 && (self.first || self.reject) {
+            for m in 0..n {
+                self.arg[m] = self.y[m] + self.err_v[m];
+            }
+            sys.rhs(self.t, &self.arg, &mut self.err_v);
+            self.stats.rhs_evals += 1;
+            for m in 0..n {
+                self.err_v[m] += self.f2[m];
+            }
+            self.e1.solve(&mut self.err_v);
+            err = self.rms(&self.err_v).max(1e-10);
+        }
+        err
+    }
+
+    fn fail(&self, last: LastFailure, h: f64) -> IntegrateError {
+        match last {
+            LastFailure::None => IntegrateError::StepSizeTooSmall { t: self.t, h },
+            LastFailure::Newton | LastFailure::Singular => IntegrateError::NewtonFailed { t: self.t },
+            LastFailure::NonFinite(c) => IntegrateError::NonFinite { t: self.t, component: c },
+        }
+    }
+
+    /// After a rejected attempt: the Jacobian is recomputed unless it is already current.
+    fn after_reject(&mut self) {
+        self.reject = true;
+        self.stats.rejected += 1;
+        if !self.jac_current {
+            self.need_jac = true;
+        }
+    }
+}
+
+impl super::Stepper for Radau5 {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
+        let mut last_failure = LastFailure::None;
+        let (mut singular, mut failures) = (0u32, 0u32);
+        loop {
+            let mut h = self.h;
+            let last = self.t + 1.0001 * h >= t_stop;
+            if last {
+                h = t_stop - self.t;
+            }
+            if step_too_small(self.t, h) {
+                return Err(self.fail(last_failure, h));
+            }
+            if failures >= MAX_NON_FINITE {
+                return Err(self.fail(last_failure, h));
+            }
+            if self.need_jac {
+                self.fd.evaluate(sys, self.t, &self.y, &self.f0, &mut self.jac, &mut self.stats);
+                self.need_jac = false;
+                self.jac_current = true;
+                self.lu_h = f64::NAN;
+                if let Some(c) = first_non_finite(&self.jac) {
+                    return Err(IntegrateError::NonFinite { t: self.t, component: c % self.y.len() });
+                }
+            }
+            if self.lu_h != h {
+                let (fac1, alphn, betan) = (self.k.gamma / h, self.k.alpha / h, self.k.beta / h);
+                self.stats.lu_decompositions += 1;
+                let ok = self.e1.factor(fac1, &self.jac, |x| x).is_ok()
+                    && self.e2.factor(Complex::new(alphn, betan), &self.jac, |x| Complex::new(x, 0.0)).is_ok();
+                if !ok {
+                    self.lu_h = f64::NAN;
+                    singular += 1;
+                    last_failure = LastFailure::Singular;
+                    if singular >= 5 {
+                        return Err(IntegrateError::NewtonFailed { t: self.t });
+                    }
+                    self.h = 0.5 * h;
+                    self.after_reject();
+                    continue;
+                }
+                self.lu_h = h;
+            }
+            self.starting_values(h);
+            let (outcome, newt, theta) = self.newton(sys, h);
+            if self.fixed.is_some() {
+                match outcome {
+                    Newton::Converged | Newton::Slow(_) => {}
+                    Newton::Failed => return Err(IntegrateError::NewtonFailed { t: self.t }),
+                    Newton::NonFinite(c) => return Err(IntegrateError::NonFinite { t: self.t, component: c }),
+                }
+            }
+            match outcome {
+                Newton::Converged => {}
+                Newton::Slow(fac) => {
+                    self.h = fac * h;
+                    self.after_reject();
+                    continue;
+                }
+                Newton::Failed | Newton::NonFinite(_) => {
+                    last_failure = match outcome {
+                        Newton::NonFinite(c) => LastFailure::NonFinite(c),
+                        _ => LastFailure::Newton,
+                    };
+                    failures += 1;
+                    self.h = 0.5 * h;
+                    self.after_reject();
+                    continue;
+                }
+            }
+            let err = if self.fixed.is_some() { 0.0 } else { self.error_estimate(sys, h) };
+            if !err.is_finite() {
+                last_failure = LastFailure::NonFinite(first_non_finite(&self.err_v).unwrap_or(0));
+                failures += 1;
+                self.h = 0.5 * h;
+                self.after_reject();
+                continue;
+            }
+            let cfac = SAFE * (1 + 2 * NIT) as f64;
+            let fac = SAFE.min(cfac / (newt + 2 * NIT) as f64);
+            let mut quot = (err.powf(0.25) / fac).clamp(FACR, FACL);
+            let mut h_new = self.fixed.unwrap_or(h / quot);
+            if err < 1.0 {
+                self.first = false;
+                self.accepted += 1;
+                // Gustafsson's predictive controller (HW II, eq. IV.8.25).
+                if self.accepted > 1 && self.fixed.is_none() {
+                    let facgus = ((self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / SAFE).clamp(FACR, FACL);
+                    quot = quot.max(facgus);
+                    h_new = h / quot;
+                }
+                self.h_acc = h;
+                self.err_acc = err.max(1e-2);
+                let t_new = if last { t_stop } else { self.t + h };
+                let [c1, c2, _] = self.k.c;
+                for m in 0..self.y.len() {
+                    let (z1, z2, z3) = (self.z[0][m], self.z[1][m], self.z[2][m]);
+                    self.y[m] += z3;
+                    let ak = (z1 - z2) / (c1 - c2);
+                    let acont3 = (ak - z1 / c1) / c2;
+                    self.cont[0][m] = self.y[m];
+                    self.cont[1][m] = (z2 - z3) / (c2 - 1.0);
+                    self.cont[2][m] = (ak - self.cont[1][m]) / (c1 - 1.0);
+                    self.cont[3][m] = self.cont[2][m] - acont3;
+                    self.scal[m] = self.atol + self.rtol * self.y[m].abs();
+                }
+                sys.rhs(t_new, &self.y, &mut self.f0);
+                self.stats.rhs_evals += 1;
+                if let Some(c) = first_non_finite(&self.y).or_else(|| first_non_finite(&self.f0)) {
+                    return Err(IntegrateError::NonFinite { t: t_new, component: c });
+                }
+                self.t_prev = self.t;
+                self.t = t_new;
+                self.h_old = h;
+                self.stats.steps += 1;
+                if self.reject {
+                    h_new = h_new.min(h);
+                }
+                self.reject = false;
+                self.jac_current = false;
+                let qt = h_new / h;
+                if self.fixed.is_some() {
+                    self.h = h_new;
+                    if theta > THET {
+                        self.need_jac = true;
+                    }
+                } else if theta <= THET && (1.0..=1.2).contains(&qt) && !last {
+                    self.h = h;
+                } else {
+                    self.h = h_new;
+                    if theta > THET {
+                        self.need_jac = true;
+                    }
+                }
+                return Ok(());
+            }
+            self.h = if self.first { 0.1 * h } else { h_new };
+            self.after_reject();
+        }
+    }
+
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let [c1, c2, _] = self.k.c;
+        let s = (t - self.t) / self.h_old.max(f64::MIN_POSITIVE);
+        for m in 0..out.len() {
+            out[m] = self.cont[0][m] + s * (self.cont[1][m] + (s - (c2 - 1.0)) * (self.cont[2][m] + (s - (c1 - 1.0)) * self.cont[3][m]));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transformation_block_diagonalises_a_inverse() {
+        let k = RadauConsts::new();
+        let s6 = 6f64.sqrt();
+        let a = Matrix3::new(
+            (88.0 - 7.0 * s6) / 360.0,
+            (296.0 - 169.0 * s6) / 1800.0,
+            (-2.0 + 3.0 * s6) / 225.0,
+            (296.0 + 169.0 * s6) / 1800.0,
+            (88.0 + 7.0 * s6) / 360.0,
+            (-2.0 - 3.0 * s6) / 225.0,
+            (16.0 - s6) / 36.0,
+            (16.0 + s6) / 36.0,
+            1.0 / 9.0,
+        );
+        let lam = k.ti * a.try_inverse().unwrap() * k.t;
+        let want = Matrix3::new(k.gamma, 0.0, 0.0, 0.0, k.alpha, -k.beta, 0.0, k.beta, k.alpha);
+        assert!((lam - want).abs().max() < 1e-12, "{lam}");
+        // Row sums of A are c (collocation), and b = last row (stiffly accurate).
+        for i in 0..3 {
+            assert!(((0..3).map(|j| a[(i, j)]).sum::<f64>() - k.c[i]).abs() < 1e-15);
+        }
+        // Hairer's RADAU5 values with the same normalisation (first column unit, T32 = 1, T33 = 0).
+        assert!((k.t[(0, 0)] - 9.1232394870892942792e-02).abs() < 1e-12);
+        assert!((k.t[(1, 2)] - 0.38294211275726193779).abs() < 1e-12);
+        assert!((k.ti[(2, 1)] - 2.5719269498556054292).abs() < 1e-12);
+    }
+}
