@@ -8,6 +8,7 @@
 //!
 //! Entry point: [`load`]`(path, overrides)`.
 
+pub mod doc;
 mod error;
 mod parse;
 pub mod raw;

@@ -106,9 +106,16 @@ impl Range {
             Range::Between { lo, hi, lo_incl, hi_incl } => {
                 let l = if lo_incl { "[" } else { "(" };
                 let h = if hi_incl { "]" } else { ")" };
-                let hi = if hi == f64::INFINITY { "inf".to_string() } else { fmt_num(hi) };
+                let hi = if hi == f64::INFINITY {
+                    "inf".to_string()
+                } else if hi == FRAC_PI_2 {
+                    "pi/2".to_string()
+                } else {
+                    fmt_num(hi)
+                };
                 format!("in {l}{}, {hi}{h}", fmt_num(lo))
             }
+            Range::IntBetween(lo, i64::MAX) => format!("an integer >= {lo}"),
             Range::IntBetween(lo, hi) => format!("an integer in {lo}..={hi}"),
             Range::EvenUpTo(hi) => format!("an even integer in 0..={hi} (KMAX)"),
             Range::None => String::new(),
@@ -289,14 +296,12 @@ pub fn leaf_name(key: &str) -> &str {
     key.rsplit_once('.').map_or(key, |(_, l)| l)
 }
 
-/// A number as a scene would write it (shortest round-trip form).
+/// A number as a scene would write it: plain in [1e-3, 1e6), exponent form otherwise.
 pub fn fmt_num(x: f64) -> String {
-    let s = format!("{x:?}");
-    let e = format!("{x:e}");
-    if e.len() < s.len() {
-        e
+    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) || !x.is_finite() {
+        format!("{x:?}")
     } else {
-        s
+        format!("{x:e}")
     }
 }
 
