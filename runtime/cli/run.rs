@@ -26,7 +26,8 @@ pub struct RunArgs {
 }
 
 /// The simulation entry point (`crate::model::simulate`).
-pub(crate) type SimulateFn = fn(&Scene, &mut dyn FnMut(f64, &[f64])) -> Result<RunReport, ModelError>;
+pub(crate) type SimulateFn =
+    fn(&Scene, &mut dyn FnMut(f64, &[f64])) -> Result<RunReport, ModelError>;
 
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     execute(args, sim::simulate)
@@ -34,7 +35,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
 
 /// The default output directory of a scene: `out/<file stem>`.
 pub fn default_out_dir(scene: &Path) -> PathBuf {
-    let stem = scene.file_stem().map_or_else(|| "run".into(), |s| s.to_string_lossy().into_owned());
+    let stem = scene
+        .file_stem()
+        .map_or_else(|| "run".into(), |s| s.to_string_lossy().into_owned());
     Path::new("out").join(stem)
 }
 
@@ -77,7 +80,10 @@ struct Source<'a> {
 
 pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()> {
     let scene = scene::load(&args.scene, &args.set)?;
-    let out = args.out.clone().unwrap_or_else(|| default_out_dir(&args.scene));
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out_dir(&args.scene));
     let header = series_header(&scene);
     let width = header.len() - 1;
 
@@ -116,7 +122,9 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         (Err(e), _) => {
             drop(csv);
             dir.discard();
-            return Err(anyhow::Error::new(e).context(format!("cannot simulate {}", args.scene.display())));
+            return Err(
+                anyhow::Error::new(e).context(format!("cannot simulate {}", args.scene.display()))
+            );
         }
     };
     let rows = csv.rows();
@@ -139,7 +147,10 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
                 state_dimension: report.state_dimension,
                 groups,
                 scene: &scene,
-                source: Source { file: args.scene.display().to_string(), overrides: &args.set },
+                source: Source {
+                    file: args.scene.display().to_string(),
+                    overrides: &args.set,
+                },
             },
         )
     });
@@ -151,7 +162,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
 
     print_summary(&report, &scene, &out, rows);
     if let RunStatus::Failed { reason } = &report.status {
-        anyhow::bail!("the integration failed: {reason} (outputs up to t = {:e} s written to {})", report.t_end, out.display());
+        anyhow::bail!(
+            "the integration failed: {reason} (outputs up to t = {:e} s written to {})",
+            report.t_end,
+            out.display()
+        );
     }
     Ok(())
 }
@@ -163,21 +178,39 @@ fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) {
         RunStatus::Failed { reason } => format!("FAILED: {reason}"),
     };
     println!("status:     {status}");
-    println!("t_end:      {:e} s of {:e} s", report.t_end, scene.run.duration);
+    println!(
+        "t_end:      {:e} s of {:e} s",
+        report.t_end, scene.run.duration
+    );
     println!(
         "steps:      {} ({} rejected), {} rhs evaluations, {:.3} s wall",
         report.stats.steps, report.stats.rejected, report.stats.rhs_evals, report.wall_seconds
     );
-    println!("effects:    {} (state dimension {})", report.active_effects.join(", "), report.state_dimension);
+    println!(
+        "effects:    {} (state dimension {})",
+        report.active_effects.join(", "),
+        report.state_dimension
+    );
     if let Ok(serde_json::Value::Object(groups)) = serde_json::to_value(&report.groups) {
         let list: Vec<String> = groups.iter().map(|(k, v)| format!("{k} = {v}")).collect();
         println!("groups:     {}", list.join(", "));
     }
-    let largest = report.max_abs.iter().filter(|(n, _)| n != "R").max_by(|a, b| a.1.total_cmp(&b.1));
+    let largest = report
+        .max_abs
+        .iter()
+        .filter(|(n, _)| n != "R")
+        .max_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((name, v)) = largest {
-        println!("largest:    max |{name}| = {v:e} m (|{name}|/R0 = {:.3e})", v / scene.bubble.radius);
+        println!(
+            "largest:    max |{name}| = {v:e} m (|{name}|/R0 = {:.3e})",
+            v / scene.bubble.radius
+        );
     }
-    println!("wrote:      {} ({rows} rows), {}", out.join("series.csv").display(), out.join("summary.json").display());
+    println!(
+        "wrote:      {} ({rows} rows), {}",
+        out.join("series.csv").display(),
+        out.join("summary.json").display()
+    );
 }
 
 /// DEV STAND-IN: the model helper's `crate::model::{simulate, RunReport, RunStatus, ModelError}`
@@ -225,7 +258,10 @@ mod sim {
     #[error("the model is not merged into this branch yet")]
     pub struct ModelError;
 
-    pub fn simulate(_scene: &Scene, _observer: &mut dyn FnMut(f64, &[f64])) -> Result<RunReport, ModelError> {
+    pub fn simulate(
+        _scene: &Scene,
+        _observer: &mut dyn FnMut(f64, &[f64]),
+    ) -> Result<RunReport, ModelError> {
         Err(ModelError)
     }
 }

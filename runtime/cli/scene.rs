@@ -40,12 +40,18 @@ pub fn run(c: &SceneCommand) -> anyhow::Result<()> {
             eprintln!("wrote {}", path.display());
         }
         SceneCommand::Explain { key } => {
-            let key = key.as_deref().unwrap_or("").trim_matches(|c| c == '[' || c == ']');
+            let key = key
+                .as_deref()
+                .unwrap_or("")
+                .trim_matches(|c| c == '[' || c == ']');
             match doc::explain(key) {
                 Some(text) => print!("{text}"),
                 None => {
-                    let sections: Vec<&str> =
-                        schema::SCHEMA.iter().filter(|p| p.kind == schema::Kind::Section).map(|p| p.key).collect();
+                    let sections: Vec<&str> = schema::SCHEMA
+                        .iter()
+                        .filter(|p| p.kind == schema::Kind::Section)
+                        .map(|p| p.key)
+                        .collect();
                     anyhow::bail!("no scene key `{key}`; sections: {}", sections.join(", "));
                 }
             }

@@ -16,11 +16,21 @@ pub struct AtomicFile {
 
 impl AtomicFile {
     pub fn create(path: &Path) -> Result<Self, OutputError> {
-        let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+        let mut name = path
+            .file_name()
+            .map(|n| n.to_os_string())
+            .unwrap_or_default();
         name.push(".tmp");
         let tmp = path.with_file_name(name);
-        let file = File::create(&tmp).map_err(|source| OutputError::Write { path: tmp.display().to_string(), source })?;
-        Ok(AtomicFile { tmp, path: path.to_path_buf(), writer: Some(BufWriter::new(file)) })
+        let file = File::create(&tmp).map_err(|source| OutputError::Write {
+            path: tmp.display().to_string(),
+            source,
+        })?;
+        Ok(AtomicFile {
+            tmp,
+            path: path.to_path_buf(),
+            writer: Some(BufWriter::new(file)),
+        })
     }
 
     /// The final path.
@@ -30,7 +40,10 @@ impl AtomicFile {
 
     /// Flushes, syncs and renames the temp file to the final path.
     pub fn commit(mut self) -> Result<(), OutputError> {
-        let err = |source| OutputError::Write { path: self.path.display().to_string(), source };
+        let err = |source| OutputError::Write {
+            path: self.path.display().to_string(),
+            source,
+        };
         let writer = self.writer.take().expect("writer present until commit");
         let file = writer.into_inner().map_err(|e| err(e.into_error()))?;
         file.sync_all().map_err(err)?;
@@ -41,10 +54,16 @@ impl AtomicFile {
 
 impl Write for AtomicFile {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        self.writer.as_mut().expect("writer present until commit").write(buf)
+        self.writer
+            .as_mut()
+            .expect("writer present until commit")
+            .write(buf)
     }
     fn flush(&mut self) -> io::Result<()> {
-        self.writer.as_mut().expect("writer present until commit").flush()
+        self.writer
+            .as_mut()
+            .expect("writer present until commit")
+            .flush()
     }
 }
 
@@ -67,8 +86,14 @@ impl OutputDir {
     /// Creates `path` (and its parents) if needed. Call it only once the inputs are valid.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let created = !path.exists();
-        fs::create_dir_all(path).map_err(|source| OutputError::CreateDir { path: path.display().to_string(), source })?;
-        Ok(OutputDir { path: path.to_path_buf(), created })
+        fs::create_dir_all(path).map_err(|source| OutputError::CreateDir {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Ok(OutputDir {
+            path: path.to_path_buf(),
+            created,
+        })
     }
 
     pub fn path(&self) -> &Path {

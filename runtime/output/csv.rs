@@ -17,9 +17,21 @@ impl CsvWriter {
     /// Creates `path.tmp` and writes the header line.
     pub fn create<S: AsRef<str>>(path: &Path, header: &[S]) -> Result<Self, OutputError> {
         let mut file = AtomicFile::create(path)?;
-        let line = header.iter().map(|h| h.as_ref()).collect::<Vec<_>>().join(",");
-        writeln!(file, "{line}").map_err(|source| OutputError::Write { path: path.display().to_string(), source })?;
-        Ok(CsvWriter { file, columns: header.len(), rows: 0, error: None })
+        let line = header
+            .iter()
+            .map(|h| h.as_ref())
+            .collect::<Vec<_>>()
+            .join(",");
+        writeln!(file, "{line}").map_err(|source| OutputError::Write {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Ok(CsvWriter {
+            file,
+            columns: header.len(),
+            rows: 0,
+            error: None,
+        })
     }
 
     /// Writes one row (`f64` in shortest round-trip form). An I/O error is remembered and
@@ -52,7 +64,10 @@ impl CsvWriter {
     /// Renames the file into place, or reports the first write error (the temp file is removed).
     pub fn commit(self) -> Result<(), OutputError> {
         if let Some(source) = self.error {
-            return Err(OutputError::Write { path: self.file.path().display().to_string(), source });
+            return Err(OutputError::Write {
+                path: self.file.path().display().to_string(),
+                source,
+            });
         }
         self.file.commit()
     }

@@ -20,20 +20,34 @@ use std::path::Path;
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     #[error("cannot create output directory {path}: {source}")]
-    CreateDir { path: String, source: std::io::Error },
+    CreateDir {
+        path: String,
+        source: std::io::Error,
+    },
     #[error("cannot write {path}: {source}")]
-    Write { path: String, source: std::io::Error },
+    Write {
+        path: String,
+        source: std::io::Error,
+    },
     #[error("cannot serialize {path}: {source}")]
-    Json { path: String, source: serde_json::Error },
+    Json {
+        path: String,
+        source: serde_json::Error,
+    },
 }
 
 /// Writes `value` as pretty JSON to `path`, atomically.
 pub fn write_json<T: serde::Serialize + ?Sized>(path: &Path, value: &T) -> Result<(), OutputError> {
     let mut file = AtomicFile::create(path)?;
-    serde_json::to_writer_pretty(&mut file, value)
-        .map_err(|source| OutputError::Json { path: path.display().to_string(), source })?;
+    serde_json::to_writer_pretty(&mut file, value).map_err(|source| OutputError::Json {
+        path: path.display().to_string(),
+        source,
+    })?;
     use std::io::Write;
-    file.write_all(b"\n").map_err(|source| OutputError::Write { path: path.display().to_string(), source })?;
+    file.write_all(b"\n").map_err(|source| OutputError::Write {
+        path: path.display().to_string(),
+        source,
+    })?;
     file.commit()
 }
 

@@ -17,7 +17,11 @@ pub struct Issue {
 
 impl Issue {
     pub fn new(key: impl Into<String>, value: Option<String>, reason: impl Into<String>) -> Self {
-        Issue { key: key.into(), value, reason: reason.into() }
+        Issue {
+            key: key.into(),
+            value,
+            reason: reason.into(),
+        }
     }
 }
 
@@ -59,7 +63,12 @@ pub enum SceneError {
     },
     /// The file is not valid TOML; `line` and `column` are 1-based.
     #[error("{origin}:{line}:{column}: TOML syntax error: {message}")]
-    Syntax { origin: String, line: usize, column: usize, message: String },
+    Syntax {
+        origin: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
     /// The TOML is well formed but the scene is not valid (all problems listed).
     #[error("{origin}: invalid scene, {} problem{}:\n{issues}", issues.0.len(), if issues.0.len() == 1 { "" } else { "s" })]
     Invalid { origin: String, issues: Issues },

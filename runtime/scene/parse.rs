@@ -17,12 +17,19 @@ use toml::{Table, Value};
 /// inline table; a bare word is taken as a string).
 pub fn load<S: AsRef<str>>(path: impl AsRef<Path>, overrides: &[S]) -> Result<Scene, SceneError> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.to_path_buf(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
     load_str(&text, &path.display().to_string(), overrides)
 }
 
 /// [`load`] from text; `origin` names the source in error messages.
-pub fn load_str<S: AsRef<str>>(text: &str, origin: &str, overrides: &[S]) -> Result<Scene, SceneError> {
+pub fn load_str<S: AsRef<str>>(
+    text: &str,
+    origin: &str,
+    overrides: &[S],
+) -> Result<Scene, SceneError> {
     let mut table = parse_toml(text, origin)?;
     let mut issues = Vec::new();
     for o in overrides {
@@ -46,21 +53,31 @@ pub fn load_str<S: AsRef<str>>(text: &str, origin: &str, overrides: &[S]) -> Res
             Err(Issues(more)) => {
                 // A key removed by the walk (wrong type) would also show up as "required": keep one.
                 for issue in more {
-                    if !issues.iter().any(|i| i.key == issue.key || issue.key.starts_with(&format!("{}.", i.key))) {
+                    if !issues.iter().any(|i| {
+                        i.key == issue.key || issue.key.starts_with(&format!("{}.", i.key))
+                    }) {
                         issues.push(issue);
                     }
                 }
             }
         }
     }
-    Err(SceneError::Invalid { origin: origin.to_string(), issues: Issues(issues) })
+    Err(SceneError::Invalid {
+        origin: origin.to_string(),
+        issues: Issues(issues),
+    })
 }
 
 /// Parses TOML text into a table; a syntax error carries its 1-based line and column.
 pub fn parse_toml(text: &str, origin: &str) -> Result<Table, SceneError> {
     text.parse::<Table>().map_err(|e| {
         let (line, column) = e.span().map_or((0, 0), |s| line_col(text, s.start));
-        SceneError::Syntax { origin: origin.to_string(), line, column, message: e.message().trim().to_string() }
+        SceneError::Syntax {
+            origin: origin.to_string(),
+            line,
+            column,
+            message: e.message().trim().to_string(),
+        }
     })
 }
 
@@ -91,7 +108,11 @@ pub fn path_exists(path: &str) -> bool {
 /// Applies one `key.path=value` override to the tree.
 pub fn apply_override(table: &mut Table, spec: &str) -> Result<(), Issue> {
     let Some((path, text)) = spec.split_once('=') else {
-        return Err(Issue::new(spec, None, "--set expects key.path=value, e.g. --set drive.amplitude=0.3"));
+        return Err(Issue::new(
+            spec,
+            None,
+            "--set expects key.path=value, e.g. --set drive.amplitude=0.3",
+        ));
     };
     let (path, text) = (path.trim(), text.trim());
     if !path_exists(path) {
@@ -109,10 +130,14 @@ pub fn apply_override(table: &mut Table, spec: &str) -> Result<(), Issue> {
         )
     })?;
     let segments: Vec<&str> = path.split('.').collect();
-    let (last, parents) = segments.split_last().expect("split yields at least one segment");
+    let (last, parents) = segments
+        .split_last()
+        .expect("split yields at least one segment");
     let mut node = table;
     for (i, seg) in parents.iter().enumerate() {
-        let entry = node.entry(seg.to_string()).or_insert_with(|| Value::Table(Table::new()));
+        let entry = node
+            .entry(seg.to_string())
+            .or_insert_with(|| Value::Table(Table::new()));
         node = match entry {
             Value::Table(t) => t,
             other => {
@@ -142,7 +167,9 @@ fn parse_value(text: &str) -> Option<Value> {
     }
     let bare = !text.is_empty()
         && text.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-        && text.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+        && text
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
     bare.then(|| Value::String(text.to_string()))
 }
 
@@ -198,7 +225,11 @@ fn walk(table: &mut Table, prefix: &str, issues: &mut Vec<Issue>) {
             issues.push(Issue::new(
                 path.clone(),
                 Some(value.to_string()),
-                format!("expected {}, found {}", expected(param.kind), article(value.type_str())),
+                format!(
+                    "expected {}, found {}",
+                    expected(param.kind),
+                    article(value.type_str())
+                ),
             ));
             table.remove(&key);
         }
@@ -219,7 +250,14 @@ fn expected(kind: Kind) -> String {
         Kind::Int => "an integer".into(),
         Kind::Bool => "true or false".into(),
         Kind::Choice(options) => {
-            format!("a string, one of {}", options.iter().map(|o| format!("\"{o}\"")).collect::<Vec<_>>().join(", "))
+            format!(
+                "a string, one of {}",
+                options
+                    .iter()
+                    .map(|o| format!("\"{o}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
         }
         Kind::ModeMap => "a table of modes, e.g. { 2 = 1e-8 }".into(),
         Kind::FloatOrTable => "a number or an inline table".into(),
@@ -227,13 +265,19 @@ fn expected(kind: Kind) -> String {
 }
 
 fn unknown_key(prefix: &str, key: &str, value: Option<&Value>) -> Issue {
-    let allowed: Vec<&str> = schema::children(prefix).map(|p| schema::leaf_name(p.key)).collect();
+    let allowed: Vec<&str> = schema::children(prefix)
+        .map(|p| schema::leaf_name(p.key))
+        .collect();
     let mut reason = if prefix.is_empty() {
         format!("unknown section; a scene has [{}]", allowed.join("], ["))
     } else {
         format!("unknown key; [{prefix}] accepts {}", allowed.join(", "))
     };
-    if let Some(best) = allowed.iter().filter(|a| edit_distance(a, key) <= 2).min_by_key(|a| edit_distance(a, key)) {
+    if let Some(best) = allowed
+        .iter()
+        .filter(|a| edit_distance(a, key) <= 2)
+        .min_by_key(|a| edit_distance(a, key))
+    {
         reason.push_str(&format!(" (did you mean `{best}`?)"));
     }
     let shown = value.filter(|v| !v.is_table()).map(|v| v.to_string());

@@ -51,7 +51,9 @@ pub enum DefaultValue {
     /// Computed from other keys; the text says how.
     Derived(&'static str),
     /// No default: must be given when its section is present. `example` is used by `scene new`.
-    Required { example: &'static str },
+    Required {
+        example: &'static str,
+    },
     /// An optional section: absent means the effect is off.
     Absent,
     /// An empty mode map (all zero).
@@ -68,7 +70,12 @@ pub enum Range {
     Positive,
     NonNegative,
     /// lo < x (or ≤ when `lo_incl`), x < hi (or ≤ when `hi_incl`).
-    Between { lo: f64, hi: f64, lo_incl: bool, hi_incl: bool },
+    Between {
+        lo: f64,
+        hi: f64,
+        lo_incl: bool,
+        hi_incl: bool,
+    },
     /// Integer in lo..=hi.
     IntBetween(i64, i64),
     /// Even integer in 0..=hi.
@@ -87,7 +94,12 @@ impl Range {
             Range::Finite | Range::None => true,
             Range::Positive => x > 0.0,
             Range::NonNegative => x >= 0.0,
-            Range::Between { lo, hi, lo_incl, hi_incl } => {
+            Range::Between {
+                lo,
+                hi,
+                lo_incl,
+                hi_incl,
+            } => {
                 (if lo_incl { x >= lo } else { x > lo }) && (if hi_incl { x <= hi } else { x < hi })
             }
             Range::IntBetween(lo, hi) => x.fract() == 0.0 && x >= lo as f64 && x <= hi as f64,
@@ -103,7 +115,12 @@ impl Range {
             Range::Finite => "a finite number".into(),
             Range::Positive => "> 0".into(),
             Range::NonNegative => ">= 0".into(),
-            Range::Between { lo, hi, lo_incl, hi_incl } => {
+            Range::Between {
+                lo,
+                hi,
+                lo_incl,
+                hi_incl,
+            } => {
                 let l = if lo_incl { "[" } else { "(" };
                 let h = if hi_incl { "]" } else { ")" };
                 let hi = if hi == f64::INFINITY {
@@ -147,7 +164,15 @@ const fn p(
     symbol: &'static str,
     doc: &'static str,
 ) -> Param {
-    Param { key, kind, unit, default, range, symbol, doc }
+    Param {
+        key,
+        kind,
+        unit,
+        default,
+        range,
+        symbol,
+        doc,
+    }
 }
 
 const fn section(key: &'static str, default: DefaultValue, doc: &'static str) -> Param {
@@ -158,9 +183,15 @@ use DefaultValue as D;
 use Kind as K;
 use Range as Rg;
 
-const OPEN_UNIT: Range = Rg::Between { lo: 0.0, hi: 1.0, lo_incl: true, hi_incl: false };
+const OPEN_UNIT: Range = Rg::Between {
+    lo: 0.0,
+    hi: 1.0,
+    lo_incl: true,
+    hi_incl: false,
+};
 
 /// Every key of a scene, sections first in the order `scene new` writes them.
+#[rustfmt::skip]
 pub static SCHEMA: &[Param] = &[
     section("bubble", D::Present, "The bubble: its reference radius and initial state."),
     p("bubble.radius", K::Float, "m", D::Float(10e-6), Rg::Positive, "R_0",

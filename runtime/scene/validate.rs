@@ -34,7 +34,8 @@ impl Check {
 
     fn param(key: &str) -> &'static schema::Param {
         // A key missing from the schema is a bug in this file, caught by every test that loads a scene.
-        schema::param(key).unwrap_or_else(|| panic!("scene key `{key}` is missing from scene::schema::SCHEMA"))
+        schema::param(key)
+            .unwrap_or_else(|| panic!("scene key `{key}` is missing from scene::schema::SCHEMA"))
     }
 
     /// Checks `x` against the range of `key`.
@@ -96,8 +97,16 @@ impl Check {
             Some(s) => match options.iter().find(|o| **o == s) {
                 Some(o) => o,
                 None => {
-                    let list = options.iter().map(|o| format!("\"{o}\"")).collect::<Vec<_>>().join(", ");
-                    self.push(key, Some(format!("\"{s}\"")), format!("must be one of {list}"));
+                    let list = options
+                        .iter()
+                        .map(|o| format!("\"{o}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ");
+                    self.push(
+                        key,
+                        Some(format!("\"{s}\"")),
+                        format!("must be one of {list}"),
+                    );
                     default
                 }
             },
@@ -112,7 +121,12 @@ impl Check {
     }
 
     /// A mode map `{ "2" = x }` → `{2: x}`: keys even, 2 ≤ k ≤ max_order, values finite.
-    fn modes(&mut self, key: &str, v: Option<RawModeMap>, max_order: usize) -> BTreeMap<usize, f64> {
+    fn modes(
+        &mut self,
+        key: &str,
+        v: Option<RawModeMap>,
+        max_order: usize,
+    ) -> BTreeMap<usize, f64> {
         let mut out = BTreeMap::new();
         for (k, x) in v.unwrap_or_default() {
             let path = format!("{key}.{k}");
@@ -153,18 +167,22 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             "boundary-layer" => Viscous::BoundaryLayer,
             other => unreachable!("schema choice {other}"),
         },
-        boundary_layer_frequency: match c.choice("modes.boundary_layer_frequency", rm.boundary_layer_frequency.as_deref()) {
+        boundary_layer_frequency: match c.choice(
+            "modes.boundary_layer_frequency",
+            rm.boundary_layer_frequency.as_deref(),
+        ) {
             "natural" => BoundaryLayerFrequency::Natural,
             "auto" => BoundaryLayerFrequency::Auto,
             other => unreachable!("schema choice {other}"),
         },
     };
     // Mode keys are compared with the largest *valid* order (an invalid one is reported already).
-    let order_limit = if schema::param("modes.max_order").is_some_and(|p| p.range.admits(max_order as f64)) {
-        modes.max_order
-    } else {
-        schema::MAX_ORDER_LIMIT
-    };
+    let order_limit =
+        if schema::param("modes.max_order").is_some_and(|p| p.range.admits(max_order as f64)) {
+            modes.max_order
+        } else {
+            schema::MAX_ORDER_LIMIT
+        };
 
     let rb = raw.bubble.unwrap_or_default();
     let r0 = c.float("bubble.radius", rb.radius);
@@ -176,7 +194,10 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         a_velocity: c.modes("bubble.initial.a_velocity", ri.a_velocity, order_limit),
         b: c.modes("bubble.initial.b", ri.b, order_limit),
     };
-    let bubble = Bubble { radius: r0, initial };
+    let bubble = Bubble {
+        radius: r0,
+        initial,
+    };
 
     let rs = raw.shell.unwrap_or_default();
     let shell = Shell {
@@ -200,13 +221,20 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     let rg = raw.gas.unwrap_or_default();
     let gas = Gas {
         polytropic_exponent: c.float("gas.polytropic_exponent", rg.polytropic_exponent),
-        reference_pressure: c.float_or("gas.reference_pressure", rg.reference_pressure, liquid.ambient_pressure),
+        reference_pressure: c.float_or(
+            "gas.reference_pressure",
+            rg.reference_pressure,
+            liquid.ambient_pressure,
+        ),
     };
 
     let drive = raw.drive.and_then(|d| {
         let amplitude = c.float("drive.amplitude", d.amplitude);
         let frequency_hz = c.float("drive.frequency_hz", d.frequency_hz);
-        (amplitude != 0.0).then_some(Drive { amplitude, frequency_hz })
+        (amplitude != 0.0).then_some(Drive {
+            amplitude,
+            frequency_hz,
+        })
     });
 
     let field = build_field(c, raw.field, r0);
@@ -230,18 +258,36 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         }
     }
 
-    Scene { bubble, shell, gas, liquid, drive, field, modes, vorticity, run }
+    Scene {
+        bubble,
+        shell,
+        gas,
+        liquid,
+        drive,
+        field,
+        modes,
+        vorticity,
+        run,
+    }
 }
 
 fn build_field(c: &mut Check, raw: Option<RawField>, r0: f64) -> Option<Field> {
     let raw = raw?;
     if raw.coil.is_some() && raw.dipole.is_some() {
-        c.push("field", None, "give at most one of [field.coil] and [field.dipole]");
+        c.push(
+            "field",
+            None,
+            "give at most one of [field.coil] and [field.dipole]",
+        );
     }
     if let Some(rc) = raw.coil {
         let current = match rc.current {
             None => {
-                c.push("field.coil.current", None, "required when [field.coil] is present");
+                c.push(
+                    "field.coil.current",
+                    None,
+                    "required when [field.coil] is present",
+                );
                 Current::Static { value: f64::NAN }
             }
             Some(RawCurrent::Static(value)) => {
@@ -255,7 +301,10 @@ fn build_field(c: &mut Check, raw: Option<RawField>, r0: f64) -> Option<Field> {
         };
         let distance_oscillation = rc.distance_oscillation.map(|o| Oscillation {
             amplitude: c.float("field.coil.distance_oscillation.amplitude", o.amplitude),
-            frequency_hz: c.float("field.coil.distance_oscillation.frequency_hz", o.frequency_hz),
+            frequency_hz: c.float(
+                "field.coil.distance_oscillation.frequency_hz",
+                o.frequency_hz,
+            ),
         });
         return Some(Field::Coil(Coil {
             turns: c.float("field.coil.turns", rc.turns),
@@ -273,7 +322,10 @@ fn build_field(c: &mut Check, raw: Option<RawField>, r0: f64) -> Option<Field> {
             c.push(
                 "field.dipole.distance",
                 Some(fmt_num(distance)),
-                format!("must exceed bubble.radius = {} (the dipoles are outside the bubble)", fmt_num(r0)),
+                format!(
+                    "must exceed bubble.radius = {} (the dipoles are outside the bubble)",
+                    fmt_num(r0)
+                ),
             );
         }
         return Some(Field::Dipole(Dipole { moment, distance }));
@@ -295,7 +347,13 @@ fn build_vorticity(c: &mut Check, raw: Option<RawVorticity>) -> VorticityGrid {
     }
 }
 
-fn build_run(c: &mut Check, raw: Option<RawRun>, bubble: &Bubble, shell: &Shell, liquid: &Liquid) -> Run {
+fn build_run(
+    c: &mut Check,
+    raw: Option<RawRun>,
+    bubble: &Bubble,
+    shell: &Shell,
+    liquid: &Liquid,
+) -> Run {
     let rr = raw.unwrap_or_default();
     let duration = c.float("run.duration", rr.duration);
     let sample_interval = c.float("run.sample_interval", rr.sample_interval);
@@ -312,7 +370,11 @@ fn build_run(c: &mut Check, raw: Option<RawRun>, bubble: &Bubble, shell: &Shell,
     let t_star = (liquid.density * bubble.radius.powi(3) / (2.0 * shell.c1)).sqrt();
     let dt = c.float_or("run.integrator.dt", ri.dt, schema::DT_OVER_TSTAR * t_star);
     if dt > duration && duration > 0.0 {
-        c.push("run.integrator.dt", Some(fmt_num(dt)), format!("must not exceed run.duration = {}", fmt_num(duration)));
+        c.push(
+            "run.integrator.dt",
+            Some(fmt_num(dt)),
+            format!("must not exceed run.duration = {}", fmt_num(duration)),
+        );
     }
     let integrator = IntegratorSettings {
         method: match c.choice("run.integrator.method", ri.method.as_deref()) {
@@ -327,5 +389,10 @@ fn build_run(c: &mut Check, raw: Option<RawRun>, bubble: &Bubble, shell: &Shell,
         dt,
         max_steps: u64::try_from(c.int("run.integrator.max_steps", ri.max_steps)).unwrap_or(0),
     };
-    Run { duration, sample_interval, integrator, blow_up_threshold }
+    Run {
+        duration,
+        sample_interval,
+        integrator,
+        blow_up_threshold,
+    }
 }
