@@ -1,9 +1,270 @@
-//! `magbubble run` (scaffold: replaced by its owner).
+//! `magbubble run SCENE [--out DIR] [--set key=value]...`: simulates a scene and writes
+//! `DIR/series.csv` (header `t,R,a2,b2,a4,b4,…`, SI units) and `DIR/summary.json` (status,
+//! statistics, nondimensional groups and every resolved parameter).
+//!
+//! Nothing is created when the scene is invalid; when the model cannot be assembled or a write
+//! fails, the temp files are removed and so is the output directory if this run created it.
+
+use crate::output::{write_json, CsvWriter, OrderedMap, OutputDir, Progress};
+use crate::scene::{self, Scene};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+use sim::{ModelError, RunReport, RunStatus};
 
 /// Arguments of `magbubble run`.
 #[derive(Debug, clap::Args)]
-pub struct RunArgs {}
-
-pub fn run(_args: &RunArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`magbubble run` is not built yet")
+pub struct RunArgs {
+    /// The scene file (TOML), e.g. scenes/coil_static.toml.
+    pub scene: PathBuf,
+    /// Output directory (default: out/<scene file stem>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Override a scene key, e.g. --set drive.amplitude=0.3 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
 }
+
+/// The simulation entry point (`crate::model::simulate`).
+pub(crate) type SimulateFn =
+    fn(&Scene, &mut dyn FnMut(f64, &[f64])) -> Result<RunReport, ModelError>;
+
+pub fn run(args: &RunArgs) -> anyhow::Result<()> {
+    execute(args, sim::simulate)
+}
+
+/// The default output directory of a scene: `out/<file stem>`.
+pub fn default_out_dir(scene: &Path) -> PathBuf {
+    let stem = scene
+        .file_stem()
+        .map_or_else(|| "run".into(), |s| s.to_string_lossy().into_owned());
+    Path::new("out").join(stem)
+}
+
+/// CSV header of a scene: t, R, then a_k, b_k for k = 2, 4, …, N.
+pub fn series_header(scene: &Scene) -> Vec<String> {
+    let mut h = vec!["t".to_string(), "R".to_string()];
+    for k in scene.modes.orders() {
+        h.push(format!("a{k}"));
+        h.push(format!("b{k}"));
+    }
+    h
+}
+
+/// `summary.json`.
+#[derive(Serialize)]
+struct Summary<'a> {
+    status: &'a RunStatus,
+    t_end: f64,
+    steps: u64,
+    rejected_steps: u64,
+    rhs_evaluations: u64,
+    wall_seconds: f64,
+    rows: u64,
+    max_abs: OrderedMap<'a>,
+    final_state: OrderedMap<'a>,
+    active_effects: &'a [String],
+    state_dimension: usize,
+    groups: serde_json::Value,
+    /// Every resolved parameter (defaults applied, overrides included).
+    scene: &'a Scene,
+    /// The scene file and the `--set` overrides it was run with.
+    source: Source<'a>,
+}
+
+#[derive(Serialize)]
+struct Source<'a> {
+    file: String,
+    overrides: &'a [String],
+}
+
+pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()> {
+    let scene = scene::load(&args.scene, &args.set)?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out_dir(&args.scene));
+    let header = series_header(&scene);
+    let width = header.len() - 1;
+
+    let dir = OutputDir::create(&out)?;
+    let series_path = dir.join("series.csv");
+    let mut csv = match CsvWriter::create(&series_path, &header) {
+        Ok(csv) => csv,
+        Err(e) => {
+            dir.discard();
+            return Err(e.into());
+        }
+    };
+    let mut progress = Progress::new(scene.run.duration, &format!("run {}", args.scene.display()));
+    let mut line = Vec::with_capacity(width + 1);
+    let mut width_error = None;
+    let result = simulate(&scene, &mut |t, row| {
+        if row.len() != width {
+            width_error.get_or_insert((t, row.len()));
+            return;
+        }
+        line.clear();
+        line.push(t);
+        line.extend_from_slice(row);
+        csv.row(&line);
+        progress.set(t);
+    });
+    progress.finish();
+
+    let report = match (result, width_error) {
+        (Ok(report), None) => report,
+        (Ok(_), Some((t, len))) => {
+            drop(csv);
+            dir.discard();
+            anyhow::bail!("internal error: the model gave a row of {len} values at t = {t:e} s, expected {width}");
+        }
+        (Err(e), _) => {
+            drop(csv);
+            dir.discard();
+            return Err(
+                anyhow::Error::new(e).context(format!("cannot simulate {}", args.scene.display()))
+            );
+        }
+    };
+    let rows = csv.rows();
+    let summary_path = dir.join("summary.json");
+    let written = csv.commit().and_then(|()| {
+        let groups = serde_json::to_value(&report.groups).unwrap_or(serde_json::Value::Null);
+        write_json(
+            &summary_path,
+            &Summary {
+                status: &report.status,
+                t_end: report.t_end,
+                steps: report.stats.steps,
+                rejected_steps: report.stats.rejected,
+                rhs_evaluations: report.stats.rhs_evals,
+                wall_seconds: report.wall_seconds,
+                rows,
+                max_abs: OrderedMap(&report.max_abs),
+                final_state: OrderedMap(&report.final_state),
+                active_effects: &report.active_effects,
+                state_dimension: report.state_dimension,
+                groups,
+                scene: &scene,
+                source: Source {
+                    file: args.scene.display().to_string(),
+                    overrides: &args.set,
+                },
+            },
+        )
+    });
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&series_path);
+        dir.discard();
+        return Err(e.into());
+    }
+
+    print_summary(&report, &scene, &out, rows);
+    if let RunStatus::Failed { reason } = &report.status {
+        anyhow::bail!(
+            "the integration failed: {reason} (outputs up to t = {:e} s written to {})",
+            report.t_end,
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) {
+    let status = match &report.status {
+        RunStatus::Completed => "completed".to_string(),
+        RunStatus::BlowUp { t, mode } => format!("blow-up of {mode} at t = {t:e} s"),
+        RunStatus::Failed { reason } => format!("FAILED: {reason}"),
+    };
+    println!("status:     {status}");
+    println!(
+        "t_end:      {:e} s of {:e} s",
+        report.t_end, scene.run.duration
+    );
+    println!(
+        "steps:      {} ({} rejected), {} rhs evaluations, {:.3} s wall",
+        report.stats.steps, report.stats.rejected, report.stats.rhs_evals, report.wall_seconds
+    );
+    println!(
+        "effects:    {} (state dimension {})",
+        report.active_effects.join(", "),
+        report.state_dimension
+    );
+    if let Ok(serde_json::Value::Object(groups)) = serde_json::to_value(&report.groups) {
+        let list: Vec<String> = groups.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+        println!("groups:     {}", list.join(", "));
+    }
+    let largest = report
+        .max_abs
+        .iter()
+        .filter(|(n, _)| n != "R")
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((name, v)) = largest {
+        println!(
+            "largest:    max |{name}| = {v:e} m (|{name}|/R0 = {:.3e})",
+            v / scene.bubble.radius
+        );
+    }
+    println!(
+        "wrote:      {} ({rows} rows), {}",
+        out.join("series.csv").display(),
+        out.join("summary.json").display()
+    );
+}
+
+/// DEV STAND-IN: the model helper's `crate::model::{simulate, RunReport, RunStatus, ModelError}`
+/// (branch `model`), same shapes; replaced by a `pub use` once `model` is merged into main.
+#[allow(dead_code)]
+mod sim {
+    use crate::scene::Scene;
+    use serde::Serialize;
+
+    #[derive(Debug, Clone, PartialEq, Serialize)]
+    #[serde(rename_all = "snake_case")]
+    pub enum RunStatus {
+        Completed,
+        BlowUp { t: f64, mode: String },
+        Failed { reason: String },
+    }
+
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+    pub struct Stats {
+        pub steps: u64,
+        pub rejected: u64,
+        pub rhs_evals: u64,
+    }
+
+    #[derive(Debug, Clone, PartialEq, Serialize)]
+    pub struct Groups {
+        pub t_star: f64,
+        pub reynolds: f64,
+    }
+
+    #[derive(Debug, Clone, Serialize)]
+    pub struct RunReport {
+        pub status: RunStatus,
+        pub t_end: f64,
+        pub stats: Stats,
+        pub wall_seconds: f64,
+        pub max_abs: Vec<(String, f64)>,
+        pub final_state: Vec<(String, f64)>,
+        pub active_effects: Vec<String>,
+        pub state_dimension: usize,
+        pub groups: Groups,
+    }
+
+    #[derive(Debug, Clone, thiserror::Error)]
+    #[error("the model is not merged into this branch yet")]
+    pub struct ModelError;
+
+    pub fn simulate(
+        _scene: &Scene,
+        _observer: &mut dyn FnMut(f64, &[f64]),
+    ) -> Result<RunReport, ModelError> {
+        Err(ModelError)
+    }
+}
+
+#[cfg(test)]
+mod tests;

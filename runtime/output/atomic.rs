@@ -1,0 +1,115 @@
+//! Atomic files (temp file + rename) and output directories that vanish when a run fails.
+
+use super::OutputError;
+use std::fs::{self, File};
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// A buffered file written as `NAME.tmp` next to its final path; [`AtomicFile::commit`] flushes
+/// and renames it into place. Dropped without commit, the temp file is removed.
+#[derive(Debug)]
+pub struct AtomicFile {
+    tmp: PathBuf,
+    path: PathBuf,
+    writer: Option<BufWriter<File>>,
+}
+
+impl AtomicFile {
+    pub fn create(path: &Path) -> Result<Self, OutputError> {
+        let mut name = path
+            .file_name()
+            .map(|n| n.to_os_string())
+            .unwrap_or_default();
+        name.push(".tmp");
+        let tmp = path.with_file_name(name);
+        let file = File::create(&tmp).map_err(|source| OutputError::Write {
+            path: tmp.display().to_string(),
+            source,
+        })?;
+        Ok(AtomicFile {
+            tmp,
+            path: path.to_path_buf(),
+            writer: Some(BufWriter::new(file)),
+        })
+    }
+
+    /// The final path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Flushes, syncs and renames the temp file to the final path.
+    pub fn commit(mut self) -> Result<(), OutputError> {
+        let err = |source| OutputError::Write {
+            path: self.path.display().to_string(),
+            source,
+        };
+        let writer = self.writer.take().expect("writer present until commit");
+        let file = writer.into_inner().map_err(|e| err(e.into_error()))?;
+        file.sync_all().map_err(err)?;
+        drop(file);
+        fs::rename(&self.tmp, &self.path).map_err(err)
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.writer
+            .as_mut()
+            .expect("writer present until commit")
+            .write(buf)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.writer
+            .as_mut()
+            .expect("writer present until commit")
+            .flush()
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.writer.take().is_some() {
+            let _ = fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// An output directory, remembering whether this run created it.
+#[derive(Debug)]
+pub struct OutputDir {
+    path: PathBuf,
+    created: bool,
+}
+
+impl OutputDir {
+    /// Creates `path` (and its parents) if needed. Call it only once the inputs are valid.
+    pub fn create(path: &Path) -> Result<Self, OutputError> {
+        let created = !path.exists();
+        fs::create_dir_all(path).map_err(|source| OutputError::CreateDir {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Ok(OutputDir {
+            path: path.to_path_buf(),
+            created,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// `dir/name`.
+    pub fn join(&self, name: &str) -> PathBuf {
+        self.path.join(name)
+    }
+
+    /// After a failure: removes the directory if this run created it and it is empty
+    /// (temp files are removed by their [`AtomicFile`]s being dropped first).
+    pub fn discard(self) {
+        if self.created {
+            let _ = fs::remove_dir(&self.path);
+        }
+    }
+}

@@ -1,0 +1,57 @@
+//! A progress bar over simulated time, shown only when stderr is a terminal.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+
+/// Progress in simulated time; a no-op in a pipe or a file.
+#[derive(Debug)]
+pub struct Progress {
+    bar: Option<ProgressBar>,
+    end: f64,
+    last: u64,
+}
+
+/// Resolution of the bar (ticks over the whole run).
+const TICKS: u64 = 1000;
+
+impl Progress {
+    /// A bar for a run ending at `end` (same unit as [`Progress::set`]); hidden unless stderr is
+    /// a terminal.
+    pub fn new(end: f64, message: &str) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let bar = ProgressBar::new(TICKS);
+            let style = ProgressStyle::with_template(
+                "{msg} [{bar:40}] {percent:>3}% {elapsed} (eta {eta})",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> ");
+            bar.set_style(style);
+            bar.set_message(message.to_string());
+            bar
+        });
+        Progress { bar, end, last: 0 }
+    }
+
+    /// Whether a bar is drawn.
+    pub fn is_visible(&self) -> bool {
+        self.bar.is_some()
+    }
+
+    /// Reports progress `t` out of `end`.
+    pub fn set(&mut self, t: f64) {
+        if let Some(bar) = &self.bar {
+            let tick = ((t / self.end).clamp(0.0, 1.0) * TICKS as f64) as u64;
+            if tick != self.last {
+                self.last = tick;
+                bar.set_position(tick);
+            }
+        }
+    }
+
+    /// Removes the bar.
+    pub fn finish(self) {
+        if let Some(bar) = self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}

@@ -1,0 +1,355 @@
+//! The scene schema: ONE table of every key a scene may contain, with its unit, default, allowed
+//! range, the paper's symbol and a description.
+//!
+//! It is used by the type walk of a parsed scene (unknown keys, wrong types), by validation
+//! (defaults and ranges, [`super::validate`]), by `--set` (which paths exist), by
+//! `magbubble scene new|explain` and by `docs/scenes.md` (generated from [`markdown_reference`]).
+//! Defaults follow FORMULATION.md ("Conventions that the paper leaves open") and the paper's
+//! figure parameters (R0 = 10 µm, c1 = 0.1 N/m, c2 = 0.12 N/m, ε = 20 nm, χ = 1).
+
+use std::f64::consts::FRAC_PI_2;
+
+/// Largest even shape mode a scene may ask for: the coefficient tables are generated up to
+/// `KMAX` (codegen, env `MAGBUBBLE_KMAX`, default 64).
+pub const MAX_ORDER_LIMIT: usize = 64;
+
+/// θc = acos(√(3/7)), the positive root of P¹_4(cos θc) (eq 2.31, FORMULATION defaults table):
+/// with it H_4 = 0. Checked against `acos` in the tests.
+pub const DEFAULT_COIL_ANGLE: f64 = 0.857_071_947_850_131_1;
+
+/// Default fixed/initial step as a fraction of t* = √(ρR0³/(2c1)) (paper sec. 5.3: Δt′ = 10⁻³).
+pub const DT_OVER_TSTAR: f64 = 1e-3;
+
+/// What a key holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Kind {
+    /// A table of keys (`[shell]`, `[run.integrator]`, or an inline table).
+    Section,
+    /// A real number (TOML float or integer).
+    Float,
+    /// A TOML integer.
+    Int,
+    Bool,
+    /// A string out of a fixed list.
+    Choice(&'static [&'static str]),
+    /// A table `{ 2 = 1e-8, 4 = … }` keyed by the even mode number k.
+    ModeMap,
+    /// A number, or an inline table whose keys are the schema's children of this key
+    /// (`current = 100e3` or `current = { amplitude = 150e3, frequency_hz = 5e5 }`).
+    FloatOrTable,
+}
+
+/// The default of a key.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DefaultValue {
+    Float(f64),
+    Int(i64),
+    Bool(bool),
+    Str(&'static str),
+    /// Defaults to the value of another key.
+    SameAs(&'static str),
+    /// Computed from other keys; the text says how.
+    Derived(&'static str),
+    /// No default: must be given when its section is present. `example` is used by `scene new`.
+    Required {
+        example: &'static str,
+    },
+    /// An optional section: absent means the effect is off.
+    Absent,
+    /// An empty mode map (all zero).
+    Empty,
+    /// A section that always applies (absent: all its keys take their defaults).
+    Present,
+}
+
+/// The allowed values of a number.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Range {
+    /// Any finite value (not inf/NaN).
+    Finite,
+    Positive,
+    NonNegative,
+    /// lo < x (or ≤ when `lo_incl`), x < hi (or ≤ when `hi_incl`).
+    Between {
+        lo: f64,
+        hi: f64,
+        lo_incl: bool,
+        hi_incl: bool,
+    },
+    /// Integer in lo..=hi.
+    IntBetween(i64, i64),
+    /// Even integer in 0..=hi.
+    EvenUpTo(i64),
+    /// Not a number: no range (sections, booleans, strings, mode maps).
+    None,
+}
+
+impl Range {
+    /// Whether `x` is allowed.
+    pub fn admits(&self, x: f64) -> bool {
+        if !x.is_finite() {
+            return false;
+        }
+        match *self {
+            Range::Finite | Range::None => true,
+            Range::Positive => x > 0.0,
+            Range::NonNegative => x >= 0.0,
+            Range::Between {
+                lo,
+                hi,
+                lo_incl,
+                hi_incl,
+            } => {
+                (if lo_incl { x >= lo } else { x > lo }) && (if hi_incl { x <= hi } else { x < hi })
+            }
+            Range::IntBetween(lo, hi) => x.fract() == 0.0 && x >= lo as f64 && x <= hi as f64,
+            Range::EvenUpTo(hi) => {
+                x.fract() == 0.0 && x >= 0.0 && x <= hi as f64 && (x as i64) % 2 == 0
+            }
+        }
+    }
+
+    /// The range as an error message says it ("must be > 0").
+    pub fn describe(&self) -> String {
+        match *self {
+            Range::Finite => "a finite number".into(),
+            Range::Positive => "> 0".into(),
+            Range::NonNegative => ">= 0".into(),
+            Range::Between {
+                lo,
+                hi,
+                lo_incl,
+                hi_incl,
+            } => {
+                let l = if lo_incl { "[" } else { "(" };
+                let h = if hi_incl { "]" } else { ")" };
+                let hi = if hi == f64::INFINITY {
+                    "inf".to_string()
+                } else if hi == FRAC_PI_2 {
+                    "pi/2".to_string()
+                } else {
+                    fmt_num(hi)
+                };
+                format!("in {l}{}, {hi}{h}", fmt_num(lo))
+            }
+            Range::IntBetween(lo, i64::MAX) => format!("an integer >= {lo}"),
+            Range::IntBetween(lo, hi) => format!("an integer in {lo}..={hi}"),
+            Range::EvenUpTo(hi) => format!("an even integer in 0..={hi} (KMAX)"),
+            Range::None => String::new(),
+        }
+    }
+}
+
+/// One key of the schema.
+#[derive(Debug, Clone, Copy)]
+pub struct Param {
+    /// Dotted path, e.g. `shell.c1`.
+    pub key: &'static str,
+    pub kind: Kind,
+    /// SI unit ("" for dimensionless).
+    pub unit: &'static str,
+    pub default: DefaultValue,
+    pub range: Range,
+    /// The paper's symbol (and equation).
+    pub symbol: &'static str,
+    pub doc: &'static str,
+}
+
+const fn p(
+    key: &'static str,
+    kind: Kind,
+    unit: &'static str,
+    default: DefaultValue,
+    range: Range,
+    symbol: &'static str,
+    doc: &'static str,
+) -> Param {
+    Param {
+        key,
+        kind,
+        unit,
+        default,
+        range,
+        symbol,
+        doc,
+    }
+}
+
+const fn section(key: &'static str, default: DefaultValue, doc: &'static str) -> Param {
+    p(key, Kind::Section, "", default, Range::None, "", doc)
+}
+
+use DefaultValue as D;
+use Kind as K;
+use Range as Rg;
+
+const OPEN_UNIT: Range = Rg::Between {
+    lo: 0.0,
+    hi: 1.0,
+    lo_incl: true,
+    hi_incl: false,
+};
+
+/// Every key of a scene, sections first in the order `scene new` writes them.
+#[rustfmt::skip]
+pub static SCHEMA: &[Param] = &[
+    section("bubble", D::Present, "The bubble: its reference radius and initial state."),
+    p("bubble.radius", K::Float, "m", D::Float(10e-6), Rg::Positive, "R_0",
+      "Reference (natural, unstressed) radius of the bubble."),
+    section("bubble.initial", D::Present,
+      "Initial state. Default: at rest, R = R0, dR/dt = 0, a_k = da_k/dt = b_k = 0."),
+    p("bubble.initial.radius", K::Float, "m", D::SameAs("bubble.radius"), Rg::Positive, "R(0)",
+      "Initial radius."),
+    p("bubble.initial.velocity", K::Float, "m/s", D::Float(0.0), Rg::Finite, "dR/dt(0)",
+      "Initial radial velocity."),
+    p("bubble.initial.a", K::ModeMap, "m", D::Empty, Rg::Finite, "a_k(0) (eq 2.14)",
+      "Initial normal shape amplitudes, keyed by even k with 2 <= k <= modes.max_order, e.g. { 2 = 1e-8 }."),
+    p("bubble.initial.a_velocity", K::ModeMap, "m/s", D::Empty, Rg::Finite, "da_k/dt(0)",
+      "Initial normal shape velocities, keyed like `a`."),
+    p("bubble.initial.b", K::ModeMap, "m", D::Empty, Rg::Finite, "b_k(0) (eq 2.14)",
+      "Initial tangential amplitudes, keyed like `a`."),
+    section("shell", D::Present, "The lipid shell: Mooney-Rivlin membrane loaded with nanoparticles."),
+    p("shell.c1", K::Float, "N/m", D::Float(0.1), Rg::Positive, "c_1 = eps C_1 (sec 5.3)",
+      "First Mooney-Rivlin constant times the thickness. Sets the time scale t* = sqrt(rho R0^3/(2 c1))."),
+    p("shell.c2", K::Float, "N/m", D::Float(0.12), Rg::NonNegative, "c_2 = eps C_2 (sec 5.3)",
+      "Second Mooney-Rivlin constant times the thickness (alpha = c2/c1)."),
+    p("shell.thickness", K::Float, "m", D::Float(20e-9), Rg::Positive, "eps",
+      "Shell thickness; the interface susceptibility is chi_s = eps chi (FORMULATION sec 1)."),
+    p("shell.susceptibility", K::Float, "", D::Float(1.0), Rg::Finite, "chi",
+      "Magnetic susceptibility of the nanoparticle-laden shell (negative: diamagnetic)."),
+    p("shell.form", K::Choice(&["paper", "tension"]), "", D::Str("paper"), Rg::None, "eqs 2.26-2.29",
+      "Membrane load: `paper` = divergence of the Cauchy stress (the paper's); `tension` = divergence of \
+       the tension eps sigma/alpha (FORMULATION sec 2, audit 9)."),
+    section("gas", D::Present, "Polytropic gas: p_in = p_g0 (R0/R)^(3 kappa); no vapour pressure."),
+    p("gas.polytropic_exponent", K::Float, "", D::Float(1.4), Rg::Positive, "kappa",
+      "Polytropic exponent (1 = isothermal, 1.4 = adiabatic air)."),
+    p("gas.reference_pressure", K::Float, "Pa", D::SameAs("liquid.ambient_pressure"), Rg::Positive,
+      "p_g0", "Gas pressure at R = R0 (FORMULATION audit 7: p_g0 = p0)."),
+    section("liquid", D::Present, "The surrounding liquid (default: water)."),
+    p("liquid.density", K::Float, "kg/m^3", D::Float(1000.0), Rg::Positive, "rho", "Liquid density."),
+    p("liquid.viscosity", K::Float, "Pa s", D::Float(1e-3), Rg::Positive, "eta", "Dynamic viscosity."),
+    p("liquid.ambient_pressure", K::Float, "Pa", D::Float(101325.0), Rg::Positive, "p_0",
+      "Ambient pressure."),
+    section("drive", D::Absent,
+      "Acoustic drive p_inf(t) = p0 (1 + eps_p cos(2 pi f_d t)). Absent or amplitude = 0: no drive."),
+    p("drive.amplitude", K::Float, "", D::Required { example: "0.5" }, Rg::NonNegative, "eps_p",
+      "Relative pressure amplitude."),
+    p("drive.frequency_hz", K::Float, "Hz", D::Float(1e6), Rg::Positive, "f_d (omega_d = 2 pi f_d)",
+      "Drive frequency (the paper's \"omega_d = 1 MHz\" is read as f_d = 1 MHz, FORMULATION audit 15)."),
+    section("field", D::Absent,
+      "Magnetic field: at most one of [field.coil] and [field.dipole]. Absent: no magnetic term."),
+    section("field.coil", D::Absent,
+      "Two opposed coils (eqs 2.30-2.33): H_2n = -(I/a) N1 sin(theta_c) P^1_2n(cos theta_c)."),
+    p("field.coil.turns", K::Float, "", D::Float(1000.0), Rg::Positive, "N_1", "Number of turns."),
+    p("field.coil.distance", K::Float, "m", D::Float(0.1), Rg::Positive, "a",
+      "Coil distance (mean distance when it oscillates); FORMULATION default 0.1 m."),
+    p("field.coil.angle", K::Float, "rad", D::Float(DEFAULT_COIL_ANGLE),
+      Rg::Between { lo: 0.0, hi: FRAC_PI_2, lo_incl: false, hi_incl: true }, "theta_c",
+      "Coil angle; default acos(sqrt(3/7)), the positive root of P^1_4, so that H_4 = 0."),
+    p("field.coil.current", K::FloatOrTable, "A", D::Required { example: "100e3" }, Rg::Finite,
+      "I, or I_0 cos(2 pi f_2 t)",
+      "Static current (a number), or an alternating one { amplitude = I0, frequency_hz = f2 }."),
+    p("field.coil.current.amplitude", K::Float, "A", D::Required { example: "150e3" }, Rg::Finite, "I_0",
+      "Amplitude of the alternating current."),
+    p("field.coil.current.frequency_hz", K::Float, "Hz", D::Required { example: "5e5" }, Rg::Positive,
+      "f_2", "Frequency of the alternating current."),
+    section("field.coil.distance_oscillation", D::Absent,
+      "Oscillating coil distance a(t) = a (1 + beta cos(2 pi f_3 t)), e.g. { amplitude = 0.1, frequency_hz = 5e5 }."),
+    p("field.coil.distance_oscillation.amplitude", K::Float, "", D::Required { example: "0.1" }, OPEN_UNIT,
+      "beta", "Relative amplitude of the distance oscillation."),
+    p("field.coil.distance_oscillation.frequency_hz", K::Float, "Hz", D::Required { example: "5e5" },
+      Rg::Positive, "f_3", "Frequency of the distance oscillation."),
+    p("field.coil.include_h4", K::Bool, "", D::Bool(false), Rg::None, "H_4",
+      "Keep the H_4 term of the Boridy expansion (matters only when theta_c is not a root of P^1_4)."),
+    section("field.dipole", D::Absent, "Two dipoles placed symmetrically on the axis (eqs 2.34-2.38)."),
+    p("field.dipole.moment", K::Float, "A m^2", D::Required { example: "1.0" }, Rg::Finite, "M",
+      "Dipole moment."),
+    p("field.dipole.distance", K::Float, "m", D::Float(0.01), Rg::Positive, "z",
+      "Distance of each dipole from the bubble centre (must exceed bubble.radius)."),
+    section("modes", D::Present, "Which shape modes are simulated and how viscosity is closed."),
+    p("modes.max_order", K::Int, "", D::Int(16), Rg::EvenUpTo(MAX_ORDER_LIMIT as i64), "N",
+      "Largest even shape mode; modes k = 2, 4, ..., N. 0 = radial only (Rayleigh-Plesset)."),
+    p("modes.viscous", K::Choice(&["boundary-layer", "vorticity"]), "", D::Str("boundary-layer"), Rg::None,
+      "sec 3 / sec 5", "Viscous closure: boundary-layer approximation (FORMULATION sec 4.3) or the full \
+       toroidal-vorticity PDE (sec 4.2)."),
+    p("modes.boundary_layer_frequency", K::Choice(&["auto", "natural"]), "", D::Str("auto"), Rg::None,
+      "omega in delta_k (eq 3.1)", "Frequency of delta_k = min(sqrt(nu/omega), R/(2k)): `auto` = omega_d \
+       when driven, omega_k otherwise; `natural` = omega_k always (FORMULATION audit 13)."),
+    section("vorticity", D::Present, "Radial grid y = r/R in [1, y_max] of the vorticity PDE (modes.viscous = \"vorticity\")."),
+    p("vorticity.y_max", K::Float, "", D::Float(3.0),
+      Rg::Between { lo: 1.0, hi: f64::INFINITY, lo_incl: false, hi_incl: false }, "Y_max",
+      "Outer edge of the grid, in units of R (T_k = 0 there)."),
+    p("vorticity.points", K::Int, "", D::Int(201), Rg::IntBetween(5, 100_000), "",
+      "Number of grid points, both ends included."),
+    p("vorticity.stretching", K::Float, "", D::Float(20.0),
+      Rg::Between { lo: 1.0, hi: f64::INFINITY, lo_incl: true, hi_incl: false }, "",
+      "Ratio of the last to the first spacing (1 = uniform; > 1 clusters points at the wall)."),
+    p("vorticity.scheme", K::Choice(&["monolithic", "staggered"]), "", D::Str("monolithic"), Rg::None,
+      "sec 5", "`monolithic`: method of lines, all nodes in one implicit system; `staggered`: the paper's \
+       loosely coupled scheme (RK + backward Euler for T_k)."),
+    section("run", D::Present, "The run: duration, output sampling, blow-up criterion."),
+    p("run.duration", K::Float, "s", D::Float(100e-6), Rg::Positive, "", "Simulated time."),
+    p("run.sample_interval", K::Float, "s", D::Float(1e-8), Rg::Positive, "",
+      "Interval between rows of series.csv (must not exceed run.duration)."),
+    p("run.blow_up_threshold", K::Float, "", D::Float(0.5), Rg::Positive, "",
+      "The run stops as `blow_up` when max_k |a_k|/R0 or |b_k|/R0 exceeds this (or R leaves (0, inf))."),
+    section("run.integrator", D::Present, "The time integrator and its settings."),
+    p("run.integrator.method", K::Choice(&["radau5", "rk4", "dopri5", "dop853"]), "", D::Str("radau5"),
+      Rg::None, "", "`radau5` (implicit Radau IIA, stiff), `rk4` (fixed step, the paper's), `dopri5` / \
+       `dop853` (adaptive explicit Dormand-Prince)."),
+    p("run.integrator.rtol", K::Float, "", D::Float(1e-6),
+      Rg::Between { lo: 1e-14, hi: 0.1, lo_incl: true, hi_incl: true }, "",
+      "Relative tolerance (adaptive methods)."),
+    p("run.integrator.atol", K::Float, "", D::Float(1e-9), Rg::Positive, "",
+      "Absolute tolerance on the integrator's nondimensional state (lengths / R0, FORMULATION sec 4.5)."),
+    p("run.integrator.dt", K::Float, "s", D::Derived("1e-3 t*, t* = sqrt(rho R0^3 / (2 c1))"), Rg::Positive,
+      "Delta t", "Fixed step of rk4 and of the staggered vorticity scheme; initial step otherwise \
+       (must not exceed run.duration)."),
+    p("run.integrator.max_steps", K::Int, "", D::Int(50_000_000), Rg::IntBetween(1, i64::MAX), "",
+      "Hard cap on the number of steps; a run that needs more fails with that reason."),
+];
+
+/// The schema entry of a dotted key.
+pub fn param(key: &str) -> Option<&'static Param> {
+    SCHEMA.iter().find(|p| p.key == key)
+}
+
+/// The direct children of a section (or of a `FloatOrTable` key).
+pub fn children(parent: &str) -> impl Iterator<Item = &'static Param> + '_ {
+    SCHEMA.iter().filter(move |p| match p.key.rsplit_once('.') {
+        Some((head, _)) => head == parent,
+        None => parent.is_empty(),
+    })
+}
+
+/// The last segment of a key.
+pub fn leaf_name(key: &str) -> &str {
+    key.rsplit_once('.').map_or(key, |(_, l)| l)
+}
+
+/// A number as a scene would write it: plain in [1e-3, 1e6), exponent form otherwise.
+pub fn fmt_num(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) || !x.is_finite() {
+        format!("{x:?}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+impl DefaultValue {
+    /// The default as `scene explain` prints it.
+    pub fn describe(&self) -> String {
+        match *self {
+            D::Float(x) => fmt_num(x),
+            D::Int(i) => i.to_string(),
+            D::Bool(b) => b.to_string(),
+            D::Str(s) => format!("\"{s}\""),
+            D::SameAs(k) => format!("= {k}"),
+            D::Derived(t) => t.to_string(),
+            D::Required { .. } => "required".into(),
+            D::Absent => "absent (off)".into(),
+            D::Empty => "{} (all zero)".into(),
+            D::Present => "always present".into(),
+        }
+    }
+}

@@ -1,0 +1,398 @@
+//! `RawScene` → `Scene`: defaults applied from [`schema::SCHEMA`], every value range-checked,
+//! cross-key rules enforced. All problems are collected, never just the first.
+
+use super::error::{Issue, Issues};
+use super::raw::*;
+use super::schema::{self, fmt_num, DefaultValue as D};
+use super::types::*;
+use std::collections::BTreeMap;
+
+impl TryFrom<RawScene> for Scene {
+    type Error = Issues;
+
+    fn try_from(raw: RawScene) -> Result<Scene, Issues> {
+        let mut c = Check::default();
+        let scene = build(&mut c, raw);
+        if c.issues.is_empty() {
+            Ok(scene)
+        } else {
+            Err(Issues(c.issues))
+        }
+    }
+}
+
+/// Collects issues while reading values with their schema defaults and ranges.
+#[derive(Default)]
+struct Check {
+    issues: Vec<Issue>,
+}
+
+impl Check {
+    fn push(&mut self, key: &str, value: Option<String>, reason: impl Into<String>) {
+        self.issues.push(Issue::new(key, value, reason));
+    }
+
+    fn param(key: &str) -> &'static schema::Param {
+        // A key missing from the schema is a bug in this file, caught by every test that loads a scene.
+        schema::param(key)
+            .unwrap_or_else(|| panic!("scene key `{key}` is missing from scene::schema::SCHEMA"))
+    }
+
+    /// Checks `x` against the range of `key`.
+    fn range(&mut self, key: &str, x: f64) {
+        self.range_shown(key, x, fmt_num(x));
+    }
+
+    /// Checks `x` against the range of `key`, showing the value as `shown`.
+    fn range_shown(&mut self, key: &str, x: f64, shown: String) {
+        let p = Self::param(key);
+        if !p.range.admits(x) {
+            self.push(key, Some(shown), format!("must be {}", p.range.describe()));
+        }
+    }
+
+    /// A float with its schema default (`fallback` for `SameAs`/`Derived` defaults).
+    fn float_or(&mut self, key: &str, v: Option<f64>, fallback: f64) -> f64 {
+        match v {
+            Some(x) => {
+                self.range(key, x);
+                x
+            }
+            None => match Self::param(key).default {
+                D::Float(d) => d,
+                D::Required { .. } => {
+                    let section = key.rsplit_once('.').map_or("", |(s, _)| s);
+                    self.push(key, None, format!("required when [{section}] is present"));
+                    f64::NAN
+                }
+                _ => fallback,
+            },
+        }
+    }
+
+    fn float(&mut self, key: &str, v: Option<f64>) -> f64 {
+        self.float_or(key, v, f64::NAN)
+    }
+
+    fn int(&mut self, key: &str, v: Option<i64>) -> i64 {
+        match v {
+            Some(i) => {
+                self.range_shown(key, i as f64, i.to_string());
+                i
+            }
+            None => match Self::param(key).default {
+                D::Int(d) => d,
+                other => panic!("schema default of `{key}` is not an integer: {other:?}"),
+            },
+        }
+    }
+
+    fn choice(&mut self, key: &str, v: Option<&str>) -> &'static str {
+        let p = Self::param(key);
+        let (schema::Kind::Choice(options), D::Str(default)) = (p.kind, p.default) else {
+            panic!("schema key `{key}` is not a choice with a string default");
+        };
+        match v {
+            None => default,
+            Some(s) => match options.iter().find(|o| **o == s) {
+                Some(o) => o,
+                None => {
+                    let list = options
+                        .iter()
+                        .map(|o| format!("\"{o}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ");
+                    self.push(
+                        key,
+                        Some(format!("\"{s}\"")),
+                        format!("must be one of {list}"),
+                    );
+                    default
+                }
+            },
+        }
+    }
+
+    fn bool(&mut self, key: &str, v: Option<bool>) -> bool {
+        v.unwrap_or(match Self::param(key).default {
+            D::Bool(b) => b,
+            other => panic!("schema default of `{key}` is not a bool: {other:?}"),
+        })
+    }
+
+    /// A mode map `{ "2" = x }` → `{2: x}`: keys even, 2 ≤ k ≤ max_order, values finite.
+    fn modes(
+        &mut self,
+        key: &str,
+        v: Option<RawModeMap>,
+        max_order: usize,
+    ) -> BTreeMap<usize, f64> {
+        let mut out = BTreeMap::new();
+        for (k, x) in v.unwrap_or_default() {
+            let path = format!("{key}.{k}");
+            let value = Some(fmt_num(x));
+            match k.trim().parse::<usize>() {
+                Err(_) => self.push(&path, value, "mode key must be an even integer k >= 2, e.g. { 2 = 1e-8 }"),
+                Ok(0) => self.push(&path, value, "k = 0 is the radial mode: use bubble.initial.radius / velocity"),
+                Ok(k) if k % 2 == 1 => self.push(
+                    &path,
+                    value,
+                    format!("odd mode k = {k} not simulated (the model has the even modes k = 2, 4, ..., N only)"),
+                ),
+                Ok(k) if k > max_order => self.push(
+                    &path,
+                    value,
+                    format!("a key for k = {k} > modes.max_order = {max_order} (raise modes.max_order or remove it)"),
+                ),
+                Ok(k) => {
+                    if !x.is_finite() {
+                        self.push(&path, value, "must be a finite number");
+                    }
+                    out.insert(k, x);
+                }
+            }
+        }
+        out
+    }
+}
+
+fn build(c: &mut Check, raw: RawScene) -> Scene {
+    // Modes first: the initial mode maps are checked against max_order.
+    let rm = raw.modes.unwrap_or_default();
+    let max_order = c.int("modes.max_order", rm.max_order);
+    let modes = Modes {
+        max_order: usize::try_from(max_order).unwrap_or(0),
+        viscous: match c.choice("modes.viscous", rm.viscous.as_deref()) {
+            "vorticity" => Viscous::Vorticity,
+            "boundary-layer" => Viscous::BoundaryLayer,
+            other => unreachable!("schema choice {other}"),
+        },
+        boundary_layer_frequency: match c.choice(
+            "modes.boundary_layer_frequency",
+            rm.boundary_layer_frequency.as_deref(),
+        ) {
+            "natural" => BoundaryLayerFrequency::Natural,
+            "auto" => BoundaryLayerFrequency::Auto,
+            other => unreachable!("schema choice {other}"),
+        },
+    };
+    // Mode keys are compared with the largest *valid* order (an invalid one is reported already).
+    let order_limit =
+        if schema::param("modes.max_order").is_some_and(|p| p.range.admits(max_order as f64)) {
+            modes.max_order
+        } else {
+            schema::MAX_ORDER_LIMIT
+        };
+
+    let rb = raw.bubble.unwrap_or_default();
+    let r0 = c.float("bubble.radius", rb.radius);
+    let ri = rb.initial.unwrap_or_default();
+    let initial = Initial {
+        radius: c.float_or("bubble.initial.radius", ri.radius, r0),
+        velocity: c.float("bubble.initial.velocity", ri.velocity),
+        a: c.modes("bubble.initial.a", ri.a, order_limit),
+        a_velocity: c.modes("bubble.initial.a_velocity", ri.a_velocity, order_limit),
+        b: c.modes("bubble.initial.b", ri.b, order_limit),
+    };
+    let bubble = Bubble {
+        radius: r0,
+        initial,
+    };
+
+    let rs = raw.shell.unwrap_or_default();
+    let shell = Shell {
+        c1: c.float("shell.c1", rs.c1),
+        c2: c.float("shell.c2", rs.c2),
+        thickness: c.float("shell.thickness", rs.thickness),
+        susceptibility: c.float("shell.susceptibility", rs.susceptibility),
+        form: match c.choice("shell.form", rs.form.as_deref()) {
+            "tension" => MembraneForm::Tension,
+            "paper" => MembraneForm::Paper,
+            other => unreachable!("schema choice {other}"),
+        },
+    };
+
+    let rl = raw.liquid.unwrap_or_default();
+    let liquid = Liquid {
+        density: c.float("liquid.density", rl.density),
+        viscosity: c.float("liquid.viscosity", rl.viscosity),
+        ambient_pressure: c.float("liquid.ambient_pressure", rl.ambient_pressure),
+    };
+    let rg = raw.gas.unwrap_or_default();
+    let gas = Gas {
+        polytropic_exponent: c.float("gas.polytropic_exponent", rg.polytropic_exponent),
+        reference_pressure: c.float_or(
+            "gas.reference_pressure",
+            rg.reference_pressure,
+            liquid.ambient_pressure,
+        ),
+    };
+
+    let drive = raw.drive.and_then(|d| {
+        let amplitude = c.float("drive.amplitude", d.amplitude);
+        let frequency_hz = c.float("drive.frequency_hz", d.frequency_hz);
+        (amplitude != 0.0).then_some(Drive {
+            amplitude,
+            frequency_hz,
+        })
+    });
+
+    let field = build_field(c, raw.field, r0);
+    let vorticity = build_vorticity(c, raw.vorticity);
+    let run = build_run(c, raw.run, &bubble, &shell, &liquid);
+
+    // Cross-key rules on the initial state.
+    for (name, map) in [("a", &bubble.initial.a), ("b", &bubble.initial.b)] {
+        for (k, x) in map {
+            if r0 > 0.0 && run.blow_up_threshold > 0.0 && (x / r0).abs() > run.blow_up_threshold {
+                c.push(
+                    &format!("bubble.initial.{name}.{k}"),
+                    Some(fmt_num(*x)),
+                    format!(
+                        "|{name}_{k}(0)|/R0 = {} already exceeds run.blow_up_threshold = {}",
+                        fmt_num((x / r0).abs()),
+                        fmt_num(run.blow_up_threshold)
+                    ),
+                );
+            }
+        }
+    }
+
+    Scene {
+        bubble,
+        shell,
+        gas,
+        liquid,
+        drive,
+        field,
+        modes,
+        vorticity,
+        run,
+    }
+}
+
+fn build_field(c: &mut Check, raw: Option<RawField>, r0: f64) -> Option<Field> {
+    let raw = raw?;
+    if raw.coil.is_some() && raw.dipole.is_some() {
+        c.push(
+            "field",
+            None,
+            "give at most one of [field.coil] and [field.dipole]",
+        );
+    }
+    if let Some(rc) = raw.coil {
+        let current = match rc.current {
+            None => {
+                c.push(
+                    "field.coil.current",
+                    None,
+                    "required when [field.coil] is present",
+                );
+                Current::Static { value: f64::NAN }
+            }
+            Some(RawCurrent::Static(value)) => {
+                c.range("field.coil.current", value);
+                Current::Static { value }
+            }
+            Some(RawCurrent::Cosine(o)) => Current::Cosine {
+                amplitude: c.float("field.coil.current.amplitude", o.amplitude),
+                frequency_hz: c.float("field.coil.current.frequency_hz", o.frequency_hz),
+            },
+        };
+        let distance_oscillation = rc.distance_oscillation.map(|o| Oscillation {
+            amplitude: c.float("field.coil.distance_oscillation.amplitude", o.amplitude),
+            frequency_hz: c.float(
+                "field.coil.distance_oscillation.frequency_hz",
+                o.frequency_hz,
+            ),
+        });
+        return Some(Field::Coil(Coil {
+            turns: c.float("field.coil.turns", rc.turns),
+            distance: c.float("field.coil.distance", rc.distance),
+            angle: c.float("field.coil.angle", rc.angle),
+            current,
+            distance_oscillation,
+            include_h4: c.bool("field.coil.include_h4", rc.include_h4),
+        }));
+    }
+    if let Some(rd) = raw.dipole {
+        let moment = c.float("field.dipole.moment", rd.moment);
+        let distance = c.float("field.dipole.distance", rd.distance);
+        if distance > 0.0 && r0 > 0.0 && distance <= r0 {
+            c.push(
+                "field.dipole.distance",
+                Some(fmt_num(distance)),
+                format!(
+                    "must exceed bubble.radius = {} (the dipoles are outside the bubble)",
+                    fmt_num(r0)
+                ),
+            );
+        }
+        return Some(Field::Dipole(Dipole { moment, distance }));
+    }
+    None
+}
+
+fn build_vorticity(c: &mut Check, raw: Option<RawVorticity>) -> VorticityGrid {
+    let rv = raw.unwrap_or_default();
+    VorticityGrid {
+        y_max: c.float("vorticity.y_max", rv.y_max),
+        points: usize::try_from(c.int("vorticity.points", rv.points)).unwrap_or(0),
+        stretching: c.float("vorticity.stretching", rv.stretching),
+        scheme: match c.choice("vorticity.scheme", rv.scheme.as_deref()) {
+            "staggered" => VorticityScheme::Staggered,
+            "monolithic" => VorticityScheme::Monolithic,
+            other => unreachable!("schema choice {other}"),
+        },
+    }
+}
+
+fn build_run(
+    c: &mut Check,
+    raw: Option<RawRun>,
+    bubble: &Bubble,
+    shell: &Shell,
+    liquid: &Liquid,
+) -> Run {
+    let rr = raw.unwrap_or_default();
+    let duration = c.float("run.duration", rr.duration);
+    let sample_interval = c.float("run.sample_interval", rr.sample_interval);
+    if sample_interval > duration && duration > 0.0 {
+        c.push(
+            "run.sample_interval",
+            Some(fmt_num(sample_interval)),
+            format!("must not exceed run.duration = {}", fmt_num(duration)),
+        );
+    }
+    let blow_up_threshold = c.float("run.blow_up_threshold", rr.blow_up_threshold);
+    let ri = rr.integrator.unwrap_or_default();
+    // t* = sqrt(rho R0^3 / (2 c1)), FORMULATION sec 4.5.
+    let t_star = (liquid.density * bubble.radius.powi(3) / (2.0 * shell.c1)).sqrt();
+    let dt = c.float_or("run.integrator.dt", ri.dt, schema::DT_OVER_TSTAR * t_star);
+    if dt > duration && duration > 0.0 {
+        c.push(
+            "run.integrator.dt",
+            Some(fmt_num(dt)),
+            format!("must not exceed run.duration = {}", fmt_num(duration)),
+        );
+    }
+    let integrator = IntegratorSettings {
+        method: match c.choice("run.integrator.method", ri.method.as_deref()) {
+            "rk4" => Method::Rk4,
+            "dopri5" => Method::Dopri5,
+            "dop853" => Method::Dop853,
+            "radau5" => Method::Radau5,
+            other => unreachable!("schema choice {other}"),
+        },
+        rtol: c.float("run.integrator.rtol", ri.rtol),
+        atol: c.float("run.integrator.atol", ri.atol),
+        dt,
+        max_steps: u64::try_from(c.int("run.integrator.max_steps", ri.max_steps)).unwrap_or(0),
+    };
+    Run {
+        duration,
+        sample_interval,
+        integrator,
+        blow_up_threshold,
+    }
+}
