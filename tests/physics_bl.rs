@@ -304,3 +304,25 @@ fn radial_only_scene_is_a_two_state_system() {
     assert_eq!(m16.system().dim(), 2 + 3 * 8);
     assert_eq!(m16.state_names().len(), 1 + 2 * 8);
 }
+
+#[test]
+fn groups_follow_their_definitions() {
+    let mut s = scene(16, 1e-9, 1e-6, 1e-7);
+    s.field = Some(coil_field(100e3));
+    s.drive = Some(Drive { amplitude: 0.5, frequency_hz: 1e6 });
+    let g = Model::from_scene(&s).unwrap().groups();
+    let h2 = coil::h2(100e3, 0.1, 1000.0, (3.0f64 / 7.0).sqrt().acos());
+    let rn = MU0 * 20e-9 * h2 * h2 * R0 * R0 / (2.0 * C1 * 0.01);
+    let t_star = (RHO * R0.powi(3) / (2.0 * C1)).sqrt();
+    eprintln!("groups: {g:?}");
+    assert!((g.t_star / t_star - 1.0).abs() < 1e-14);
+    assert!((g.reynolds / ((2.0 * RHO * C1 * R0).sqrt() / ETA) - 1.0).abs() < 1e-14);
+    assert!((g.p / (P0 * R0 / C1) - 1.0).abs() < 1e-14);
+    assert!((g.alpha - C2 / C1).abs() < 1e-14);
+    assert!((g.rn.unwrap() / rn - 1.0).abs() < 1e-12);
+    assert!(g.mn.is_none());
+    assert!((g.omega_d_star.unwrap() / (2.0 * std::f64::consts::PI * 1e6 * t_star) - 1.0).abs() < 1e-14);
+    // The membrane stiffness of k = 16 turns negative under 10 % compression (docs/model.md).
+    assert!(membrane::paper::s1(0.9 * R0, R0, C1, C2, 16.0) < 0.0);
+    assert!(membrane::paper::s1(R0, R0, C1, C2, 16.0) > 0.0);
+}
