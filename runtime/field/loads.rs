@@ -239,3 +239,62 @@ impl MagneticLoads {
         self.row(f, m + 1, y, false)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Coil, Current, Field, MembraneForm, Oscillation, Shell};
+
+    fn source(current: Current, osc: Option<Oscillation>) -> FieldSource {
+        let shell = Shell { c1: 0.1, c2: 0.12, thickness: 20e-9, susceptibility: 1.0, form: MembraneForm::Paper };
+        let coil = Coil {
+            turns: 1000.0,
+            distance: 0.1,
+            angle: (3.0f64 / 7.0).sqrt().acos(),
+            current,
+            distance_oscillation: osc,
+            include_h4: false,
+        };
+        FieldSource::from_scene(&Field::Coil(coil), &shell, 10e-6).unwrap()
+    }
+
+    #[test]
+    fn time_factors_follow_current_and_distance() {
+        let (r0, pu, ts) = (10e-6, 2e4, 2.236e-6);
+        let st = MagneticLoads::new(&source(Current::Static { value: 1e5 }, None), 2, r0, pu, ts).unwrap();
+        let ac = MagneticLoads::new(
+            &source(Current::Cosine { amplitude: 1e5, frequency_hz: 5e5 }, None),
+            2,
+            r0,
+            pu,
+            ts,
+        )
+        .unwrap();
+        let osc = MagneticLoads::new(
+            &source(Current::Static { value: 1e5 }, Some(Oscillation { amplitude: 0.1, frequency_hz: 2e5 })),
+            2,
+            r0,
+            pu,
+            ts,
+        )
+        .unwrap();
+        assert!(st.is_static() && !ac.is_static() && !osc.is_static());
+        let mut y = vec![1.01, 0.0, 1e-3, 0.0, 2e-4, -5e-4, 0.0, 1e-4];
+        y[0] = 1.01;
+        let t = 0.37; // nondimensional
+        let fs = st.factors(t, y[0]);
+        let (fa, fo) = (ac.factors(t, y[0]), osc.factors(t, y[0]));
+        let c = (2.0 * std::f64::consts::PI * 5e5 * ts * t).cos();
+        let d = 1.0 + 0.1 * (2.0 * std::f64::consts::PI * 2e5 * ts * t).cos();
+        for m in 0..2 {
+            let (n, tn) = (st.normal(&fs, m, &y), st.tangential(&fs, m, &y));
+            assert!(n != 0.0 && tn != 0.0);
+            // ℋ ∝ H2²/a² ∝ I²/a⁴ (eq 2.31 and the coil prefactor)
+            assert!((ac.normal(&fa, m, &y) / n - c * c).abs() < 1e-12);
+            assert!((ac.tangential(&fa, m, &y) / tn - c * c).abs() < 1e-12);
+            assert!((osc.normal(&fo, m, &y) / n - d.powi(-4)).abs() < 1e-12);
+        }
+        assert!((ac.radial(&fa, &y) / st.radial(&fs, &y) - c * c).abs() < 1e-12);
+        assert_eq!(st.evaluations(), 1);
+    }
+}

@@ -47,6 +47,7 @@ impl BoundaryLayerSystem {
     /// Writes (ȧ_k, ä_k, ḃ_k) for every mode into `dy[2..]`, for given R, Ṙ, R̈ (the radial
     /// entries of `y` are not read). Linear in the mode amplitudes.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub fn mode_rates(&self, t: f64, r: f64, rd: f64, rdd: f64, f: Option<&Factors>, y: &[f64], dy: &mut [f64]) {
         let p = &self.params;
         let mem = &p.membrane;

@@ -3,7 +3,7 @@
 //! its tests can run before the real integrators are merged. RK4 (fixed step, hits every
 //! sample time) and Dormand–Prince 5(4) (adaptive, cubic Hermite output); Dop853 and Radau5
 //! fall back to Dopri5 here. Replaced by `crate::integrate` at merge; must not reach `main`.
-#![allow(dead_code)]
+#![allow(dead_code, clippy::too_many_arguments)]
 
 use crate::integrate::OdeSystem;
 use crate::scene::{IntegratorSettings, Method as SceneMethod};
