@@ -213,57 +213,9 @@ fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) {
     );
 }
 
-/// DEV STAND-IN: the model helper's `crate::model::{simulate, RunReport, RunStatus, ModelError}`
-/// (branch `model`), same shapes; replaced by a `pub use` once `model` is merged into main.
-#[allow(dead_code)]
+/// The simulation entry points this command uses.
 mod sim {
-    use crate::scene::Scene;
-    use serde::Serialize;
-
-    #[derive(Debug, Clone, PartialEq, Serialize)]
-    #[serde(rename_all = "snake_case")]
-    pub enum RunStatus {
-        Completed,
-        BlowUp { t: f64, mode: String },
-        Failed { reason: String },
-    }
-
-    #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
-    pub struct Stats {
-        pub steps: u64,
-        pub rejected: u64,
-        pub rhs_evals: u64,
-    }
-
-    #[derive(Debug, Clone, PartialEq, Serialize)]
-    pub struct Groups {
-        pub t_star: f64,
-        pub reynolds: f64,
-    }
-
-    #[derive(Debug, Clone, Serialize)]
-    pub struct RunReport {
-        pub status: RunStatus,
-        pub t_end: f64,
-        pub stats: Stats,
-        pub wall_seconds: f64,
-        pub max_abs: Vec<(String, f64)>,
-        pub final_state: Vec<(String, f64)>,
-        pub active_effects: Vec<String>,
-        pub state_dimension: usize,
-        pub groups: Groups,
-    }
-
-    #[derive(Debug, Clone, thiserror::Error)]
-    #[error("the model is not merged into this branch yet")]
-    pub struct ModelError;
-
-    pub fn simulate(
-        _scene: &Scene,
-        _observer: &mut dyn FnMut(f64, &[f64]),
-    ) -> Result<RunReport, ModelError> {
-        Err(ModelError)
-    }
+    pub use crate::model::{simulate, ModelError, RunReport, RunStatus};
 }
 
 #[cfg(test)]

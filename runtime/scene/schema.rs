@@ -11,7 +11,7 @@ use std::f64::consts::FRAC_PI_2;
 
 /// Largest even shape mode a scene may ask for: the coefficient tables are generated up to
 /// `KMAX` (codegen, env `MAGBUBBLE_KMAX`, default 64).
-pub const MAX_ORDER_LIMIT: usize = 64;
+pub const MAX_ORDER_LIMIT: usize = crate::coefficients::KMAX;
 
 /// θc = acos(√(3/7)), the positive root of P¹_4(cos θc) (eq 2.31, FORMULATION defaults table):
 /// with it H_4 = 0. Checked against `acos` in the tests.

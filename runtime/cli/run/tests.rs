@@ -1,6 +1,7 @@
-//! `magbubble run` with stand-in simulations: files, atomicity, cleanup.
+//! `magbubble run` with fake simulations: files, atomicity, cleanup.
 
-use super::sim::{Groups, Stats};
+use crate::integrate::Stats;
+use crate::model::Groups;
 use super::*;
 
 fn report(status: RunStatus, names: &[String]) -> RunReport {
@@ -11,6 +12,7 @@ fn report(status: RunStatus, names: &[String]) -> RunReport {
             steps: 10,
             rejected: 1,
             rhs_evals: 70,
+            ..Stats::default()
         },
         wall_seconds: 0.0,
         max_abs: names.iter().map(|n| (n.clone(), 1.0)).collect(),
@@ -20,6 +22,11 @@ fn report(status: RunStatus, names: &[String]) -> RunReport {
         groups: Groups {
             t_star: 2.2e-6,
             reynolds: 10.0,
+            p: 10.0,
+            alpha: 1.2,
+            rn: None,
+            mn: None,
+            omega_d_star: None,
         },
     }
 }
@@ -39,7 +46,7 @@ fn decay(scene: &Scene, observer: &mut dyn FnMut(f64, &[f64])) -> Result<RunRepo
 
 fn failing(_: &Scene, observer: &mut dyn FnMut(f64, &[f64])) -> Result<RunReport, ModelError> {
     observer(0.0, &[1e-5]); // a row is written before the failure
-    Err(ModelError)
+    Err(ModelError::Unsupported { key: "test", value: "x".into(), reason: "a failing stand-in simulation" })
 }
 
 fn write_scene(dir: &Path, text: &str) -> PathBuf {
