@@ -1,1 +1,247 @@
-//! (to be written)
+//! The equations as an [`OdeSystem`](crate::integrate::OdeSystem), assembled from a [`Scene`]
+//! with only the effects it calls for (issue 3, parts 2–3):
+//!
+//! * no field → no magnetic term is assembled or evaluated ([`Model::magnetic_evaluations`] = 0);
+//! * `max_order = 0` → the two-state radial equation alone ([`RadialSystem`]);
+//! * no drive (absent or ε_p = 0) → p∞ = p0, no drive term;
+//! * static current, fixed distance → the magnetic time factor is computed once.
+//!
+//! The scene is nondimensionalized once, here ([`params`], FORMULATION §4.5); the integrators
+//! see plain numbers. Equations: [`radial`] (FORMULATION §4.1) and [`boundary_layer`] (§4.3).
+//! [`simulate`] runs a scene and reports a [`RunReport`].
+
+pub mod blow_up;
+pub mod boundary_layer;
+pub mod params;
+pub mod radial;
+mod simulate;
+// DEV STAND-IN: replaced by crate::integrate once the `integrate` branch is merged.
+pub mod integrate_standin;
+
+pub use boundary_layer::BoundaryLayerSystem;
+pub use params::{Groups, Params, Scales};
+pub use radial::RadialSystem;
+pub use simulate::{simulate, RunReport, RunStatus};
+
+use crate::coefficients::KMAX;
+use crate::field::{loads::MagneticLoads, FieldError, FieldSource};
+use crate::integrate::OdeSystem;
+use crate::scene::{BoundaryLayerFrequency, Scene, Viscous};
+use boundary_layer::ModeConst;
+
+/// Errors assembling a model from a (validated) scene.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModelError {
+    #[error(transparent)]
+    Field(#[from] FieldError),
+    #[error("modes.max_order = {max_order}: the generated tables stop at k = {kmax} (rebuild with MAGBUBBLE_KMAX)")]
+    TooManyModes { max_order: usize, kmax: usize },
+    #[error("{key} = {value}: {reason}")]
+    Unsupported { key: &'static str, value: String, reason: &'static str },
+}
+
+/// The assembled system: exactly the terms the scene needs.
+#[derive(Debug)]
+pub enum System {
+    Radial(RadialSystem),
+    BoundaryLayer(BoundaryLayerSystem),
+}
+
+/// A scene turned into equations, with its scales, initial state and bookkeeping.
+#[derive(Debug)]
+pub struct Model {
+    scales: Scales,
+    system: System,
+    orders: Vec<usize>,
+    y0: Vec<f64>,
+    groups: Groups,
+    effects: Vec<String>,
+    blow_up_threshold: f64,
+}
+
+impl Model {
+    pub fn from_scene(scene: &Scene) -> Result<Model, ModelError> {
+        let scales = Scales::from_scene(scene);
+        let params = Params::from_scene(scene, &scales);
+        let orders: Vec<usize> = scene.modes.orders().collect();
+        if scene.modes.max_order > KMAX {
+            return Err(ModelError::TooManyModes { max_order: scene.modes.max_order, kmax: KMAX });
+        }
+        if !orders.is_empty() && scene.modes.viscous == Viscous::Vorticity {
+            return Err(ModelError::Unsupported {
+                key: "modes.viscous",
+                value: "vorticity".into(),
+                reason: "the full vorticity model is not available yet; use \"boundary-layer\"",
+            });
+        }
+        let source = scene
+            .field
+            .as_ref()
+            .map(|f| FieldSource::from_scene(f, &scene.shell, scene.bubble.radius))
+            .transpose()?;
+        let loads = source
+            .as_ref()
+            .map(|s| MagneticLoads::new(s, orders.len(), scales.length, scales.pressure, scales.time))
+            .transpose()?;
+
+        let mut effects = vec!["radial".to_string()];
+        let system = if orders.is_empty() {
+            System::Radial(RadialSystem { params, loads })
+        } else {
+            let nu = params.eta / params.rho;
+            let modes = orders
+                .iter()
+                .map(|&k| {
+                    let kf = k as f64;
+                    // FORMULATION audit 13: ω = ω_d when driven (Auto), ω_k of §4.4 otherwise.
+                    let omega = match (scene.modes.boundary_layer_frequency, params.drive) {
+                        (BoundaryLayerFrequency::Auto, Some((_, w))) => w,
+                        _ => params.omega_k(kf),
+                    };
+                    ModeConst { k: kf, viscous_length: (nu / omega).sqrt() }
+                })
+                .collect();
+            effects.push(format!("shape modes k=2..{} (boundary layer)", scene.modes.max_order));
+            System::BoundaryLayer(BoundaryLayerSystem { params, modes, loads })
+        };
+        if params.drive.is_some() {
+            effects.push("acoustic drive".into());
+        }
+        if let Some(s) = &source {
+            effects.push(s.label.clone());
+        }
+
+        let mut y0 = vec![scene.bubble.initial.radius / scales.length, scene.bubble.initial.velocity * scales.time / scales.length];
+        for &k in &orders {
+            let g = |m: &std::collections::BTreeMap<usize, f64>| m.get(&k).copied().unwrap_or(0.0);
+            y0.push(g(&scene.bubble.initial.a) / scales.length);
+            y0.push(g(&scene.bubble.initial.a_velocity) * scales.time / scales.length);
+            y0.push(g(&scene.bubble.initial.b) / scales.length);
+        }
+        let r0 = scene.bubble.radius;
+        let (c1, c2) = (scene.shell.c1, scene.shell.c2);
+        let groups = Groups {
+            t_star: scales.time,
+            reynolds: (2.0 * scene.liquid.density * c1 * r0).sqrt() / scene.liquid.viscosity,
+            p: scene.liquid.ambient_pressure * r0 / c1,
+            alpha: c2 / c1,
+            rn: source.as_ref().filter(|s| s.group.0 == "rn").map(|s| s.group.1),
+            mn: source.as_ref().filter(|s| s.group.0 == "mn").map(|s| s.group.1),
+            omega_d_star: params.drive.map(|(_, w)| w),
+        };
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold })
+    }
+
+    /// The equations, as the integrators see them.
+    pub fn system(&self) -> &dyn OdeSystem {
+        match &self.system {
+            System::Radial(s) => s,
+            System::BoundaryLayer(s) => s,
+        }
+    }
+
+    /// The assembled system (for analyses that need more than `OdeSystem`).
+    pub fn assembled(&self) -> &System {
+        &self.system
+    }
+
+    /// The boundary-layer system, if the scene has shape modes (for the linear analyses:
+    /// [`BoundaryLayerSystem::linear_modes`]).
+    pub fn boundary_layer(&self) -> Option<&BoundaryLayerSystem> {
+        match &self.system {
+            System::BoundaryLayer(s) => Some(s),
+            System::Radial(_) => None,
+        }
+    }
+
+    pub fn params(&self) -> &Params {
+        match &self.system {
+            System::Radial(s) => &s.params,
+            System::BoundaryLayer(s) => &s.params,
+        }
+    }
+
+    fn loads(&self) -> Option<&MagneticLoads> {
+        match &self.system {
+            System::Radial(s) => s.loads.as_ref(),
+            System::BoundaryLayer(s) => s.loads.as_ref(),
+        }
+    }
+
+    /// Nondimensional initial state.
+    pub fn initial_state(&self) -> &[f64] {
+        &self.y0
+    }
+
+    /// t* [s]: nondimensional time × t* = seconds.
+    pub fn time_scale(&self) -> f64 {
+        self.scales.time
+    }
+
+    pub fn scales(&self) -> &Scales {
+        &self.scales
+    }
+
+    /// The simulated shape orders k = 2, 4, …, N.
+    pub fn orders(&self) -> &[usize] {
+        &self.orders
+    }
+
+    /// Names of the output row ([`to_si`](Self::to_si)): R, a2, b2, a4, b4, …
+    pub fn state_names(&self) -> Vec<String> {
+        let mut v = vec!["R".to_string()];
+        for k in &self.orders {
+            v.push(format!("a{k}"));
+            v.push(format!("b{k}"));
+        }
+        v
+    }
+
+    /// Names of the full (integrated) state: R, Rdot, a2, a2dot, b2, …
+    pub fn full_state_names(&self) -> Vec<String> {
+        let mut v = vec!["R".to_string(), "Rdot".to_string()];
+        for k in &self.orders {
+            v.push(format!("a{k}"));
+            v.push(format!("a{k}dot"));
+            v.push(format!("b{k}"));
+        }
+        v
+    }
+
+    /// The output row in SI units [m]: R, a2, b2, a4, b4, …
+    pub fn to_si(&self, y: &[f64]) -> Vec<f64> {
+        let mut row = vec![0.0; 1 + 2 * self.orders.len()];
+        self.to_si_into(y, &mut row);
+        row
+    }
+
+    /// [`to_si`](Self::to_si) into a buffer of length 1 + 2M.
+    pub fn to_si_into(&self, y: &[f64], row: &mut [f64]) {
+        let l = self.scales.length;
+        row[0] = y[0] * l;
+        for m in 0..self.orders.len() {
+            row[1 + 2 * m] = y[2 + 3 * m] * l;
+            row[2 + 2 * m] = y[4 + 3 * m] * l;
+        }
+    }
+
+    /// What the assembled system contains, e.g. "radial", "shape modes k=2..16 (boundary layer)",
+    /// "acoustic drive", "coil field (static current)".
+    pub fn active_effects(&self) -> Vec<String> {
+        self.effects.clone()
+    }
+
+    pub fn groups(&self) -> Groups {
+        self.groups.clone()
+    }
+
+    /// Number of magnetic-load evaluations so far (0 when the scene has no field).
+    pub fn magnetic_evaluations(&self) -> u64 {
+        self.loads().map_or(0, |l| l.evaluations())
+    }
+
+    /// The blow-up classifier ([`blow_up::classify`]) at this scene's threshold.
+    pub fn blow_up(&self, y: &[f64]) -> Option<String> {
+        blow_up::classify(y, &self.orders, self.blow_up_threshold)
+    }
+}

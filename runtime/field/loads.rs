@@ -1,0 +1,241 @@
+//! Magnetic loads M0, M_n,k, M_t,k (FORMULATION §4.1, eq 2.40) from a generated [`FieldTable`],
+//! precomputed once per run in a dense-band form for the simulated modes.
+//!
+//! For one table component c with prefactor ℋ_c (a monomial in the symbols, including R^{p_R})
+//! and zero-order force ∝ r^m (docs/architecture.md):
+//!
+//! ```text
+//! M_n,k = Σ_c ℋ_c [ R^m zero_normal_c(k) + R^(m−1) Σ_couplings value_c(k) · amp_(k+offset) ]
+//! ```
+//! and M_t,k likewise with the tangential tables; M0 is the row k = 0 of the normal loads.
+//!
+//! The prefactor is split once into a static constant (all symbols but R, the current and the
+//! distance), a time factor (I(t)/I)^p (a/a(t))^p (a(t)/a)^q (1 for a static field, never
+//! recomputed), and the R-dependence R^(p_R+m) (zero order) or R^(p_R+m−1) (couplings).
+//! Everything is stored nondimensionally (lengths / R0, pressures / (2c1/R0), FORMULATION §4.5).
+//! Evaluation does not allocate.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::{FieldError, FieldSource, TimeLaw};
+use crate::coefficients::{Amp, Load, KMAX};
+
+/// Largest number of table components handled (COIL_H4 has 3: H2², H2H4, H4²).
+pub const MAX_COMPONENTS: usize = 4;
+
+#[derive(Debug)]
+struct ComponentLoads {
+    /// K̄_c: static part of the prefactor, nondimensional, at the reference current/distance.
+    k_static: f64,
+    /// Power of R̄ on the zero-order loads (p_R + m) and on the couplings (p_R + m − 1).
+    zero_power: i32,
+    coupling_power: i32,
+    /// Powers of the current ratio and of the distance ratio in the time factor.
+    current_power: i32,
+    distance_power: i32,
+    /// Zero-order normal load per row (row 0 = k = 0 → M0; row r = mode k = 2r).
+    zero_n: Vec<f64>,
+    /// Zero-order tangential load per row (row 0 unused).
+    zero_t: Vec<f64>,
+    /// Band coefficients: row r, offset d ∈ [−W, W] (in modes), (a, b) pair.
+    band_n: Vec<f64>,
+    band_t: Vec<f64>,
+}
+
+/// Prefactors at one (t, R): computed once per right-hand-side evaluation.
+#[derive(Debug, Clone, Copy)]
+pub struct Factors {
+    zero: [f64; MAX_COMPONENTS],
+    coupling: [f64; MAX_COMPONENTS],
+}
+
+/// The magnetic loads of one field for the simulated modes k = 2, 4, …, 2M.
+#[derive(Debug)]
+pub struct MagneticLoads {
+    comps: Vec<ComponentLoads>,
+    modes: usize,
+    /// Half-bandwidth W in modes (1 for the paper's H2² coil: k couples to k ± 2).
+    width: usize,
+    law: TimeLaw,
+    /// Nondimensional angular frequencies (ω t*) of the current and of the distance.
+    current_omega: Option<f64>,
+    distance: Option<(f64, f64)>,
+    evaluations: AtomicU64,
+}
+
+impl MagneticLoads {
+    /// Builds the loads of `source` for `modes` shape modes (k = 2..=2·modes).
+    /// `r0` [m] and `p_unit` [Pa] are the length and pressure scales, `t_star` [s] the time scale.
+    pub fn new(source: &FieldSource, modes: usize, r0: f64, p_unit: f64, t_star: f64) -> Result<Self, FieldError> {
+        let table = source.table;
+        if table.components.len() > MAX_COMPONENTS {
+            return Err(FieldError::UnknownSymbol {
+                table: table.name,
+                symbol: format!("({} components > {MAX_COMPONENTS})", table.components.len()),
+                field: source.kind,
+            });
+        }
+        let width = table
+            .components
+            .iter()
+            .flat_map(|c| c.couplings.iter())
+            .map(|cp| (cp.offset.unsigned_abs() as usize) / 2)
+            .max()
+            .unwrap_or(0);
+        let rows = modes + 1;
+        let stride = 2 * (2 * width + 1);
+        let mut comps = Vec::with_capacity(table.components.len());
+        for c in table.components {
+            let mut k_si = c.prefactor.coeff;
+            let (mut p_r, mut p_h, mut p_a) = (0i32, 0i32, 0i32);
+            for &(sym, p) in c.prefactor.powers {
+                match sym {
+                    "R" => p_r += p,
+                    _ => {
+                        let v = source.symbol(sym).ok_or_else(|| FieldError::UnknownSymbol {
+                            table: table.name,
+                            symbol: sym.to_string(),
+                            field: source.kind,
+                        })?;
+                        if sym == "H2" || sym == "H4" {
+                            p_h += p;
+                        } else if sym == "a" {
+                            p_a += p;
+                        }
+                        k_si *= v.powi(p);
+                    }
+                }
+            }
+            let zero_power = p_r + c.r_power;
+            let k_static = k_si * r0.powi(zero_power) / p_unit;
+            let mut zero_n = vec![0.0; rows];
+            let mut zero_t = vec![0.0; rows];
+            for &(j, v) in c.zero_normal {
+                if j % 2 == 0 && j / 2 < rows {
+                    zero_n[j / 2] += v;
+                }
+            }
+            for &(j, v) in c.zero_tangential {
+                if j >= 2 && j % 2 == 0 && j / 2 < rows {
+                    zero_t[j / 2] += v;
+                }
+            }
+            let mut band_n = vec![0.0; rows * stride];
+            let mut band_t = vec![0.0; rows * stride];
+            for cp in c.couplings {
+                for row in 0..rows {
+                    let k = 2 * row;
+                    if k > KMAX {
+                        continue;
+                    }
+                    let Some(value) = cp.values.get(k).copied().flatten() else { continue };
+                    let src = k as i64 + cp.offset as i64;
+                    // a_0 = b_0 = 0 and a_{N+2} = b_{N+2} = 0 (FORMULATION §4.1).
+                    if src < 2 || src > 2 * modes as i64 || src % 2 != 0 {
+                        continue;
+                    }
+                    let d = (cp.offset / 2) as i64 + width as i64;
+                    let idx = row * stride + 2 * d as usize + matches!(cp.amp, Amp::B) as usize;
+                    match cp.load {
+                        Load::Normal => band_n[idx] += value,
+                        Load::Tangential if row > 0 => band_t[idx] += value,
+                        Load::Tangential => {}
+                    }
+                }
+            }
+            comps.push(ComponentLoads {
+                k_static,
+                zero_power,
+                coupling_power: zero_power - 1,
+                current_power: p_h,
+                distance_power: p_a - p_h, // H ∝ I/a
+                zero_n,
+                zero_t,
+                band_n,
+                band_t,
+            });
+        }
+        let (current_omega, distance) = match source.law {
+            TimeLaw::Static => (None, None),
+            TimeLaw::Varying { current_omega, distance } => {
+                (current_omega.map(|w| w * t_star), distance.map(|(b, w)| (b, w * t_star)))
+            }
+        };
+        Ok(Self { comps, modes, width, law: source.law, current_omega, distance, evaluations: AtomicU64::new(0) })
+    }
+
+    /// Number of [`factors`](Self::factors) calls so far (one per right-hand-side evaluation).
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations.load(Ordering::Relaxed)
+    }
+
+    pub fn is_static(&self) -> bool {
+        matches!(self.law, TimeLaw::Static)
+    }
+
+    /// Prefactors at nondimensional time `t` and radius `r` (= R/R0).
+    #[inline]
+    pub fn factors(&self, t: f64, r: f64) -> Factors {
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        let (cr, dr) = if self.is_static() {
+            (1.0, 1.0)
+        } else {
+            (
+                self.current_omega.map_or(1.0, |w| (w * t).cos()),
+                self.distance.map_or(1.0, |(b, w)| 1.0 + b * (w * t).cos()),
+            )
+        };
+        let mut f = Factors { zero: [0.0; MAX_COMPONENTS], coupling: [0.0; MAX_COMPONENTS] };
+        for (i, c) in self.comps.iter().enumerate() {
+            let mut k = c.k_static;
+            if !self.is_static() {
+                k *= cr.powi(c.current_power) * dr.powi(c.distance_power);
+            }
+            f.zero[i] = k * r.powi(c.zero_power);
+            f.coupling[i] = k * r.powi(c.coupling_power);
+        }
+        f
+    }
+
+    #[inline]
+    fn row(&self, f: &Factors, row: usize, y: &[f64], normal: bool) -> f64 {
+        let w = self.width as i64;
+        let stride = 2 * (2 * self.width + 1);
+        let mut total = 0.0;
+        for (i, c) in self.comps.iter().enumerate() {
+            let (zero, band) = if normal { (&c.zero_n, &c.band_n) } else { (&c.zero_t, &c.band_t) };
+            let mut s = 0.0;
+            let base = row * stride;
+            for d in -w..=w {
+                let src = row as i64 + d;
+                if src < 1 || src > self.modes as i64 {
+                    continue;
+                }
+                let j = base + 2 * (d + w) as usize;
+                let at = 2 + 3 * (src as usize - 1);
+                s += band[j] * y[at] + band[j + 1] * y[at + 2];
+            }
+            total += f.zero[i] * zero[row] + f.coupling[i] * s;
+        }
+        total
+    }
+
+    /// M0 (the P_0 projection, radial equation), nondimensional. `y` is the full state
+    /// [R, Ṙ, (a_k, ȧ_k, b_k)_k].
+    #[inline]
+    pub fn radial(&self, f: &Factors, y: &[f64]) -> f64 {
+        self.row(f, 0, y, true)
+    }
+
+    /// M_n,k for mode index `m` (k = 2(m+1)), nondimensional.
+    #[inline]
+    pub fn normal(&self, f: &Factors, m: usize, y: &[f64]) -> f64 {
+        self.row(f, m + 1, y, true)
+    }
+
+    /// M_t,k for mode index `m` (k = 2(m+1)), nondimensional.
+    #[inline]
+    pub fn tangential(&self, f: &Factors, m: usize, y: &[f64]) -> f64 {
+        self.row(f, m + 1, y, false)
+    }
+}

@@ -1,0 +1,42 @@
+//! The one blow-up classifier of magbubble (FORMULATION §5: a blow-up is a result, reported
+//! with the mode and time).
+
+/// Classifies a nondimensional state y = [R̄, Ṙ̄, (ā_k, ǡ_k, b̄_k)_k] (lengths / R0).
+/// Returns the offending mode — "nonfinite", "R" (R ≤ 0), or "a{k}" / "b{k}" when
+/// |a_k|/R0 or |b_k|/R0 exceeds `threshold` (the largest such one) — or `None`.
+pub fn classify(y: &[f64], orders: &[usize], threshold: f64) -> Option<String> {
+    if y.iter().any(|v| !v.is_finite()) {
+        return Some("nonfinite".into());
+    }
+    if y[0] <= 0.0 {
+        return Some("R".into());
+    }
+    let mut worst: Option<(f64, String)> = None;
+    for (m, k) in orders.iter().enumerate() {
+        for (v, name) in [(y[2 + 3 * m].abs(), "a"), (y[4 + 3 * m].abs(), "b")] {
+            if v > threshold && worst.as_ref().is_none_or(|w| v > w.0) {
+                worst = Some((v, format!("{name}{k}")));
+            }
+        }
+    }
+    worst.map(|w| w.1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::classify;
+
+    #[test]
+    fn classifies_modes_radius_and_nan() {
+        let orders = [2, 4];
+        let mut y = vec![1.0, 0.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0];
+        assert_eq!(classify(&y, &orders, 0.5), None);
+        y[7] = -0.7; // b4
+        y[2] = 0.6; // a2
+        assert_eq!(classify(&y, &orders, 0.5).as_deref(), Some("b4"));
+        y[0] = -1e-3;
+        assert_eq!(classify(&y, &orders, 0.5).as_deref(), Some("R"));
+        y[3] = f64::NAN;
+        assert_eq!(classify(&y, &orders, 0.5).as_deref(), Some("nonfinite"));
+    }
+}

@@ -1,0 +1,152 @@
+//! Nondimensionalization at the edge (FORMULATION §4.5, paper §5.4).
+//!
+//! Units: length R0, time t* = √(ρR0³/(2c1)), pressure 2c1/R0. In these units ρ̄ = 1, R̄0 = 1,
+//! c̄1 = 1/2, c̄2 = α/2, η̄ = 1/Re, p̄0 = P/2, with Re = √(2ρc1R0)/η, P = p0R0/c1, α = c2/c1.
+//! The equations in `radial` and `boundary_layer` are written dimensionally homogeneous (in
+//! ρ, η, c1, c2, R0, p0), so they are evaluated unchanged with these numbers: the integrators
+//! see plain O(1) numbers and nothing is rescaled per step.
+
+use serde::Serialize;
+
+use crate::coefficients::membrane;
+use crate::scene::{MembraneForm, Scene};
+
+/// The scales that convert between SI and the model's nondimensional numbers.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Scales {
+    /// R0 [m]
+    pub length: f64,
+    /// t* [s]
+    pub time: f64,
+    /// 2c1/R0 [Pa]
+    pub pressure: f64,
+}
+
+impl Scales {
+    pub fn from_scene(s: &Scene) -> Self {
+        let r0 = s.bubble.radius;
+        let c1 = s.shell.c1;
+        Self { length: r0, time: (s.liquid.density * r0.powi(3) / (2.0 * c1)).sqrt(), pressure: 2.0 * c1 / r0 }
+    }
+}
+
+type S0 = fn(f64, f64, f64, f64) -> f64;
+type Sk = fn(f64, f64, f64, f64, f64) -> f64;
+
+/// The five membrane loads of FORMULATION §4.1, chosen once by the scene's `shell.form`.
+#[derive(Clone, Copy)]
+pub struct Membrane {
+    pub s0: S0,
+    pub s1: Sk,
+    pub s2: Sk,
+    pub s11: Sk,
+    pub s12: Sk,
+}
+
+impl std::fmt::Debug for Membrane {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Membrane")
+    }
+}
+
+impl Membrane {
+    pub fn new(form: MembraneForm) -> Self {
+        match form {
+            MembraneForm::Paper => Self {
+                s0: membrane::paper::s0,
+                s1: membrane::paper::s1,
+                s2: membrane::paper::s2,
+                s11: membrane::paper::s11,
+                s12: membrane::paper::s12,
+            },
+            MembraneForm::Tension => Self {
+                s0: membrane::tension::s0,
+                s1: membrane::tension::s1,
+                s2: membrane::tension::s2,
+                s11: membrane::tension::s11,
+                s12: membrane::tension::s12,
+            },
+        }
+    }
+}
+
+/// Nondimensional parameters of the equations.
+#[derive(Debug, Clone, Copy)]
+pub struct Params {
+    pub rho: f64,
+    pub r0: f64,
+    pub eta: f64,
+    pub c1: f64,
+    pub c2: f64,
+    pub p0: f64,
+    /// p̄_g0 (FORMULATION audit 7)
+    pub pg0: f64,
+    /// 3κ
+    pub three_kappa: f64,
+    /// (ε_p p̄0, ω_d t*) when driven; `None`: p∞ = p0, no drive term.
+    pub drive: Option<(f64, f64)>,
+    pub membrane: Membrane,
+}
+
+impl Params {
+    pub fn from_scene(s: &Scene, sc: &Scales) -> Self {
+        let p = |v: f64| v / sc.pressure;
+        let c = |v: f64| v / (sc.pressure * sc.length);
+        let drive = s
+            .drive
+            .as_ref()
+            .filter(|d| d.amplitude != 0.0)
+            .map(|d| (d.amplitude * p(s.liquid.ambient_pressure), 2.0 * std::f64::consts::PI * d.frequency_hz * sc.time));
+        Self {
+            rho: s.liquid.density * sc.length.powi(3) / (sc.pressure * sc.length * sc.time * sc.time),
+            r0: 1.0,
+            eta: s.liquid.viscosity / (sc.pressure * sc.time),
+            c1: c(s.shell.c1),
+            c2: c(s.shell.c2),
+            p0: p(s.liquid.ambient_pressure),
+            pg0: p(s.gas.reference_pressure),
+            three_kappa: 3.0 * s.gas.polytropic_exponent,
+            drive,
+            membrane: Membrane::new(s.shell.form),
+        }
+    }
+
+    /// p∞(t) = p0 (1 + ε_p cos ω_d t).
+    #[inline]
+    pub fn p_inf(&self, t: f64) -> f64 {
+        match self.drive {
+            None => self.p0,
+            Some((amp, w)) => self.p0 + amp * (w * t).cos(),
+        }
+    }
+
+    /// Undamped natural frequency of shape mode k without field (FORMULATION §4.4, corrected 3.10):
+    /// ω_k² = 12 (c1+c2)(k−1)(k+1)(k+2) / [ρ R0³ (2k² + 2k − 1)].
+    pub fn omega_k(&self, k: f64) -> f64 {
+        (12.0 * (self.c1 + self.c2) * (k - 1.0) * (k + 1.0) * (k + 2.0)
+            / (self.rho * self.r0.powi(3) * (2.0 * k * k + 2.0 * k - 1.0)))
+            .sqrt()
+    }
+}
+
+/// The nondimensional groups of a run (paper §5.4, FORMULATION §4.5), reported in summaries.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Groups {
+    /// t* = √(ρR0³/(2c1)) [s]
+    pub t_star: f64,
+    /// Re = √(2ρc1R0)/η
+    pub reynolds: f64,
+    /// P = p0 R0 / c1
+    pub p: f64,
+    /// α = c2 / c1
+    pub alpha: f64,
+    /// Rn = μ0 χ_s H2² R0² / (2 c1 a²), coil field only (reference current and distance).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rn: Option<f64>,
+    /// M_n = 12 μ0 χ_s M² R0² / (z⁸ c1), dipole field only (eq 5.7 with χ → χ_s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mn: Option<f64>,
+    /// ω_d t*, when driven.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub omega_d_star: Option<f64>,
+}
