@@ -9,6 +9,7 @@
 pub mod bisect;
 pub mod floquet;
 pub mod periodic;
+pub mod stability;
 pub mod sweep;
 
 // Issue 6 (H6) adds here: pub mod convergence; pub mod compare; pub mod dispersion;
