@@ -126,7 +126,7 @@ pub fn eigenvalues(m: &DMatrix<f64>) -> Vec<Complex<f64>> {
 
 /// Normalised |v_i|² of the eigenvector of `m` for the eigenvalue `mu`, by two steps of
 /// inverse iteration with a slightly perturbed shift (complex arithmetic).
-fn eigenvector_weights(m: &DMatrix<f64>, mu: Complex<f64>) -> Vec<f64> {
+pub(crate) fn eigenvector_weights(m: &DMatrix<f64>, mu: Complex<f64>) -> Vec<f64> {
     let n = m.nrows();
     if n == 0 {
         return Vec::new();

@@ -8,6 +8,7 @@
 
 pub mod bisect;
 pub mod floquet;
+pub mod frequencies;
 pub mod periodic;
 pub mod stability;
 pub mod sweep;
