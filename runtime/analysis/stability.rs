@@ -369,3 +369,125 @@ pub fn series_unstable(scene: &Scene, opts: &SeriesOptions) -> Result<SeriesVerd
         }
     }
 }
+
+/// Which stability criterion a diagram uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Criterion {
+    Floquet,
+    Series,
+}
+
+/// Settings of one point of a stability diagram.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalOptions {
+    pub criterion: Criterion,
+    /// Search range of the varied parameter.
+    pub lo: f64,
+    pub hi: f64,
+    /// Coarse scan intervals before bisection, and the bisection tolerance (bisect.rs).
+    pub scan: usize,
+    pub tol: f64,
+    pub floquet: FloquetOptions,
+    pub series: SeriesOptions,
+}
+
+/// One point of a stability diagram.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CriticalPoint {
+    pub outcome: super::bisect::Outcome,
+    /// The mode that goes unstable at the unstable end of the bracket ("" if none).
+    pub mode: String,
+    /// max|μ| at the stable and at the unstable end (Floquet only; NaN otherwise).
+    pub max_multiplier_stable: f64,
+    pub max_multiplier_unstable: f64,
+    /// Orbit multiple at the stable end (1, 2, 4 …).
+    pub orbit_multiple: usize,
+    /// Anything unusual (e.g. "no periodic radial orbit at 0.73 → unstable").
+    pub note: String,
+}
+
+/// The header of [`CriticalPoint::fields`].
+pub const CRITICAL_HEADER: [&str; 10] = [
+    "critical",
+    "outcome",
+    "stable",
+    "unstable",
+    "mode",
+    "max_multiplier_stable",
+    "max_multiplier_unstable",
+    "orbit_multiple",
+    "evaluations",
+    "note",
+];
+
+impl CriticalPoint {
+    pub fn fields(&self) -> Vec<String> {
+        use super::bisect::Outcome::*;
+        let (crit, name, s, u) = match self.outcome {
+            Critical { value, stable, unstable, .. } => (value, "critical", stable, unstable),
+            StableThroughout { top, .. } => (f64::NAN, "stable_throughout", top, f64::NAN),
+            UnstableAtBottom { bottom, .. } => (f64::NAN, "unstable_at_bottom", f64::NAN, bottom),
+        };
+        vec![
+            format!("{crit:.8e}"),
+            name.into(),
+            format!("{s:.8e}"),
+            format!("{u:.8e}"),
+            self.mode.clone(),
+            format!("{:.8e}", self.max_multiplier_stable),
+            format!("{:.8e}", self.max_multiplier_unstable),
+            self.orbit_multiple.to_string(),
+            self.outcome.evaluations().to_string(),
+            self.note.clone(),
+        ]
+    }
+}
+
+/// The critical value of the parameter `scene_at(p)` varies, by bracketing and bisection
+/// (bisect.rs) of the chosen criterion. A radial orbit that cannot be found (collapse,
+/// non-finite state, no stable period-m orbit) counts as unstable and is noted.
+pub fn critical_point(
+    scene_at: &dyn Fn(f64) -> Result<Scene, StabilityError>,
+    opts: &CriticalOptions,
+) -> Result<CriticalPoint, StabilityError> {
+    // (unstable?, mode, max|μ|, multiple, note) per evaluated p, kept for the bracket ends.
+    let mut seen: Vec<(f64, String, f64, usize, String)> = Vec::new();
+    let outcome = super::bisect::critical(opts.lo, opts.hi, opts.scan, opts.tol, |p| {
+        let scene = scene_at(p)?;
+        let (unstable, mode, mu, multiple, note) = match opts.criterion {
+            Criterion::Floquet => match floquet(&scene, &opts.floquet) {
+                Ok(r) => (r.unstable, format!("a{}", r.mode), r.max_multiplier, r.orbit_multiple, String::new()),
+                Err(StabilityError::Orbit(e)) => (true, String::new(), f64::NAN, 0, format!("at {p:.6e}: {e} → unstable")),
+                Err(e) => return Err(e),
+            },
+            Criterion::Series => {
+                let v = series_unstable(&scene, &opts.series)?;
+                (v.unstable, v.mode, f64::NAN, 0, if v.reason.starts_with("failed") { v.reason } else { String::new() })
+            }
+        };
+        seen.push((p, mode, mu, multiple, note));
+        Ok(unstable)
+    })
+    .map_err(|e| match e {
+        super::bisect::BisectError::Predicate { error } => error,
+        other => StabilityError::Scene(other.to_string()),
+    })?;
+    use super::bisect::Outcome::*;
+    let (s, u) = match outcome {
+        Critical { stable, unstable, .. } => (Some(stable), Some(unstable)),
+        StableThroughout { top, .. } => (Some(top), None),
+        UnstableAtBottom { bottom, .. } => (None, Some(bottom)),
+    };
+    let find = |p: Option<f64>| p.and_then(|p| seen.iter().rev().find(|e| e.0 == p));
+    let (es, eu) = (find(s), find(u));
+    let note: Vec<String> = seen.iter().filter(|e| !e.4.is_empty()).map(|e| e.4.clone()).take(1).collect();
+    Ok(CriticalPoint {
+        outcome,
+        mode: eu.map(|e| e.1.clone()).unwrap_or_default(),
+        max_multiplier_stable: es.map_or(f64::NAN, |e| e.2),
+        max_multiplier_unstable: eu.map_or(f64::NAN, |e| e.2),
+        orbit_multiple: es.map_or(0, |e| e.3),
+        note: note.join(" "),
+    })
+}
