@@ -313,7 +313,11 @@ pub struct SeriesVerdict {
 /// max|x| over the last quarter of the run exceeds `growth` × max|x| over the second quarter.
 pub fn series_unstable(scene: &Scene, opts: &SeriesOptions) -> Result<SeriesVerdict, StabilityError> {
     let mut scene = scene.clone();
-    let freqs = drive_frequencies(&scene);
+    let mut freqs = drive_frequencies(&scene);
+    if freqs.is_empty() {
+        // ε_p = 0 with nothing else periodic: still watch over the acoustic period.
+        freqs.extend(scene.drive.as_ref().map(|d| d.frequency_hz));
+    }
     let tp = if freqs.is_empty() {
         return Err(StabilityError::Scene("the time-series criterion needs a periodic drive".into()));
     } else {
