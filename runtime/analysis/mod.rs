@@ -1,1 +1,16 @@
-//! (to be written)
+//! Analyses built on the model: natural frequencies, Floquet stability, periodic orbits,
+//! stability diagrams and the sweeps that scale them (issue 5), plus convergence and comparison
+//! studies (issue 6).
+//!
+//! The generic numerical pieces ([`floquet`], [`periodic`], [`bisect`], [`sweep`]) know nothing
+//! about bubbles and are tested on textbook problems (Mathieu, Duffing); [`frequencies`] and
+//! [`stability`] apply them to the model.
+
+pub mod bisect;
+pub mod floquet;
+pub mod frequencies;
+pub mod periodic;
+pub mod stability;
+pub mod sweep;
+
+// Issue 6 (H6) adds here: pub mod convergence; pub mod compare; pub mod dispersion;

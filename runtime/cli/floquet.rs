@@ -1,9 +1,53 @@
-//! `magbubble floquet` (scaffold: replaced by its owner).
+//! `magbubble floquet SCENE [--json] [--variant orbit|paper]`: Floquet stability of the driven
+//! scene (FORMULATION §4.6; paper §4 with `--variant paper`).
+
+use crate::analysis::stability::{floquet, FloquetOptions, Variant};
+use crate::scene::Scene;
+use anyhow::Context;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `magbubble floquet`.
 #[derive(Debug, clap::Args)]
-pub struct FloquetArgs {}
+pub struct FloquetArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+    /// `orbit`: shoot the periodic radial orbit (default); `paper`: R linearised, p∞ substituted.
+    #[arg(long, value_enum, default_value = "orbit")]
+    pub variant: Variant,
+    /// Magnus steps per drive period.
+    #[arg(long, default_value_t = 400)]
+    pub steps: usize,
+    /// Override a scene key, KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
 
-pub fn run(_args: &FloquetArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`magbubble floquet` is not built yet")
+/// Loads a scene with `--set` overrides.
+// MERGE(scene): becomes `crate::scene::load(path, overrides)` when the scene branch lands.
+pub(crate) fn load_scene(path: &Path, overrides: &[String]) -> anyhow::Result<Scene> {
+    let _ = overrides;
+    anyhow::bail!("{}: scene loading (scene::load) is not merged into this branch yet", path.display())
+}
+
+pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
+    let scene = load_scene(&args.scene, &args.set)?;
+    let mut opts = FloquetOptions { variant: args.variant, ..FloquetOptions::default() };
+    opts.magnus_steps = args.steps.max(1);
+    let r = floquet(&scene, &opts).with_context(|| format!("Floquet analysis of {}", args.scene.display()))?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+    } else {
+        println!(
+            "period {:.6e} s ({} × drive period {:.6e} s), max |μ| = {:.6}, {} (mode k = {})",
+            r.period_s,
+            r.orbit_multiple,
+            r.drive_period_s,
+            r.max_multiplier,
+            if r.unstable { "UNSTABLE" } else { "stable" },
+            r.mode
+        );
+    }
+    Ok(())
 }

@@ -1,15 +1,192 @@
-//! `magbubble stability` and `magbubble merge` (scaffold: replaced by its owner).
+//! `magbubble stability` and `magbubble merge`: stability diagrams (critical ε_p, or any scene
+//! key with `--vary`, against a frequency), swept in parallel, resumable and shardable
+//! (analysis::sweep). Definitions: docs/stability.md.
+
+use crate::analysis::stability::{critical_point, Criterion, CriticalOptions, StabilityError, CRITICAL_HEADER};
+use crate::analysis::sweep::{self, Shard, SweepMeta};
+use crate::scene::{Current, Field, Scene};
+use anyhow::Context;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, clap::Args)]
-pub struct StabilityArgs {}
-
-#[derive(Debug, clap::Args)]
-pub struct MergeArgs {}
-
-pub fn run(_args: &StabilityArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`magbubble stability` is not built yet")
+pub struct StabilityArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// Frequencies START:STOP:N [Hz], N points, linear.
+    #[arg(long)]
+    pub freq: String,
+    #[arg(long, value_enum, default_value = "floquet")]
+    pub method: Criterion,
+    /// A family of curves over a scene key, KEY=V1,V2,… (one CSV per value).
+    #[arg(long)]
+    pub family: Option<String>,
+    /// The varied (critical) quantity; e.g. field.coil.current.amplitude for fig 9.
+    #[arg(long, default_value = "drive.amplitude")]
+    pub vary: String,
+    /// The scene key the frequency axis sets (default: drive.frequency_hz, or the current
+    /// frequency field.coil.current.frequency_hz when --vary is the current amplitude).
+    #[arg(long)]
+    pub freq_key: Option<String>,
+    /// Search range LO:HI of the varied quantity.
+    #[arg(long, default_value = "0:1")]
+    pub range: String,
+    /// Bisection tolerance (absolute, in the varied quantity's unit).
+    #[arg(long, default_value_t = 1e-3)]
+    pub tol: f64,
+    /// Coarse scan intervals before bisection.
+    #[arg(long, default_value_t = 8)]
+    pub scan: usize,
+    #[arg(long, default_value = "stability-out")]
+    pub out: PathBuf,
+    /// Shard i/n of the frequency points (default from SLURM_ARRAY_TASK_ID/COUNT).
+    #[arg(long)]
+    pub shard: Option<String>,
+    /// Override a scene key, KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
 }
 
-pub fn merge(_args: &MergeArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`magbubble merge` is not built yet")
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// Shard CSVs (each with its .meta.json).
+    #[arg(required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// Merged CSV.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+fn parse_range(s: &str, what: &str) -> anyhow::Result<(f64, f64)> {
+    let (a, b) = s.split_once(':').with_context(|| format!("{what} '{s}': expected LO:HI"))?;
+    let (a, b): (f64, f64) = (a.trim().parse()?, b.trim().parse()?);
+    anyhow::ensure!(a.is_finite() && b.is_finite() && a < b, "{what} '{s}': need finite LO < HI");
+    Ok((a, b))
+}
+
+/// START:STOP:N → N linearly spaced values.
+pub fn parse_freq(s: &str) -> anyhow::Result<Vec<f64>> {
+    let p: Vec<&str> = s.split(':').collect();
+    anyhow::ensure!(p.len() == 3, "--freq '{s}': expected START:STOP:N");
+    let (a, b): (f64, f64) = (p[0].trim().parse()?, p[1].trim().parse()?);
+    let n: usize = p[2].trim().parse().with_context(|| format!("--freq '{s}': N must be a positive integer"))?;
+    anyhow::ensure!(n >= 1 && a > 0.0 && b >= a && b.is_finite(), "--freq '{s}': need 0 < START ≤ STOP and N ≥ 1");
+    Ok((0..n).map(|i| if n == 1 { a } else { a + (b - a) * i as f64 / (n - 1) as f64 }).collect())
+}
+
+/// Sets a numeric scene key directly when it is one of the swept keys with a fast path;
+/// `false` when the key needs the scene loader's `--set` mechanism.
+fn set_fast(scene: &mut Scene, key: &str, value: f64) -> bool {
+    match key {
+        "drive.amplitude" | "drive.frequency_hz" => {
+            let d = scene.drive.get_or_insert(crate::scene::Drive { amplitude: 0.0, frequency_hz: 1e6 });
+            if key == "drive.amplitude" { d.amplitude = value } else { d.frequency_hz = value }
+            true
+        }
+        "field.coil.current.amplitude" | "field.coil.current.frequency_hz" => match &mut scene.field {
+            Some(Field::Coil(c)) => {
+                let (amp, f) = match c.current {
+                    Current::Cosine { amplitude, frequency_hz } => (amplitude, frequency_hz),
+                    Current::Static { value } => (value, 1e6),
+                };
+                c.current = if key.ends_with("amplitude") {
+                    Current::Cosine { amplitude: value, frequency_hz: f }
+                } else {
+                    Current::Cosine { amplitude: amp, frequency_hz: value }
+                };
+                true
+            }
+            _ => false,
+        },
+        _ => false,
+    }
+}
+
+fn scene_with(path: &Path, base_set: &[String], base: &Scene, pairs: &[(&str, f64)]) -> Result<Scene, StabilityError> {
+    let mut s = base.clone();
+    let mut slow = Vec::new();
+    for &(k, v) in pairs {
+        if !set_fast(&mut s, k, v) {
+            slow.push(format!("{k}={v:e}"));
+        }
+    }
+    if slow.is_empty() {
+        return Ok(s);
+    }
+    let mut all = base_set.to_vec();
+    all.extend(pairs.iter().map(|(k, v)| format!("{k}={v:e}")));
+    super::floquet::load_scene(path, &all).map_err(|e| StabilityError::Scene(format!("{e:#}")))
+}
+
+pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
+    let freqs = parse_freq(&args.freq)?;
+    let (lo, hi) = parse_range(&args.range, "--range")?;
+    let shard = match &args.shard {
+        Some(s) => Shard::parse(s)?,
+        None => Shard::from_env()?.unwrap_or(Shard::ALL),
+    };
+    let freq_key = args.freq_key.clone().unwrap_or_else(|| {
+        if args.vary.starts_with("field.coil.current") { "field.coil.current.frequency_hz".into() } else { "drive.frequency_hz".into() }
+    });
+    let family: Vec<(String, String)> = match &args.family {
+        None => vec![(String::new(), String::new())],
+        Some(f) => {
+            let (k, vs) = f.split_once('=').with_context(|| format!("--family '{f}': expected KEY=V1,V2,…"))?;
+            vs.split(',').map(|v| (k.trim().to_string(), v.trim().to_string())).collect()
+        }
+    };
+    let scene_text = std::fs::read_to_string(&args.scene).with_context(|| format!("reading {}", args.scene.display()))?;
+    for (fkey, fval) in family {
+        let mut set = args.set.clone();
+        if !fkey.is_empty() {
+            set.push(format!("{fkey}={fval}"));
+        }
+        let base = super::floquet::load_scene(&args.scene, &set)?;
+        let opts = CriticalOptions {
+            criterion: args.method,
+            lo,
+            hi,
+            scan: args.scan,
+            tol: args.tol,
+            floquet: Default::default(),
+            series: Default::default(),
+        };
+        let stem = if fkey.is_empty() { "stability".to_string() } else { format!("stability_{fkey}={fval}") };
+        let name = if shard == Shard::ALL { format!("{stem}.csv") } else { format!("{stem}.shard-{}-of-{}.csv", shard.index, shard.count) };
+        let csv = args.out.join(name);
+        let mut header = vec![freq_key.clone()];
+        header.extend(CRITICAL_HEADER.iter().map(|s| s.to_string()));
+        let meta = SweepMeta {
+            fingerprint: format!(
+                "scene={scene_text:?} set={set:?} vary={} freq_key={freq_key} freq={} method={:?} range={lo}:{hi} tol={} scan={}",
+                args.vary, args.freq, args.method, args.tol, args.scan
+            ),
+            total: freqs.len(),
+            shard,
+            header,
+        };
+        let report = sweep::run(&csv, &meta, true, |i| {
+            let f = freqs[i];
+            let at = |p: f64| scene_with(&args.scene, &set, &base, &[(freq_key.as_str(), f), (args.vary.as_str(), p)]);
+            let mut row = vec![format!("{f:.8e}")];
+            match critical_point(&at, &opts) {
+                Ok(c) => row.extend(c.fields()),
+                Err(e) => {
+                    let mut blank: Vec<String> = vec![String::from("nan"); CRITICAL_HEADER.len()];
+                    blank[1] = "error".into();
+                    blank[CRITICAL_HEADER.len() - 1] = e.to_string();
+                    row.extend(blank);
+                }
+            }
+            row
+        })?;
+        eprintln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
+        // Plot hook: the figures helper renders this CSV (crate::plot).
+    }
+    Ok(())
+}
+
+pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
+    let meta = sweep::merge(&args.inputs, &args.out)?;
+    eprintln!("{}: {} points merged from {} files", args.out.display(), meta.total, args.inputs.len());
+    Ok(())
 }

@@ -1,0 +1,151 @@
+//! Natural frequencies of the shape modes (corrected eq 3.10, FORMULATION §4.4 and audit 2, 6)
+//! and of the radial mode (linearised §4.1).
+//!
+//! At R = R0, Ṙ = R̈ = 0, without damping and with the tangential balance quasi-static
+//! (A_a a + B_b b = 0, so b = −B_b⁻¹A_a a):
+//!
+//! ```text
+//! ω² = spec( 𝒟 (A − B B_b⁻¹ A_a) ),   𝒟 = diag((k+1)/(ρR0))
+//! ```
+//! with A = diag(Ŝ1) − ∂M_n/∂a, B = diag(Ŝ2) − ∂M_n/∂b, A_a = diag(Ŝ11) − ∂M_t/∂a,
+//! B_b = diag(Ŝ12) − ∂M_t/∂b (the paper prints B_a⁻¹ and omits 𝒟). The magnetic couplings of the
+//! even modes are read from the model's loads (the generated tables); eigenvalues are matched to
+//! k by the largest component of their eigenvector. Odd k decouple from the even ones; they are
+//! computed from the membrane terms alone (their field couplings are not assembled by the model,
+//! which simulates even modes only: `field_couplings = false` in the output says so).
+//! Without a field: ω_k² = 12(c1+c2)(k−1)(k+1)(k+2)/[ρR0³(2k²+2k−1)].
+
+use crate::model::{Model, ModelError};
+use crate::scene::Scene;
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+/// Errors of the frequency computation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FrequencyError {
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    #[error("--kmax {kmax}: must be ≥ 2")]
+    KmaxTooSmall { kmax: usize },
+    #[error("B_b (tangential stiffness on b) is singular at R0: no quasi-static b")]
+    SingularTangential,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RadialFrequency {
+    pub omega_rad_s: f64,
+    pub f_hz: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ShapeFrequency {
+    pub k: usize,
+    /// ω² < 0 (statically unstable) gives NaN here and `omega_sq_nondim` < 0.
+    pub omega_rad_s: f64,
+    pub f_hz: f64,
+    /// ω t*
+    pub omega_nondim: f64,
+    /// (ω t*)²
+    pub omega_sq_nondim: f64,
+    /// Whether this mode's magnetic couplings are included (false: odd k with a field).
+    pub field_couplings: bool,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Frequencies {
+    pub radial: RadialFrequency,
+    pub shape: Vec<ShapeFrequency>,
+    /// t* [s]
+    pub t_star: f64,
+}
+
+/// Natural frequencies of `scene` for k = 2 … kmax (the drive is ignored: p∞ = p0).
+pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, FrequencyError> {
+    if kmax < 2 {
+        return Err(FrequencyError::KmaxTooSmall { kmax });
+    }
+    let mut s = scene.clone();
+    s.drive = None;
+    s.modes.max_order = kmax - kmax % 2;
+    let model = Model::from_scene(&s)?;
+    let ts = model.time_scale();
+    let bl = model.boundary_layer().expect("max_order ≥ 2 assembles the boundary-layer system");
+    let p = bl.params;
+    let mem = p.membrane;
+    let r = 1.0;
+    let wrap = |w2: f64, k: usize, coupled: bool| {
+        let w = if w2 >= 0.0 { w2.sqrt() } else { f64::NAN };
+        ShapeFrequency {
+            k,
+            omega_rad_s: w / ts,
+            f_hz: w / ts / (2.0 * std::f64::consts::PI),
+            omega_nondim: w,
+            omega_sq_nondim: w2,
+            field_couplings: coupled,
+        }
+    };
+
+    // Radial: ω0² = −∂R̈/∂R at (R0, Ṙ = 0), undamped (the 4ηṘ/R term vanishes at Ṙ = 0).
+    let n = bl.modes.len();
+    let mut y = vec![0.0; 2 + 3 * n];
+    let h = 1e-6;
+    y[0] = r + h;
+    let up = bl.radial_acceleration(0.0, &y);
+    y[0] = r - h;
+    let down = bl.radial_acceleration(0.0, &y);
+    let w0 = (-(up - down) / (2.0 * h)).max(0.0).sqrt();
+    let radial = RadialFrequency { omega_rad_s: w0 / ts, f_hz: w0 / ts / (2.0 * std::f64::consts::PI) };
+
+    // Even modes, coupled by the field.
+    let (mut a, mut b, mut aa, mut bb) =
+        (DMatrix::zeros(n, n), DMatrix::zeros(n, n), DMatrix::zeros(n, n), DMatrix::zeros(n, n));
+    for m in 0..n {
+        let k = bl.modes[m].k;
+        a[(m, m)] = (mem.s1)(r, p.r0, p.c1, p.c2, k);
+        b[(m, m)] = (mem.s2)(r, p.r0, p.c1, p.c2, k);
+        aa[(m, m)] = (mem.s11)(r, p.r0, p.c1, p.c2, k);
+        bb[(m, m)] = (mem.s12)(r, p.r0, p.c1, p.c2, k);
+    }
+    if let Some(loads) = bl.loads.as_ref() {
+        let f = loads.factors(0.0, r);
+        let mut y = vec![0.0; 2 + 3 * n];
+        y[0] = r;
+        let base: Vec<(f64, f64)> = (0..n).map(|m| (loads.normal(&f, m, &y), loads.tangential(&f, m, &y))).collect();
+        for j in 0..n {
+            for (offset, (mn, mt)) in [(0usize, (&mut a, &mut aa)), (2, (&mut b, &mut bb))] {
+                y[2 + 3 * j + offset] = 1.0;
+                for m in 0..n {
+                    mn[(m, j)] -= loads.normal(&f, m, &y) - base[m].0;
+                    mt[(m, j)] -= loads.tangential(&f, m, &y) - base[m].1;
+                }
+                y[2 + 3 * j + offset] = 0.0;
+            }
+        }
+    }
+    let bb_inv = bb.try_inverse().ok_or(FrequencyError::SingularTangential)?;
+    let mut w = a - b * bb_inv * aa;
+    for m in 0..n {
+        let scale = (bl.modes[m].k + 1.0) / (p.rho * p.r0);
+        w.row_mut(m).scale_mut(scale);
+    }
+    let mut shape = Vec::new();
+    for mu in crate::analysis::floquet::eigenvalues(&w) {
+        let weights = crate::analysis::floquet::eigenvector_weights(&w, mu);
+        let m = weights.iter().enumerate().fold(0, |best, (i, &v)| if v > weights[best] { i } else { best });
+        shape.push(wrap(mu.re, 2 * (m + 1), true));
+    }
+    // Odd modes: membrane only (see the module doc).
+    let coupled_field = bl.loads.is_none();
+    for k in (3..=kmax).step_by(2) {
+        let kf = k as f64;
+        let (s1, s2, s11, s12) = (
+            (mem.s1)(r, p.r0, p.c1, p.c2, kf),
+            (mem.s2)(r, p.r0, p.c1, p.c2, kf),
+            (mem.s11)(r, p.r0, p.c1, p.c2, kf),
+            (mem.s12)(r, p.r0, p.c1, p.c2, kf),
+        );
+        shape.push(wrap((kf + 1.0) / (p.rho * p.r0) * (s1 - s2 * s11 / s12), k, coupled_field));
+    }
+    shape.sort_by(|x, y| x.k.cmp(&y.k).then(x.omega_sq_nondim.total_cmp(&y.omega_sq_nondim)));
+    Ok(Frequencies { radial, shape, t_star: ts })
+}

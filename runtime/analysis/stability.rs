@@ -1,0 +1,497 @@
+//! Floquet stability of a driven bubble (paper §4; FORMULATION §4.6, audit 14) and the
+//! time-series criterion, for one scene, plus the critical-parameter search of one point of a
+//! stability diagram (paper §5.2, figs 5–11). Definitions in docs/stability.md.
+//!
+//! **Floquet (default, `Variant::Orbit`)**: (1) the periodic radial orbit R(t) with a_k = b_k = 0
+//! by shooting ([`periodic::find_orbit`]; a period-m response is detected and reported); (2) the
+//! monodromy of the linear (a_k, ȧ_k, b_k) boundary-layer system with the periodic coefficients
+//! R(t), Ṙ(t), R̈(t) over the orbit's period ([`floquet::monodromy`]); unstable iff max|μ| > 1.
+//! The magnetic forcing ℋ2, ℋ¹2 is inhomogeneous and does not enter (§4.6 step 2).
+//!
+//! **`Variant::Paper`** (paper §4, for reproduction): R linearised about R0 with the products
+//! r·a_k dropped, so the coefficients are those at R = R0, Ṙ = 0, and R̈(t) comes from eq 2.62 at
+//! R = R0, Ṙ = 0 with p∞(t) substituted: R̈ = (p_g0 − p∞(t) − Ŝ0(R0) + M0)/(ρR0). This ignores the
+//! radial resonance (audit 14).
+//!
+//! **Time series**: the nonlinear boundary-layer model from a seeded shape perturbation over a
+//! fixed number of drive periods; see [`series_unstable`].
+
+use super::floquet::{self, LinearPeriodic};
+use super::periodic::{self, PeriodicOrbit, RkFlow, ShootingOptions};
+use crate::integrate::OdeSystem;
+use crate::model::{BoundaryLayerSystem, Model, ModelError};
+use crate::scene::{Current, Field, Scene};
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+/// Errors of a stability computation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StabilityError {
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    #[error("radial orbit: {0}")]
+    Orbit(#[from] periodic::PeriodicError),
+    #[error("monodromy: {0}")]
+    Floquet(#[from] floquet::FloquetError),
+    #[error("modes.max_order = 0: a Floquet analysis needs shape modes (set modes.max_order ≥ 2)")]
+    NoShapeModes,
+    #[error("scene: {0}")]
+    Scene(String),
+}
+
+/// Which linear periodic system is analysed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Variant {
+    /// The periodic radial orbit by shooting (FORMULATION §4.6).
+    Orbit,
+    /// The paper's §4: R linearised about R0, p∞ substituted into R̈.
+    Paper,
+}
+
+/// Numerical settings of [`floquet`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct FloquetOptions {
+    pub variant: Variant,
+    pub shooting: ShootingOptions,
+    /// Magnus steps per drive period for the monodromy.
+    pub magnus_steps: usize,
+    /// Largest denominator q accepted for the ratio of two drive frequencies.
+    pub max_denominator: u64,
+    pub commensurate_tolerance: f64,
+}
+
+impl Default for FloquetOptions {
+    fn default() -> Self {
+        Self {
+            variant: Variant::Orbit,
+            shooting: ShootingOptions { transient_periods: 10, steps_per_period: 400, ..ShootingOptions::default() },
+            magnus_steps: 400,
+            max_denominator: 1000,
+            commensurate_tolerance: 1e-9,
+        }
+    }
+}
+
+/// The Floquet verdict on one scene (SI units).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FloquetReport {
+    /// The period of the monodromy [s]: the orbit's period (multiple × drive period).
+    pub period_s: f64,
+    /// The common period of every drive [s] (acoustic, current, coil distance).
+    pub drive_period_s: f64,
+    /// The radial orbit repeats after this many drive periods (1, 2, 4 …; 1 for the paper variant).
+    pub orbit_multiple: usize,
+    pub max_multiplier: f64,
+    pub unstable: bool,
+    /// The shape mode k carrying the largest multiplier (largest share of its eigenvector).
+    pub mode: usize,
+    /// All multipliers, [re, im].
+    pub multipliers: Vec<[f64; 2]>,
+    /// Multipliers of the radial orbit itself (DP_m), [re, im]; empty for the paper variant.
+    pub radial_multipliers: Vec<[f64; 2]>,
+    pub variant: Variant,
+}
+
+/// Frequencies [Hz] of everything periodic in the scene (drive with ε_p ≠ 0, alternating
+/// current, oscillating coil distance).
+pub fn drive_frequencies(scene: &Scene) -> Vec<f64> {
+    let mut f = Vec::new();
+    if let Some(d) = scene.drive.as_ref().filter(|d| d.amplitude != 0.0) {
+        f.push(d.frequency_hz);
+    }
+    if let Some(Field::Coil(c)) = &scene.field {
+        if let Current::Cosine { frequency_hz, .. } = c.current {
+            f.push(frequency_hz);
+        }
+        if let Some(o) = c.distance_oscillation.as_ref().filter(|o| o.amplitude != 0.0) {
+            f.push(o.frequency_hz);
+        }
+    }
+    f
+}
+
+/// The radial equation alone at a_k = b_k = 0 (M0 evaluated with zero shape amplitudes).
+struct Radial<'a> {
+    bl: &'a BoundaryLayerSystem,
+    full: usize,
+}
+
+impl OdeSystem for Radial<'_> {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let mut z = [0.0; 2 + 3 * 64];
+        let z = if self.full <= z.len() { &mut z[..self.full] } else { return dy.fill(f64::NAN) };
+        z[0] = y[0];
+        z[1] = y[1];
+        dy[0] = y[1];
+        dy[1] = self.bl.radial_acceleration(t, z);
+    }
+}
+
+/// R(t), Ṙ(t) on one orbit period, by cubic Hermite interpolation of RK4 grid values.
+struct SampledOrbit {
+    t0: f64,
+    h: f64,
+    period: f64,
+    y: Vec<[f64; 2]>,
+    f: Vec<[f64; 2]>,
+}
+
+impl SampledOrbit {
+    fn new(sys: &dyn OdeSystem, orbit: &PeriodicOrbit, steps_per_period: usize) -> Result<Self, StabilityError> {
+        let flow = RkFlow { sys, period: orbit.drive_period, steps_per_period };
+        let (mut y, mut f) = (Vec::new(), Vec::new());
+        let mut state = orbit.y0.clone();
+        flow.advance_observed(orbit.t0, &mut state, orbit.multiple, |_, y_, f_| {
+            y.push([y_[0], y_[1]]);
+            f.push([f_[0], f_[1]]);
+        })?;
+        Ok(Self { t0: orbit.t0, h: orbit.drive_period / steps_per_period as f64, period: orbit.period(), y, f })
+    }
+
+    /// (R, Ṙ) at t (periodic continuation).
+    fn at(&self, t: f64) -> (f64, f64) {
+        let s = (t - self.t0).rem_euclid(self.period) / self.h;
+        let i = (s.floor() as usize).min(self.y.len() - 2);
+        let u = s - i as f64;
+        let (h00, h10, h01, h11) =
+            ((1.0 + 2.0 * u) * (1.0 - u).powi(2), u * (1.0 - u).powi(2), u * u * (3.0 - 2.0 * u), u * u * (u - 1.0));
+        let v = |c: usize| {
+            h00 * self.y[i][c] + h10 * self.h * self.f[i][c] + h01 * self.y[i + 1][c] + h11 * self.h * self.f[i + 1][c]
+        };
+        (v(0), v(1))
+    }
+}
+
+/// The linear (a, ȧ, b) system along a prescribed R(t).
+struct ShapeSystem<'a> {
+    bl: &'a BoundaryLayerSystem,
+    n: usize,
+    radial: Box<dyn Fn(f64) -> (f64, f64, f64) + 'a>,
+}
+
+impl LinearPeriodic for ShapeSystem<'_> {
+    fn dim(&self) -> usize {
+        self.n
+    }
+    fn matrix(&self, t: f64, a: &mut DMatrix<f64>) {
+        let (r, rd, rdd) = (self.radial)(t);
+        if self.bl.loads.is_some() {
+            a.copy_from(&self.bl.linear_modes(t, r, rd, rdd).0);
+            return;
+        }
+        // No field: the modes decouple, so one unit perturbation per component (a, ȧ, b) of every
+        // mode at once gives all 3×3 blocks (4 evaluations instead of 3M + 1).
+        let mut y = vec![0.0; 2 + self.n];
+        let (mut base, mut dy) = (vec![0.0; 2 + self.n], vec![0.0; 2 + self.n]);
+        y[0] = r;
+        y[1] = rd;
+        self.bl.mode_rates(t, r, rd, rdd, None, &y, &mut base);
+        a.fill(0.0);
+        for c in 0..3 {
+            for m in 0..self.n / 3 {
+                y[2 + 3 * m + c] = 1.0;
+            }
+            self.bl.mode_rates(t, r, rd, rdd, None, &y, &mut dy);
+            for m in 0..self.n / 3 {
+                for i in 0..3 {
+                    a[(3 * m + i, 3 * m + c)] = dy[2 + 3 * m + i] - base[2 + 3 * m + i];
+                }
+                y[2 + 3 * m + c] = 0.0;
+            }
+        }
+    }
+    fn blocks(&self) -> Vec<Vec<usize>> {
+        if self.bl.loads.is_some() {
+            vec![(0..self.n).collect()]
+        } else {
+            (0..self.n / 3).map(|m| vec![3 * m, 3 * m + 1, 3 * m + 2]).collect()
+        }
+    }
+}
+
+/// Floquet analysis of `scene` (see the module doc).
+pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, StabilityError> {
+    let model = Model::from_scene(scene)?;
+    let bl = model.boundary_layer().ok_or(StabilityError::NoShapeModes)?;
+    let ts = model.time_scale();
+    let freqs = drive_frequencies(scene);
+    // Nothing periodic: A is constant; report the multipliers over one t*.
+    let drive_period_s = if freqs.is_empty() {
+        ts
+    } else {
+        periodic::common_period(&freqs, opts.max_denominator, opts.commensurate_tolerance)?
+    };
+    let tp = drive_period_s / ts; // nondimensional
+    let full = bl.dim();
+    let n = full - 2;
+    let (period, radial_multipliers, multiple, shape) = match opts.variant {
+        Variant::Orbit => {
+            let radial = Radial { bl, full };
+            let y0 = &model.initial_state()[..2];
+            let orbit = periodic::find_orbit(&radial, 0.0, y0, tp, &opts.shooting)?;
+            let sampled = SampledOrbit::new(&radial, &orbit, opts.shooting.steps_per_period)?;
+            let mults = orbit.multipliers.iter().map(|z| [z.re, z.im]).collect();
+            let zeros = vec![0.0; full];
+            let f = move |t: f64| {
+                let (r, rd) = sampled.at(t);
+                let mut z = zeros.clone();
+                z[0] = r;
+                z[1] = rd;
+                (r, rd, bl.radial_acceleration(t, &z))
+            };
+            (orbit.period(), mults, orbit.multiple, ShapeSystem { bl, n, radial: Box::new(f) })
+        }
+        Variant::Paper => {
+            let zeros = vec![0.0; full];
+            let f = move |t: f64| {
+                let mut z = zeros.clone();
+                z[0] = 1.0;
+                (1.0, 0.0, bl.radial_acceleration(t, &z))
+            };
+            (tp, Vec::new(), 1, ShapeSystem { bl, n, radial: Box::new(f) })
+        }
+    };
+    let steps = opts.magnus_steps.max(1) * multiple;
+    let mono = floquet::monodromy(&shape, 0.0, period, steps)?;
+    let spec = mono.spectrum();
+    // Mode: the k whose (a, ȧ, b) components hold the largest share of the critical eigenvector.
+    let orders = model.orders();
+    let mut share = vec![0.0; orders.len()];
+    for &(i, w) in &spec.components {
+        share[i / 3] += w;
+    }
+    let m = share.iter().enumerate().fold(0, |b, (i, &w)| if w > share[b] { i } else { b });
+    Ok(FloquetReport {
+        period_s: period * ts,
+        drive_period_s,
+        orbit_multiple: multiple,
+        max_multiplier: spec.max_modulus,
+        unstable: spec.max_modulus > 1.0,
+        mode: orders[m],
+        multipliers: spec.multipliers.iter().map(|z| [z.re, z.im]).collect(),
+        radial_multipliers,
+        variant: opts.variant,
+    })
+}
+
+/// Settings of the time-series criterion (docs/stability.md).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeriesOptions {
+    /// Drive periods simulated.
+    pub periods: usize,
+    /// Initial a_k = seed · R0 for every simulated k (when the scene sets none).
+    pub seed: f64,
+    /// Unstable when the late window's peak exceeds `growth` × the early window's peak.
+    pub growth: f64,
+}
+
+impl Default for SeriesOptions {
+    fn default() -> Self {
+        Self { periods: 200, seed: 1e-6, growth: 2.0 }
+    }
+}
+
+/// The time-series verdict of one run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SeriesVerdict {
+    pub unstable: bool,
+    /// "blow_up", "growth" or "bounded" (or "failed: …").
+    pub reason: String,
+    /// Mode with the largest late/early ratio (or the blown-up one).
+    pub mode: String,
+    /// Peak ratio late/early of that mode.
+    pub ratio: f64,
+}
+
+/// Time-series criterion: run the nonlinear boundary-layer model for `periods` drive periods
+/// from a_k(0) = seed·R0; **unstable** iff the run is classified blow-up (threshold of
+/// `run.blow_up_threshold`, or R ≤ 0, or non-finite) or, for some shape amplitude (a_k or b_k),
+/// max|x| over the last quarter of the run exceeds `growth` × max|x| over the second quarter.
+pub fn series_unstable(scene: &Scene, opts: &SeriesOptions) -> Result<SeriesVerdict, StabilityError> {
+    let mut scene = scene.clone();
+    let mut freqs = drive_frequencies(&scene);
+    if freqs.is_empty() {
+        // ε_p = 0 with nothing else periodic: still watch over the acoustic period.
+        freqs.extend(scene.drive.as_ref().map(|d| d.frequency_hz));
+    }
+    let tp = if freqs.is_empty() {
+        return Err(StabilityError::Scene("the time-series criterion needs a periodic drive".into()));
+    } else {
+        periodic::common_period(&freqs, 1000, 1e-9)?
+    };
+    if scene.bubble.initial.a.is_empty() {
+        for k in scene.modes.orders() {
+            scene.bubble.initial.a.insert(k, opts.seed * scene.bubble.radius);
+        }
+    }
+    let duration = opts.periods as f64 * tp;
+    scene.run.duration = duration;
+    scene.run.sample_interval = tp / 16.0;
+    let model = Model::from_scene(&scene)?;
+    let names = model.state_names();
+    let cols = names.len();
+    let (mut early, mut late) = (vec![0.0f64; cols], vec![0.0f64; cols]);
+    let report = model.run(&scene.run, &mut |t, row| {
+        let w = if t >= 0.75 * duration {
+            &mut late
+        } else if t >= 0.25 * duration && t < 0.5 * duration {
+            &mut early
+        } else {
+            return;
+        };
+        for (m, v) in w.iter_mut().zip(row) {
+            *m = m.max(v.abs());
+        }
+    });
+    use crate::model::RunStatus;
+    match report.status {
+        RunStatus::BlowUp { mode, .. } => {
+            Ok(SeriesVerdict { unstable: true, reason: "blow_up".into(), mode, ratio: f64::INFINITY })
+        }
+        RunStatus::Failed { reason } => {
+            Ok(SeriesVerdict { unstable: true, reason: format!("failed: {reason}"), mode: String::new(), ratio: f64::NAN })
+        }
+        RunStatus::Completed => {
+            let (mut best, mut ratio) = (1, 0.0);
+            for c in 1..cols {
+                let r = late[c] / early[c].max(f64::MIN_POSITIVE);
+                if r > ratio {
+                    (best, ratio) = (c, r);
+                }
+            }
+            let unstable = ratio > opts.growth;
+            Ok(SeriesVerdict {
+                unstable,
+                reason: if unstable { "growth".into() } else { "bounded".into() },
+                mode: names.get(best).cloned().unwrap_or_default(),
+                ratio,
+            })
+        }
+    }
+}
+
+/// Which stability criterion a diagram uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Criterion {
+    Floquet,
+    Series,
+}
+
+/// Settings of one point of a stability diagram.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalOptions {
+    pub criterion: Criterion,
+    /// Search range of the varied parameter.
+    pub lo: f64,
+    pub hi: f64,
+    /// Coarse scan intervals before bisection, and the bisection tolerance (bisect.rs).
+    pub scan: usize,
+    pub tol: f64,
+    pub floquet: FloquetOptions,
+    pub series: SeriesOptions,
+}
+
+/// One point of a stability diagram.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CriticalPoint {
+    pub outcome: super::bisect::Outcome,
+    /// The mode that goes unstable at the unstable end of the bracket ("" if none).
+    pub mode: String,
+    /// max|μ| at the stable and at the unstable end (Floquet only; NaN otherwise).
+    pub max_multiplier_stable: f64,
+    pub max_multiplier_unstable: f64,
+    /// Orbit multiple at the stable end (1, 2, 4 …).
+    pub orbit_multiple: usize,
+    /// Anything unusual (e.g. "no periodic radial orbit at 0.73 → unstable").
+    pub note: String,
+}
+
+/// The header of [`CriticalPoint::fields`].
+pub const CRITICAL_HEADER: [&str; 10] = [
+    "critical",
+    "outcome",
+    "stable",
+    "unstable",
+    "mode",
+    "max_multiplier_stable",
+    "max_multiplier_unstable",
+    "orbit_multiple",
+    "evaluations",
+    "note",
+];
+
+impl CriticalPoint {
+    pub fn fields(&self) -> Vec<String> {
+        use super::bisect::Outcome::*;
+        let (crit, name, s, u) = match self.outcome {
+            Critical { value, stable, unstable, .. } => (value, "critical", stable, unstable),
+            StableThroughout { top, .. } => (f64::NAN, "stable_throughout", top, f64::NAN),
+            UnstableAtBottom { bottom, .. } => (f64::NAN, "unstable_at_bottom", f64::NAN, bottom),
+        };
+        vec![
+            format!("{crit:.8e}"),
+            name.into(),
+            format!("{s:.8e}"),
+            format!("{u:.8e}"),
+            self.mode.clone(),
+            format!("{:.8e}", self.max_multiplier_stable),
+            format!("{:.8e}", self.max_multiplier_unstable),
+            self.orbit_multiple.to_string(),
+            self.outcome.evaluations().to_string(),
+            self.note.clone(),
+        ]
+    }
+}
+
+/// The critical value of the parameter `scene_at(p)` varies, by bracketing and bisection
+/// (bisect.rs) of the chosen criterion. A radial orbit that cannot be found (collapse,
+/// non-finite state, no stable period-m orbit) counts as unstable and is noted.
+pub fn critical_point(
+    scene_at: &dyn Fn(f64) -> Result<Scene, StabilityError>,
+    opts: &CriticalOptions,
+) -> Result<CriticalPoint, StabilityError> {
+    // (unstable?, mode, max|μ|, multiple, note) per evaluated p, kept for the bracket ends.
+    let mut seen: Vec<(f64, String, f64, usize, String)> = Vec::new();
+    let outcome = super::bisect::critical(opts.lo, opts.hi, opts.scan, opts.tol, |p| {
+        let scene = scene_at(p)?;
+        let (unstable, mode, mu, multiple, note) = match opts.criterion {
+            Criterion::Floquet => match floquet(&scene, &opts.floquet) {
+                Ok(r) => (r.unstable, format!("a{}", r.mode), r.max_multiplier, r.orbit_multiple, String::new()),
+                Err(StabilityError::Orbit(e)) => (true, String::new(), f64::NAN, 0, format!("at {p:.6e}: {e} → unstable")),
+                Err(e) => return Err(e),
+            },
+            Criterion::Series => {
+                let v = series_unstable(&scene, &opts.series)?;
+                (v.unstable, v.mode, f64::NAN, 0, if v.reason.starts_with("failed") { v.reason } else { String::new() })
+            }
+        };
+        seen.push((p, mode, mu, multiple, note));
+        Ok(unstable)
+    })
+    .map_err(|e| match e {
+        super::bisect::BisectError::Predicate { error } => error,
+        other => StabilityError::Scene(other.to_string()),
+    })?;
+    use super::bisect::Outcome::*;
+    let (s, u) = match outcome {
+        Critical { stable, unstable, .. } => (Some(stable), Some(unstable)),
+        StableThroughout { top, .. } => (Some(top), None),
+        UnstableAtBottom { bottom, .. } => (None, Some(bottom)),
+    };
+    let find = |p: Option<f64>| p.and_then(|p| seen.iter().rev().find(|e| e.0 == p));
+    let (es, eu) = (find(s), find(u));
+    let note: Vec<String> = seen.iter().filter(|e| !e.4.is_empty()).map(|e| e.4.clone()).take(1).collect();
+    Ok(CriticalPoint {
+        outcome,
+        mode: eu.map(|e| e.1.clone()).unwrap_or_default(),
+        max_multiplier_stable: es.map_or(f64::NAN, |e| e.2),
+        max_multiplier_unstable: eu.map_or(f64::NAN, |e| e.2),
+        orbit_multiple: es.map_or(0, |e| e.3),
+        note: note.join(" "),
+    })
+}

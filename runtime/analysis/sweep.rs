@@ -1,0 +1,358 @@
+//! Sweeps that scale: a parallel map over the points of a sweep (frequencies), written as one CSV
+//! row per point, resumable, shardable across a cluster job array, and mergeable.
+//!
+//! * **Deterministic**: a point's row depends only on the point (never on another point or on
+//!   the thread that ran it); the final CSV is sorted by `index`, so it is byte-identical for any
+//!   thread count and for any shard split once merged.
+//! * **Resume**: each finished row is appended and flushed at once. Re-running the same sweep
+//!   into the same file skips the indices already there (a torn last line is discarded). A
+//!   sidecar `<csv>.meta.json` records the sweep's fingerprint; a different sweep refuses to
+//!   append to it.
+//! * **Shards**: shard `i/n` (0 ≤ i < n) owns the points with `index % n == i` (interleaved, so
+//!   expensive high-frequency points spread evenly). Default from `SLURM_ARRAY_TASK_ID` (minus
+//!   `SLURM_ARRAY_TASK_MIN` when set) and `SLURM_ARRAY_TASK_COUNT`.
+//! * **Merge**: [`merge`] joins shard CSVs after checking that they come from the same sweep and
+//!   that their indices are non-overlapping and complete.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fs::{self, File, OpenOptions};
+use std::io::{BufRead, BufReader, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Errors of a sweep or a merge: which file, which index, why.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    #[error("invalid shard '{text}': expected i/n with 0 ≤ i < n (e.g. 0/4)")]
+    BadShard { text: String },
+    #[error("environment variable {name}='{value}' is not a valid shard number")]
+    BadShardEnv { name: &'static str, value: String },
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("{path}: {why}")]
+    Corrupt { path: PathBuf, why: String },
+    #[error("{path} belongs to a different sweep ({why}); choose another output directory or remove it")]
+    Mismatch { path: PathBuf, why: String },
+    #[error("merge: {why}")]
+    Merge { why: String },
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SweepError + '_ {
+    move |source| SweepError::Io { path: path.to_path_buf(), source }
+}
+
+/// One deterministic slice of a sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    pub const ALL: Shard = Shard { index: 0, count: 1 };
+
+    /// Parses `i/n`.
+    pub fn parse(text: &str) -> Result<Shard, SweepError> {
+        let bad = || SweepError::BadShard { text: text.to_string() };
+        let (i, n) = text.split_once('/').ok_or_else(bad)?;
+        let index: usize = i.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// The shard of a SLURM job array task, when `SLURM_ARRAY_TASK_ID` and
+    /// `SLURM_ARRAY_TASK_COUNT` are set (index = ID − `SLURM_ARRAY_TASK_MIN`, default MIN 0).
+    pub fn from_env() -> Result<Option<Shard>, SweepError> {
+        Self::from_vars(|k| std::env::var(k).ok())
+    }
+
+    /// [`from_env`](Self::from_env) with an explicit variable lookup (testable).
+    pub fn from_vars(get: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, SweepError> {
+        let num = |name: &'static str| -> Result<Option<usize>, SweepError> {
+            match get(name) {
+                None => Ok(None),
+                Some(v) => v.trim().parse().map(Some).map_err(|_| SweepError::BadShardEnv { name, value: v }),
+            }
+        };
+        let (Some(id), Some(count)) = (num("SLURM_ARRAY_TASK_ID")?, num("SLURM_ARRAY_TASK_COUNT")?) else {
+            return Ok(None);
+        };
+        let min = num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
+        let text = format!("{}/{}", id.wrapping_sub(min), count);
+        if id < min {
+            return Err(SweepError::BadShard { text });
+        }
+        Shard::parse(&text).map(Some)
+    }
+
+    pub fn owns(&self, index: usize) -> bool {
+        index % self.count == self.index
+    }
+}
+
+/// The sidecar metadata of a sweep CSV.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepMeta {
+    /// What was computed (scene, method, ranges…): two files merge only if these are equal.
+    pub fingerprint: String,
+    /// Number of points of the whole (unsharded) sweep.
+    pub total: usize,
+    pub shard: Shard,
+    pub header: Vec<String>,
+}
+
+/// The sidecar path of a sweep CSV.
+pub fn meta_path(csv: &Path) -> PathBuf {
+    let mut s = csv.as_os_str().to_owned();
+    s.push(".meta.json");
+    PathBuf::from(s)
+}
+
+/// What [`run`] did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepReport {
+    /// Rows of this shard, sorted by index (index, fields without the index).
+    pub rows: Vec<(usize, Vec<String>)>,
+    pub computed: usize,
+    pub resumed: usize,
+}
+
+/// Runs `compute(index)` for every index of `shard` in 0..meta.total that is not already in
+/// `csv`, in parallel (the current rayon pool), appending each row as soon as it is done; then
+/// rewrites the file sorted by index. `header` (in `meta`) excludes the leading `index` column.
+pub fn run<F>(csv: &Path, meta: &SweepMeta, progress: bool, compute: F) -> Result<SweepReport, SweepError>
+where
+    F: Fn(usize) -> Vec<String> + Sync,
+{
+    let full_header = header_line(&meta.header);
+    let mut done: BTreeMap<usize, Vec<String>> = BTreeMap::new();
+    if csv.exists() {
+        let old = read_meta(csv)?;
+        if old != *meta {
+            let why = if old.fingerprint != meta.fingerprint {
+                "fingerprint differs".to_string()
+            } else {
+                format!("shard {}/{} or size {} differs", old.shard.index, old.shard.count, old.total)
+            };
+            return Err(SweepError::Mismatch { path: csv.to_path_buf(), why });
+        }
+        done = read_rows(csv, &full_header)?;
+    } else if let Some(dir) = csv.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir).map_err(io(dir))?;
+    }
+    write_atomic(&meta_path(csv), &serde_json::to_string_pretty(meta).expect("meta serialises"))?;
+    // Rewrite what is valid (drops a torn last line), then append.
+    write_atomic(csv, &render(&full_header, &done))?;
+    let resumed = done.len();
+    let pending: Vec<usize> =
+        (0..meta.total).filter(|&i| meta.shard.owns(i) && !done.contains_key(&i)).collect();
+    let file = OpenOptions::new().append(true).open(csv).map_err(io(csv))?;
+    let sink = Mutex::new((file, Vec::<(usize, Vec<String>)>::new()));
+    let bar = if progress && std::io::stderr().is_terminal() {
+        let b = ProgressBar::new(pending.len() as u64);
+        if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} points  {elapsed} (eta {eta})") {
+            b.set_style(style);
+        }
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    let failure: Mutex<Option<SweepError>> = Mutex::new(None);
+    pending.par_iter().for_each(|&i| {
+        let fields = compute(i);
+        let line = row_line(i, &fields);
+        let mut guard = sink.lock().unwrap_or_else(|p| p.into_inner());
+        let res = guard.0.write_all(line.as_bytes()).and_then(|_| guard.0.flush());
+        if let Err(e) = res {
+            failure.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(SweepError::Io { path: csv.to_path_buf(), source: e });
+        }
+        guard.1.push((i, fields));
+        bar.inc(1);
+    });
+    bar.finish_and_clear();
+    if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(e);
+    }
+    let (_, fresh) = sink.into_inner().unwrap_or_else(|p| p.into_inner());
+    let computed = fresh.len();
+    done.extend(fresh);
+    write_atomic(csv, &render(&full_header, &done))?;
+    Ok(SweepReport { rows: done.into_iter().collect(), computed, resumed })
+}
+
+/// Joins shard CSVs (each with its sidecar) into `output` (+ sidecar, shard 0/1), after checking
+/// that they are of the same sweep, non-overlapping and complete.
+pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<SweepMeta, SweepError> {
+    let Some(first) = inputs.first() else {
+        return Err(SweepError::Merge { why: "no input files".into() });
+    };
+    let meta0 = read_meta(first)?;
+    let full_header = header_line(&meta0.header);
+    let mut rows: BTreeMap<usize, (Vec<String>, PathBuf)> = BTreeMap::new();
+    for path in inputs {
+        let meta = read_meta(path)?;
+        if meta.fingerprint != meta0.fingerprint || meta.total != meta0.total || meta.header != meta0.header {
+            return Err(SweepError::Merge {
+                why: format!("{} and {} are not shards of the same sweep", first.display(), path.display()),
+            });
+        }
+        for (i, fields) in read_rows(path, &full_header)? {
+            if i >= meta0.total {
+                return Err(SweepError::Merge { why: format!("{}: index {i} ≥ {} points", path.display(), meta0.total) });
+            }
+            if let Some((_, other)) = rows.insert(i, (fields, path.clone())) {
+                return Err(SweepError::Merge {
+                    why: format!("index {i} appears in both {} and {}", other.display(), path.display()),
+                });
+            }
+        }
+    }
+    let missing: Vec<usize> = (0..meta0.total).filter(|i| !rows.contains_key(i)).collect();
+    if !missing.is_empty() {
+        let shown: Vec<String> = missing.iter().take(20).map(|i| i.to_string()).collect();
+        return Err(SweepError::Merge {
+            why: format!(
+                "incomplete: {} of {} points missing (indices {}{}); run the missing shards (resume is automatic)",
+                missing.len(),
+                meta0.total,
+                shown.join(", "),
+                if missing.len() > 20 { ", …" } else { "" }
+            ),
+        });
+    }
+    let rows: BTreeMap<usize, Vec<String>> = rows.into_iter().map(|(i, (f, _))| (i, f)).collect();
+    let meta = SweepMeta { shard: Shard::ALL, ..meta0 };
+    if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir).map_err(io(dir))?;
+    }
+    write_atomic(output, &render(&full_header, &rows))?;
+    write_atomic(&meta_path(output), &serde_json::to_string_pretty(&meta).expect("meta serialises"))?;
+    Ok(meta)
+}
+
+/// Reads the sidecar of a sweep CSV.
+pub fn read_meta(csv: &Path) -> Result<SweepMeta, SweepError> {
+    let mp = meta_path(csv);
+    let text = fs::read_to_string(&mp).map_err(io(&mp))?;
+    serde_json::from_str(&text).map_err(|e| SweepError::Corrupt { path: mp, why: e.to_string() })
+}
+
+fn header_line(header: &[String]) -> String {
+    let mut h = vec!["index".to_string()];
+    h.extend(header.iter().cloned());
+    h.join(",")
+}
+
+fn sanitize(field: &str) -> String {
+    field.replace([',', '\n', '\r'], ";")
+}
+
+fn row_line(index: usize, fields: &[String]) -> String {
+    let mut s = index.to_string();
+    for f in fields {
+        s.push(',');
+        s.push_str(&sanitize(f));
+    }
+    s.push('\n');
+    s
+}
+
+fn render(header: &str, rows: &BTreeMap<usize, Vec<String>>) -> String {
+    let mut s = format!("{header}\n");
+    for (i, f) in rows {
+        s.push_str(&row_line(*i, f));
+    }
+    s
+}
+
+/// Complete rows of a sweep CSV (a last line without its newline is a torn write and ignored).
+pub fn read_rows(csv: &Path, header: &str) -> Result<BTreeMap<usize, Vec<String>>, SweepError> {
+    let file = File::open(csv).map_err(io(csv))?;
+    let mut reader = BufReader::new(file);
+    let mut rows = BTreeMap::new();
+    let mut line = String::new();
+    let mut lineno = 0;
+    let ncols = header.split(',').count();
+    loop {
+        line.clear();
+        let n = reader.read_line(&mut line).map_err(io(csv))?;
+        if n == 0 || !line.ends_with('\n') {
+            break;
+        }
+        lineno += 1;
+        let text = line.trim_end_matches(['\n', '\r']);
+        if lineno == 1 {
+            if text != header {
+                return Err(SweepError::Mismatch {
+                    path: csv.to_path_buf(),
+                    why: format!("header '{text}' differs from '{header}'"),
+                });
+            }
+            continue;
+        }
+        let mut parts = text.split(',');
+        let idx = parts.next().and_then(|s| s.parse::<usize>().ok()).ok_or_else(|| SweepError::Corrupt {
+            path: csv.to_path_buf(),
+            why: format!("line {lineno}: no index in '{text}'"),
+        })?;
+        let fields: Vec<String> = parts.map(str::to_string).collect();
+        if fields.len() + 1 != ncols {
+            return Err(SweepError::Corrupt {
+                path: csv.to_path_buf(),
+                why: format!("line {lineno}: {} columns, header has {ncols}", fields.len() + 1),
+            });
+        }
+        rows.insert(idx, fields);
+    }
+    Ok(rows)
+}
+
+/// Writes `text` to `path` through a temporary file in the same directory and a rename.
+fn write_atomic(path: &Path, text: &str) -> Result<(), SweepError> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    {
+        let mut f = File::create(&tmp).map_err(io(&tmp))?;
+        f.write_all(text.as_bytes()).map_err(io(&tmp))?;
+        f.sync_all().map_err(io(&tmp))?;
+    }
+    fs::rename(&tmp, path).map_err(io(path))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shard_parsing() {
+        assert_eq!(Shard::parse("1/4").unwrap(), Shard { index: 1, count: 4 });
+        for bad in ["4/4", "1", "a/2", "0/0", "-1/3"] {
+            assert!(Shard::parse(bad).is_err(), "{bad}");
+        }
+        let env = |pairs: &'static [(&'static str, &'static str)]| {
+            move |k: &str| pairs.iter().find(|(n, _)| *n == k).map(|(_, v)| v.to_string())
+        };
+        assert_eq!(Shard::from_vars(env(&[])).unwrap(), None);
+        assert_eq!(
+            Shard::from_vars(env(&[("SLURM_ARRAY_TASK_ID", "2"), ("SLURM_ARRAY_TASK_COUNT", "3")])).unwrap(),
+            Some(Shard { index: 2, count: 3 })
+        );
+        assert_eq!(
+            Shard::from_vars(env(&[
+                ("SLURM_ARRAY_TASK_ID", "3"),
+                ("SLURM_ARRAY_TASK_COUNT", "3"),
+                ("SLURM_ARRAY_TASK_MIN", "1")
+            ]))
+            .unwrap(),
+            Some(Shard { index: 2, count: 3 })
+        );
+        assert!(Shard::from_vars(env(&[("SLURM_ARRAY_TASK_ID", "x"), ("SLURM_ARRAY_TASK_COUNT", "3")])).is_err());
+    }
+}

@@ -1,0 +1,46 @@
+//! Scenes built by hand for the analysis tests (the paper's fig 5–12 parameters).
+#![allow(dead_code)]
+
+use magbubble::scene::*;
+use std::collections::BTreeMap;
+
+pub const R0: f64 = 10e-6;
+pub const C1: f64 = 0.1;
+pub const C2: f64 = 0.12;
+
+pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
+    Scene {
+        bubble: Bubble {
+            radius: R0,
+            initial: Initial { radius: R0, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new() },
+        },
+        shell: Shell { c1: C1, c2: C2, thickness: 20e-9, susceptibility: 1.0, form: MembraneForm::Paper },
+        gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0 },
+        liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0 },
+        drive: Some(Drive { amplitude: eps_p, frequency_hz: f_hz }),
+        field: None,
+        modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto },
+        vorticity: VorticityGrid { y_max: 2.0, points: 200, stretching: 1.0, scheme: VorticityScheme::Monolithic },
+        run: Run {
+            duration: 100e-6,
+            sample_interval: 1e-7,
+            integrator: IntegratorSettings { method: Method::Dopri5, rtol: 1e-8, atol: 1e-12, dt: 1e-9, max_steps: 100_000_000 },
+            blow_up_threshold: 0.5,
+        },
+    }
+}
+
+pub fn coil(current: f64) -> Field {
+    Field::Coil(Coil {
+        turns: 1000.0,
+        distance: 0.1,
+        angle: (3.0f64 / 7.0).sqrt().acos(),
+        current: Current::Static { value: current },
+        distance_oscillation: None,
+        include_h4: false,
+    })
+}
+
+pub fn dipole(moment: f64, distance: f64) -> Field {
+    Field::Dipole(Dipole { moment, distance })
+}

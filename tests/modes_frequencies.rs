@@ -1,0 +1,66 @@
+//! Natural frequencies (corrected eq 3.10, FORMULATION §4.4).
+mod common;
+use magbubble::analysis::frequencies::natural_frequencies;
+
+fn closed_form_nondim(k: f64, alpha: f64) -> f64 {
+    // (ω_k t*)² = 6(1+α)(k−1)(k+1)(k+2)/(2k²+2k−1)
+    (6.0 * (1.0 + alpha) * (k - 1.0) * (k + 1.0) * (k + 2.0) / (2.0 * k * k + 2.0 * k - 1.0)).sqrt()
+}
+
+#[test]
+fn no_field_matches_the_closed_form_and_collapses_in_r0() {
+    let alpha = common::C2 / common::C1;
+    let mut first: Option<Vec<f64>> = None;
+    for r0 in [5e-6, 10e-6, 20e-6] {
+        let mut s = common::scene(16, 0.0, 1e6);
+        s.bubble.radius = r0;
+        s.bubble.initial.radius = r0;
+        let f = natural_frequencies(&s, 16).unwrap();
+        assert_eq!(f.shape.len(), 15);
+        let ks: Vec<usize> = f.shape.iter().map(|m| m.k).collect();
+        assert_eq!(ks, (2..=16).collect::<Vec<_>>());
+        for m in &f.shape {
+            let expect = closed_form_nondim(m.k as f64, alpha);
+            assert!((m.omega_nondim - expect).abs() < 1e-10 * expect, "k={} {} vs {}", m.k, m.omega_nondim, expect);
+            // SI: ω² = 12(c1+c2)(k−1)(k+1)(k+2)/[ρR0³(2k²+2k−1)]
+            let k = m.k as f64;
+            let si = (12.0 * (common::C1 + common::C2) * (k - 1.0) * (k + 1.0) * (k + 2.0)
+                / (1000.0 * r0.powi(3) * (2.0 * k * k + 2.0 * k - 1.0)))
+                .sqrt();
+            assert!((m.omega_rad_s - si).abs() < 1e-9 * si);
+        }
+        let nd: Vec<f64> = f.shape.iter().map(|m| m.omega_nondim).collect();
+        if let Some(prev) = &first {
+            for (a, b) in prev.iter().zip(&nd) {
+                assert!((a - b).abs() < 1e-12 * a);
+            }
+        } else {
+            first = Some(nd);
+        }
+    }
+}
+
+#[test]
+fn radial_frequency_is_the_linearised_one() {
+    // ω0² = [3κ p0 + R0 Ŝ0'(R0)]/(ρR0²), Ŝ0'(R0) = 24(c1+c2)/R0² (from Ŝ0 of §4.1).
+    let s = common::scene(4, 0.0, 1e6);
+    let f = natural_frequencies(&s, 4).unwrap();
+    let r0 = common::R0;
+    let w2 = (3.0 * 1.4 * 101325.0 + 24.0 * (common::C1 + common::C2) / r0) / (1000.0 * r0 * r0);
+    assert!((f.radial.omega_rad_s - w2.sqrt()).abs() < 1e-6 * w2.sqrt(), "{} vs {}", f.radial.omega_rad_s, w2.sqrt());
+}
+
+#[test]
+fn a_coil_field_shifts_the_even_modes_only_slightly() {
+    let plain = natural_frequencies(&common::scene(8, 0.0, 1e6), 8).unwrap();
+    let mut s = common::scene(8, 0.0, 1e6);
+    s.field = Some(common::coil(100e3));
+    let with = natural_frequencies(&s, 8).unwrap();
+    for (p, w) in plain.shape.iter().zip(&with.shape) {
+        assert_eq!(p.k, w.k);
+        let rel = (w.omega_nondim - p.omega_nondim).abs() / p.omega_nondim;
+        eprintln!("k={} ω t* {:.6} → {:.6} (rel {rel:.2e}), couplings {}", p.k, p.omega_nondim, w.omega_nondim, w.field_couplings);
+        assert!(rel < 0.05);
+        assert_eq!(w.field_couplings, w.k % 2 == 0);
+    }
+}
