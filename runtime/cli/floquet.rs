@@ -27,8 +27,7 @@ pub struct FloquetArgs {
 /// Loads a scene with `--set` overrides.
 // MERGE(scene): becomes `crate::scene::load(path, overrides)` when the scene branch lands.
 pub(crate) fn load_scene(path: &Path, overrides: &[String]) -> anyhow::Result<Scene> {
-    let _ = overrides;
-    anyhow::bail!("{}: scene loading (scene::load) is not merged into this branch yet", path.display())
+    Ok(crate::scene::load(path, overrides)?)
 }
 
 pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
