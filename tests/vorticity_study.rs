@@ -1,0 +1,62 @@
+//! Measurements behind docs/vorticity.md (ignored: run with
+//! `cargo test --release --test vorticity_study -- --ignored --nocapture`).
+
+use magbubble::analysis::dispersion::LinearMode;
+use magbubble::model::vorticity::linear::{full_root, initial_guess, LinearCoupling};
+use magbubble::model::vorticity::staggered::Staggered;
+use magbubble::model::vorticity::Grid;
+
+fn mode(k: usize) -> LinearMode {
+    let (c1, c2, r0) = (0.1, 0.12, 10e-6);
+    let n = (k * (k + 1)) as f64;
+    let c = (c1 + c2) / (r0 * r0);
+    LinearMode { k, rho: 1000.0, eta: 1e-3, r0, s1: 24.0 * c, s2: -12.0 * n * c, s11: -12.0 * c, s12: 4.0 * (2.0 * n - 1.0) * c }
+}
+
+#[test]
+#[ignore]
+fn grid_study() {
+    for k in [2usize, 8, 16, 32] {
+        let m = mode(k);
+        let ex = m.exact_root(initial_guess(&m)).unwrap();
+        println!("k = {k}: exact decay {:.6e} omega {:.6e}", -ex.re, ex.im);
+        for &(ymax, pts, st) in &[
+            (2.0, 100, 1.0), (2.0, 100, 10.0), (2.0, 100, 30.0), (3.0, 100, 30.0),
+            (2.0, 200, 10.0), (2.0, 200, 30.0), (3.0, 200, 30.0), (3.0, 400, 30.0), (2.0, 400, 1.0), (2.0, 50, 20.0),
+        ] {
+            let g = Grid::new(ymax, pts, st).unwrap();
+            let d = full_root(&m, &g, ex).unwrap();
+            println!(
+                "  Ymax {ymax} n {pts:4} stretch {st:5}: h0 {:.2e}  rel err decay {:.2e} omega {:.2e}",
+                g.h0(),
+                ((d.re - ex.re) / ex.re).abs(),
+                ((d.im - ex.im) / ex.im).abs()
+            );
+        }
+    }
+}
+
+#[test]
+#[ignore]
+fn staggered_stability() {
+    let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
+    let g = Grid::new(3.0, 200, 30.0).unwrap();
+    for k in [2usize, 4, 8, 12, 16, 20, 24, 32] {
+        let m = mode(k);
+        let c = LinearCoupling::new(vec![m]);
+        let mut line = format!("k = {k:2}:");
+        for dtp in [1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3] {
+            let mut st = Staggered::new(&c, g.clone(), dtp * t_star).unwrap();
+            let a0 = 1e-3 * m.r0;
+            let mut s = st.initial_state(0.0, m.r0, 0.0, vec![a0], vec![0.0], vec![0.0]);
+            let mut maxa: f64 = 0.0;
+            let res = st.run(&mut s, 10e-6, |s, _| {
+                maxa = maxa.max(s.a[0].abs());
+                maxa < 1e3 * a0
+            });
+            let ok = res.is_ok() && maxa < 1e3 * a0 && s.a[0].abs() < a0;
+            line += &format!("  {dtp:.0e}:{}", if ok { "ok" } else { "UNSTABLE" });
+        }
+        println!("{line}");
+    }
+}
