@@ -60,3 +60,75 @@ fn staggered_stability() {
         println!("{line}");
     }
 }
+
+/// Largest stable Δt′ of the staggered scheme per k (bisection on free decay over 10 µs).
+#[test]
+#[ignore]
+fn staggered_stability_threshold() {
+    let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
+    let g = Grid::new(3.0, 200, 30.0).unwrap();
+    let stable = |k: usize, dtp: f64| {
+        let m = mode(k);
+        let c = LinearCoupling::new(vec![m]);
+        let mut st = Staggered::new(&c, g.clone(), dtp * t_star).unwrap();
+        let a0 = 1e-3 * m.r0;
+        let mut s = st.initial_state(0.0, m.r0, 0.0, vec![a0], vec![0.0], vec![0.0]);
+        let mut maxa: f64 = 0.0;
+        let res = st.run(&mut s, 20e-6, |s, _| {
+            maxa = maxa.max(s.a[0].abs());
+            maxa < 1e3 * a0
+        });
+        res.is_ok() && maxa < 1e3 * a0 && s.a[0].abs() < a0
+    };
+    for k in [2usize, 4, 8, 12, 16, 20, 24, 28, 32] {
+        let (mut lo, mut hi) = (1e-4, 1e-1);
+        if !stable(k, lo) {
+            println!("k = {k}: unstable already at {lo}");
+            continue;
+        }
+        for _ in 0..14 {
+            let mid = (lo * hi as f64).sqrt();
+            if stable(k, mid) { lo = mid } else { hi = mid }
+        }
+        let m = mode(k);
+        let w0 = g.h0() / 2.0;
+        let lam_b = m.s12 * w0 * m.r0 / (m.eta * (1.0 + 2.0 * w0));
+        println!("k = {k:2}: largest stable dt' ≈ {lo:.3e}  (λ_b,grid t* = {:.3e}, 2.785/(λ_b t*) = {:.3e})", lam_b * t_star, 2.785 / (lam_b * t_star));
+    }
+}
+
+#[test]
+#[ignore]
+fn staggered_free_decay_convergence() {
+    use magbubble::analysis::convergence::convergence_study;
+    let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
+    let g = Grid::new(3.0, 200, 30.0).unwrap();
+    let modes: Vec<LinearMode> = (1..=8).map(|i| mode(2 * i)).collect();
+    let c = LinearCoupling::new(modes.clone());
+    let a0: Vec<f64> = modes.iter().map(|m| 1e-3 * m.r0 / m.k as f64).collect();
+    let st = Staggered::new(&c, g.clone(), 1.0).unwrap();
+    let init = st.initial_state(0.0, 10e-6, 0.0, a0, vec![0.0; 8], vec![0.0; 8]);
+    let rep = convergence_study(&c, &g, &init, 20e-6, 1.7e-4 * t_star, &[2, 4, 8, 16]).unwrap();
+    for r in &rep.rows {
+        println!("dt' {:.3e}: e_s {:.3e} (k={}) e_f {:.3e}  {:.2}s", r.dt / t_star, r.e_s, r.worst_k_s, r.e_f, r.seconds);
+    }
+    println!("orders: s {:?} f {:?}", rep.order_s, rep.order_f);
+}
+
+#[test]
+#[ignore]
+fn staggered_timing() {
+    let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
+    for pts in [100usize, 200] {
+        let g = Grid::new(3.0, pts, 30.0).unwrap();
+        let modes: Vec<LinearMode> = (1..=8).map(|i| mode(2 * i)).collect();
+        let c = LinearCoupling::new(modes.clone());
+        let a0: Vec<f64> = modes.iter().map(|m| 1e-3 * m.r0 / m.k as f64).collect();
+        let mut st = Staggered::new(&c, g.clone(), 1e-3 * t_star).unwrap();
+        let mut s = st.initial_state(0.0, 10e-6, 0.0, a0, vec![0.0; 8], vec![0.0; 8]);
+        let t0 = std::time::Instant::now();
+        let n = st.run(&mut s, 100e-6, |_, _| true).unwrap();
+        let el = t0.elapsed().as_secs_f64();
+        println!("points {pts}: {n} steps in {el:.3} s ({:.2} µs/step)", el / n as f64 * 1e6);
+    }
+}

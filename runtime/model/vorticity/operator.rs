@@ -143,6 +143,39 @@ pub fn thomas<T: ComplexField + Copy>(
     true
 }
 
+/// Backward-Euler solve of `(I − dt·L) x = rhs` for L's rows, together with `(I − dt·L) z = e_1`
+/// in the same sweep (the two solutions Sherman–Morrison needs for the bordered first row).
+/// On return `rhs` holds x and `z` holds z. Returns `false` on a zero pivot.
+pub fn backward_euler_pair(rows: &Rows, dt: f64, rhs: &mut [f64], z: &mut [f64], scratch: &mut [f64]) -> bool {
+    let n = rhs.len();
+    if n == 0 {
+        return true;
+    }
+    let mut beta = 1.0 - dt * rows.diag[0];
+    if beta == 0.0 {
+        return false;
+    }
+    let mut inv = 1.0 / beta;
+    rhs[0] *= inv;
+    z[0] = inv;
+    for i in 1..n {
+        let li = -dt * rows.lower[i];
+        scratch[i] = -dt * rows.upper[i - 1] * inv;
+        beta = 1.0 - dt * rows.diag[i] - li * scratch[i];
+        if beta == 0.0 {
+            return false;
+        }
+        inv = 1.0 / beta;
+        rhs[i] = (rhs[i] - li * rhs[i - 1]) * inv;
+        z[i] = -li * z[i - 1] * inv;
+    }
+    for i in (0..n - 1).rev() {
+        rhs[i] -= scratch[i + 1] * rhs[i + 1];
+        z[i] -= scratch[i + 1] * z[i + 1];
+    }
+    true
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,7 +12,7 @@
 //! (FORMULATION audit 12; measured limits in docs/vorticity.md).
 
 use super::equations::{mode_rates, wall_source, LoadScratch, ModeInputs, ModeRates};
-use super::operator::{thomas, ModeOperator, Rows};
+use super::operator::{backward_euler_pair, ModeOperator, Rows};
 use super::{FullState, Grid, ModeCoupling, VorticityError};
 
 /// The staggered integrator of one coupling on one grid with a fixed step.
@@ -28,9 +28,6 @@ pub struct Staggered<'c> {
     rows: Rows,
     rhs: Vec<f64>,
     z: Vec<f64>,
-    tri_l: Vec<f64>,
-    tri_d: Vec<f64>,
-    tri_u: Vec<f64>,
     scratch: Vec<f64>,
     stage: [Vec<f64>; 5],
     tw: Vec<f64>,
@@ -57,9 +54,6 @@ impl<'c> Staggered<'c> {
             rows: Rows::default(),
             rhs: vec![0.0; ni],
             z: vec![0.0; ni],
-            tri_l: vec![0.0; ni],
-            tri_d: vec![0.0; ni],
-            tri_u: vec![0.0; ni],
             scratch: vec![0.0; ni],
             stage: std::array::from_fn(|_| vec![0.0; dim]),
             tw: vec![0.0; m],
@@ -171,23 +165,16 @@ impl<'c> Staggered<'c> {
             let w0 = op.w0();
             let src = wall_source(kf, eta, s.r, s.rdot, s.a[mi], s.adot[mi], self.loads.gt[mi]);
             let ni = op.interior();
-            // (I − dt L) T^{n+1} = T^n, with T_0 = (src − 2 Σ W_j T_j)/(1 + 2 w0)
-            for i in 0..ni {
-                self.tri_l[i] = -dt * self.rows.lower[i];
-                self.tri_d[i] = 1.0 - dt * self.rows.diag[i];
-                self.tri_u[i] = -dt * self.rows.upper[i];
-                self.rhs[i] = s.t_nodes[mi][i];
-            }
+            // (I − dt L) T^{n+1} = T^n, with T_0 = (src − 2 Σ W_j T_j)/(1 + 2 w0): the wall term
+            // of row 1 moves to the right-hand side, the Σ W_j T_j part is a rank-one border
+            // beta·e_1 W^T of the matrix (Sherman–Morrison).
+            self.rhs[..ni].copy_from_slice(&s.t_nodes[mi]);
             let l1 = dt * self.rows.lower[0];
             self.rhs[0] += l1 * src / (1.0 + 2.0 * w0);
-            // first row also gets + beta * Σ W_j T_j with beta = −l1·2/(1+2w0) moved to the left:
-            // row_0 · T − l1·T_0 → + 2 l1/(1+2w0) Σ W_j T_j
             let beta = 2.0 * l1 / (1.0 + 2.0 * w0);
             let wi = &op.wi[1..=ni];
-            let ok1 = thomas(&self.tri_l, &self.tri_d, &self.tri_u, &mut self.rhs, &mut self.scratch);
-            self.z.iter_mut().for_each(|v| *v = 0.0);
-            self.z[0] = 1.0;
-            let ok2 = thomas(&self.tri_l, &self.tri_d, &self.tri_u, &mut self.z, &mut self.scratch);
+            let ok = backward_euler_pair(&self.rows, dt, &mut self.rhs, &mut self.z, &mut self.scratch);
+            let (ok1, ok2) = (ok, true);
             let wx: f64 = wi.iter().zip(&self.rhs).map(|(w, x)| w * x).sum();
             let wz: f64 = wi.iter().zip(&self.z).map(|(w, x)| w * x).sum();
             let den = 1.0 + beta * wz;
