@@ -132,3 +132,40 @@ fn staggered_timing() {
         println!("points {pts}: {n} steps in {el:.3} s ({:.2} µs/step)", el / n as f64 * 1e6);
     }
 }
+
+/// The paper's bubble in the nondimensional units of FORMULATION §4.5 (R0 = ρ = 1, c1 = 1/2,
+/// t* = 2.236 µs, Re = 44.7).
+fn mode_nd(k: usize) -> LinearMode {
+    let (c1, c2) = (0.5, 0.6);
+    let n = (k * (k + 1)) as f64;
+    let c = c1 + c2;
+    LinearMode { k, rho: 1.0, eta: 1.0 / 44.72, r0: 1.0, s1: 24.0 * c, s2: -12.0 * n * c, s11: -12.0 * c, s12: 4.0 * (2.0 * n - 1.0) * c }
+}
+
+#[test]
+#[ignore]
+fn monolithic_timing() {
+    use magbubble::model::vorticity::implicit::{integrate, ImplicitSettings};
+    use magbubble::model::vorticity::monolithic::Monolithic;
+    for pts in [100usize, 200] {
+        let g = Grid::new(3.0, pts, 30.0).unwrap();
+        let modes: Vec<LinearMode> = (1..=8).map(|i| mode_nd(2 * i)).collect();
+        let c = LinearCoupling::new(modes.clone());
+        let sys = Monolithic::new(&c, g.clone());
+        let a0: Vec<f64> = modes.iter().map(|m| 1e-3 / m.k as f64).collect();
+        let st = Staggered::new(&c, g.clone(), 1.0).unwrap();
+        let init = st.initial_state(0.0, 1.0, 0.0, a0, vec![0.0; 8], vec![0.0; 8]);
+        for rtol in [1e-4, 1e-6] {
+            let mut y = sys.pack(&init);
+            let t0 = std::time::Instant::now();
+            let stats = integrate(&sys, 0.0, &mut y, 44.72, &ImplicitSettings { rtol, atol: 1e-10, h0: 0.0, max_steps: 1_000_000 }, |_, _| true).unwrap();
+            let el = t0.elapsed().as_secs_f64();
+            // reference: staggered at small dt
+            println!("points {pts} rtol {rtol:e}: {stats:?} in {el:.3} s; a2(end) = {:.6e}", y[2]);
+        }
+        let mut stg = Staggered::new(&c, g.clone(), 1e-4).unwrap();
+        let mut s = init.clone();
+        stg.run(&mut s, 44.72, |_, _| true).unwrap();
+        println!("   staggered dt' 1e-4: a2(end) = {:.6e}", s.a[0]);
+    }
+}

@@ -18,10 +18,12 @@
 
 pub mod equations;
 pub mod grid;
+pub mod implicit;
 pub mod linear;
 pub mod monolithic;
 pub mod operator;
 pub mod staggered;
+pub mod structured;
 
 pub use grid::{Grid, GridError};
 

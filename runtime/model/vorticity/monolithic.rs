@@ -31,8 +31,6 @@ struct Scratch {
     a: Vec<f64>,
     adot: Vec<f64>,
     b: Vec<f64>,
-    i_int: Vec<f64>,
-    j_over_r: Vec<f64>,
     add: Vec<f64>,
     bdot: Vec<f64>,
     tw: Vec<f64>,
@@ -49,8 +47,6 @@ impl<'c> Monolithic<'c> {
             a: z(),
             adot: z(),
             b: z(),
-            i_int: z(),
-            j_over_r: z(),
             add: z(),
             bdot: z(),
             tw: z(),
@@ -106,29 +102,24 @@ impl<'c> Monolithic<'c> {
     }
 }
 
-impl OdeSystem for Monolithic<'_> {
-    fn dim(&self) -> usize {
-        2 + self.ops.len() * self.block()
-    }
-
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+impl Monolithic<'_> {
+    /// The "reduced" right-hand side: the ODE part f_z and the wall values T_w from
+    /// z = [R, Ṙ, (a_k, ȧ_k, b_k)_k] (length 2 + 3M) and the vorticity functionals
+    /// p = [Ĩ_int,k (M), ∫(y⁻³−1)y^{−k}T dy (M)]. The T nodes enter the ODE part only through p,
+    /// which is what the structured linear solve ([`super::structured`]) exploits.
+    pub fn reduced(&self, t: f64, z: &[f64], p: &[f64], fz: &mut [f64], tw: &mut [f64]) {
         let mut guard = self.scratch.borrow_mut();
         let sc = &mut *guard;
         let m = self.ops.len();
-        let nb = self.block();
-        let (r, rdot) = (y[0], y[1]);
-        for (mi, op) in self.ops.iter().enumerate() {
-            let o = 2 + mi * nb;
-            sc.a[mi] = y[o];
-            sc.adot[mi] = y[o + 1];
-            sc.b[mi] = y[o + 2];
-            let tn = &y[o + 3..o + nb];
-            sc.i_int[mi] = op.i_interior(tn);
-            sc.j_over_r[mi] = op.j_over_r(tn);
+        let (r, rdot) = (z[0], z[1]);
+        for mi in 0..m {
+            sc.a[mi] = z[2 + 3 * mi];
+            sc.adot[mi] = z[3 + 3 * mi];
+            sc.b[mi] = z[4 + 3 * mi];
         }
         let rddot = sc.loads.eval(self.coupling, t, r, rdot, &sc.a, &sc.b);
-        dy[0] = rdot;
-        dy[1] = rddot;
+        fz[0] = rdot;
+        fz[1] = rddot;
         let inputs = ModeInputs {
             r,
             rdot,
@@ -138,8 +129,8 @@ impl OdeSystem for Monolithic<'_> {
             b: &sc.b,
             gn: &sc.loads.gn,
             gt: &sc.loads.gt,
-            i_int: &sc.i_int,
-            j_over_r: &sc.j_over_r,
+            i_int: &p[..m],
+            j_over_r: &p[m..2 * m],
             w0: self.ops.first().map_or(0.0, |o| o.w0()),
         };
         mode_rates(
@@ -147,24 +138,74 @@ impl OdeSystem for Monolithic<'_> {
             self.coupling.density(),
             self.coupling.viscosity(),
             &inputs,
-            ModeRates { add: &mut sc.add, bdot: &mut sc.bdot, tw: &mut sc.tw },
+            ModeRates { add: &mut sc.add, bdot: &mut sc.bdot, tw },
         );
+        for mi in 0..m {
+            fz[2 + 3 * mi] = sc.adot[mi];
+            fz[3 + 3 * mi] = sc.add[mi];
+            fz[4 + 3 * mi] = sc.bdot[mi];
+        }
+    }
+
+    /// Splits a state into z (ODE part) and p (vorticity functionals).
+    pub fn split(&self, y: &[f64], z: &mut [f64], p: &mut [f64]) {
+        let m = self.ops.len();
+        let nb = self.block();
+        z[0] = y[0];
+        z[1] = y[1];
+        for (mi, op) in self.ops.iter().enumerate() {
+            let o = 2 + mi * nb;
+            z[2 + 3 * mi..5 + 3 * mi].copy_from_slice(&y[o..o + 3]);
+            let tn = &y[o + 3..o + nb];
+            p[mi] = op.i_interior(tn);
+            p[m + mi] = op.j_over_r(tn);
+        }
+    }
+
+    /// The mode operators (one per k).
+    pub fn operators(&self) -> &[ModeOperator] {
+        &self.ops
+    }
+
+    /// The coupling.
+    pub fn coupling(&self) -> &dyn ModeCoupling {
+        self.coupling
+    }
+}
+
+impl OdeSystem for Monolithic<'_> {
+    fn dim(&self) -> usize {
+        2 + self.ops.len() * self.block()
+    }
+
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let m = self.ops.len();
+        let nb = self.block();
+        let mut z = vec![0.0; 2 + 3 * m];
+        let mut p = vec![0.0; 2 * m];
+        let mut fz = vec![0.0; 2 + 3 * m];
+        let mut tw = vec![0.0; m];
+        self.split(y, &mut z, &mut p);
+        self.reduced(t, &z, &p, &mut fz, &mut tw);
+        dy[0] = fz[0];
+        dy[1] = fz[1];
+        let mut guard = self.scratch.borrow_mut();
+        let sc = &mut *guard;
+        sc.tw.copy_from_slice(&tw);
+        let (r, rdot) = (y[0], y[1]);
         let nu = self.coupling.viscosity() / self.coupling.density();
         for (mi, op) in self.ops.iter().enumerate() {
             let o = 2 + mi * nb;
-            dy[o] = sc.adot[mi];
-            dy[o + 1] = sc.add[mi];
-            dy[o + 2] = sc.bdot[mi];
+            dy[o..o + 3].copy_from_slice(&fz[2 + 3 * mi..5 + 3 * mi]);
             op.rows(r, rdot, nu, &mut sc.rows);
             let tn = &y[o + 3..o + nb];
             let out = &mut dy[o + 3..o + nb];
             let ni = tn.len();
             for i in 0..ni {
-                let left = if i == 0 { sc.tw[mi] } else { tn[i - 1] };
+                let left = if i == 0 { tw[mi] } else { tn[i - 1] };
                 let right = if i + 1 < ni { tn[i + 1] } else { 0.0 };
                 out[i] = sc.rows.lower[i] * left + sc.rows.diag[i] * tn[i] + sc.rows.upper[i] * right;
             }
         }
-        let _ = m;
     }
 }
