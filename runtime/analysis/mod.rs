@@ -1,4 +1,5 @@
 //! (to be written)
 
+pub mod compare;
 pub mod convergence;
 pub mod dispersion;
