@@ -151,3 +151,35 @@ fn free_decay_of_a2_agrees_with_the_dispersion_relation() {
     assert!(rel(omega, exact.im) < 5e-3, "omega {omega} vs {}", exact.im);
     assert!(rel(gamma, -exact.re) < 5e-3, "gamma {gamma} vs {}", -exact.re);
 }
+
+#[test]
+fn monolithic_free_decay_agrees_with_the_dispersion_relation() {
+    use magbubble::model::vorticity::implicit::{integrate, ImplicitSettings};
+    // nondimensional units of FORMULATION §4.5 (R0 = ρ = 1, c1 = 1/2): the integrator's
+    // absolute tolerance is meant for O(1) states
+    let (c1, c2, k) = (0.5, 0.6, 2usize);
+    let n = (k * (k + 1)) as f64;
+    let c = c1 + c2;
+    let m = LinearMode { k, rho: 1.0, eta: 1.0 / 44.72, r0: 1.0, s1: 24.0 * c, s2: -12.0 * n * c, s11: -12.0 * c, s12: 4.0 * (2.0 * n - 1.0) * c };
+    let exact = m.exact_root(initial_guess(&m)).unwrap();
+    let cpl = LinearCoupling::new(vec![m]);
+    let sys = Monolithic::new(&cpl, grid());
+    let period = 2.0 * std::f64::consts::PI / exact.im;
+    let st = Staggered::new(&cpl, grid(), 1.0).unwrap();
+    let mut y = sys.pack(&st.initial_state(0.0, 1.0, 0.0, vec![1e-3], vec![0.0], vec![0.0]));
+    let dt_out = period / 80.0;
+    let mut xs = vec![];
+    let settings = ImplicitSettings { rtol: 1e-7, atol: 1e-12, h0: 0.0, max_steps: 100_000, output_interval: dt_out };
+    integrate(&sys, 0.0, &mut y, 7.0 * period, &settings, |t, y| {
+        if t > period * (1.0 - 1e-9) {
+            xs.push(y[2]);
+        }
+        true
+    })
+    .unwrap();
+    let roots = prony(&xs, dt_out, 6);
+    let mode = roots.iter().filter(|s| s.im > 0.0).max_by(|a, b| a.re.partial_cmp(&b.re).unwrap()).copied().unwrap();
+    println!("monolithic: s = {mode:.6e}, exact {exact:.6e}");
+    assert!(rel(mode.im, exact.im) < 5e-3, "omega {} vs {}", mode.im, exact.im);
+    assert!(rel(-mode.re, -exact.re) < 5e-3, "gamma {} vs {}", -mode.re, -exact.re);
+}

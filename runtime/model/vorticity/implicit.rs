@@ -19,8 +19,11 @@ use crate::integrate::OdeSystem;
 pub struct ImplicitSettings {
     pub rtol: f64,
     pub atol: f64,
-    /// Initial step (0: chosen from the scales of the problem).
+    /// Initial step (0: 10⁻⁴ of the span).
     pub h0: f64,
+    /// Call the observer exactly at multiples of this interval from t0 (steps are shortened to
+    /// land on them); 0: after every accepted step.
+    pub output_interval: f64,
     pub max_steps: u64,
 }
 
@@ -55,11 +58,18 @@ pub fn integrate(
     let mut h = if s.h0 > 0.0 { s.h0 } else { 1e-4 * span };
     let (mut k1, mut k2, mut k3) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let (mut f1, mut f2, mut ft, mut ytmp, mut y1) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut n_out = 1u64;
+    let next_out = |n: u64| if s.output_interval > 0.0 { (t0 + n as f64 * s.output_interval).min(t_end) } else { t_end };
     while t < t_end {
         if st.accepted + st.rejected >= s.max_steps {
             return Err(VorticityError::NonFinite { t, what: format!("step limit {} reached", s.max_steps) });
         }
-        h = h.min(t_end - t);
+        let h_prop = h;
+        let target = next_out(n_out);
+        let mut landing = h >= target - t;
+        if landing {
+            h = target - t;
+        }
         let jac = StructuredJacobian::new(sys, t, y);
         st.rhs_evals += (2 + 5 * sys.operators().len()) as u64;
         let dt_t = (f64::EPSILON.sqrt()) * t.abs().max(h);
@@ -112,6 +122,7 @@ pub fn integrate(
             if !finite {
                 st.rejected += 1;
                 h *= 0.25;
+                landing = false;
                 if h < 1e-14 * span {
                     return Err(VorticityError::NonFinite { t, what: "implicit step: non-finite stage".into() });
                 }
@@ -119,21 +130,28 @@ pub fn integrate(
             }
             let fac = (0.8 * err.powf(-1.0 / 3.0)).clamp(0.2, 5.0);
             if err <= 1.0 {
-                t += h;
+                t = if landing { target } else { t + h };
                 y.copy_from_slice(&y1);
                 f0.copy_from_slice(&f2);
                 st.accepted += 1;
-                h *= fac;
+                h = if landing { (h * fac).max(h_prop.min(h * 5.0)) } else { h * fac };
                 break;
             }
             st.rejected += 1;
             h *= fac.min(0.9);
+            landing = false;
             if h < 1e-14 * span {
                 return Err(VorticityError::NonFinite { t, what: format!("implicit step size underflow (h = {h:e})") });
             }
         }
-        if !observer(t, y) {
-            break;
+        let at_output = s.output_interval <= 0.0 || (landing && t == target) || t >= t_end;
+        if at_output {
+            if s.output_interval > 0.0 {
+                n_out += 1;
+            }
+            if !observer(t, y) {
+                break;
+            }
         }
     }
     Ok(st)
