@@ -196,3 +196,30 @@ fn staggered_stability_scan() {
         println!("{line}");
     }
 }
+
+#[test]
+#[ignore]
+fn staggered_stability_scan_lagged_wall() {
+    let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
+    let g = Grid::new(3.0, 201, 20.0).unwrap();
+    let ladder = [5e-4, 1e-3, 1.5e-3, 2e-3, 3e-3, 4e-3, 6e-3, 8e-3, 1.2e-2, 1.6e-2, 2.4e-2];
+    println!("dt' ladder {ladder:?}");
+    for k in [2usize, 4, 8, 12, 16, 20, 24, 28, 32] {
+        let m = mode(k);
+        let c = LinearCoupling::new(vec![m]);
+        let mut line = format!("k = {k:2}:");
+        for &dtp in &ladder {
+            let mut st = Staggered::new(&c, g.clone(), dtp * t_star).unwrap().with_wall(magbubble::model::vorticity::staggered::WallCoupling::Lagged);
+            let a0 = 1e-3 * m.r0;
+            let mut s = st.initial_state(0.0, m.r0, 0.0, vec![a0], vec![0.0], vec![0.0]);
+            let mut maxa: f64 = 0.0;
+            let res = st.run(&mut s, 40e-6, |s, _| {
+                maxa = maxa.max(s.a[0].abs());
+                maxa < 1e3 * a0
+            });
+            let ok = res.is_ok() && maxa < 1e3 * a0 && s.a[0].abs() < a0;
+            line += if ok { " ." } else { " X" };
+        }
+        println!("{line}");
+    }
+}

@@ -28,6 +28,9 @@ pub struct ModeInputs<'a> {
     pub j_over_r: &'a [f64],
     /// Trapezoid weight w_0 of the wall node (same for every mode: y_0 = 1).
     pub w0: f64,
+    /// `Some`: use these wall values instead of solving (TS) (the paper's literal lagged
+    /// staggered step, [`super::staggered::WallCoupling::Lagged`]).
+    pub tw_fixed: Option<&'a [f64]>,
 }
 
 /// The outputs: ä_k, ḃ_k and T_w,k.
@@ -50,7 +53,10 @@ pub fn mode_rates(orders: &[usize], rho: f64, eta: f64, x: &ModeInputs<'_>, out:
         let kf = k as f64;
         let (a, adot, b) = (x.a[m], x.adot[m], x.b[m]);
         let src = wall_source(kf, eta, r, rdot, a, adot, x.gt[m]);
-        let tw = (src - 2.0 * x.i_int[m]) / (1.0 + 2.0 * x.w0);
+        let tw = match x.tw_fixed {
+            Some(fixed) => fixed[m],
+            None => (src - 2.0 * x.i_int[m]) / (1.0 + 2.0 * x.w0),
+        };
         let itil = x.w0 * tw + x.i_int[m];
         let j = r * x.j_over_r[m];
         out.tw[m] = tw;

@@ -132,6 +132,7 @@ impl Monolithic<'_> {
             i_int: &p[..m],
             j_over_r: &p[m..2 * m],
             w0: self.ops.first().map_or(0.0, |o| o.w0()),
+            tw_fixed: None,
         };
         mode_rates(
             self.coupling.orders(),

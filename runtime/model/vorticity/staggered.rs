@@ -15,6 +15,18 @@ use super::equations::{mode_rates, wall_source, LoadScratch, ModeInputs, ModeRat
 use super::operator::{backward_euler_pair, ModeOperator, Rows};
 use super::{FullState, Grid, ModeCoupling, VorticityError};
 
+/// How step 1 treats the wall vorticity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum WallCoupling {
+    /// T_w from (TS) inside the RK right-hand side, with Ĩ_int, J lagged (FORMULATION §4.2,
+    /// recommended; the default).
+    #[default]
+    InRhs,
+    /// T_w frozen at T^n as well (the paper's wording, "the value of T_k at the previous time
+    /// step being utilized").
+    Lagged,
+}
+
 /// The staggered integrator of one coupling on one grid with a fixed step.
 pub struct Staggered<'c> {
     coupling: &'c dyn ModeCoupling,
@@ -31,6 +43,8 @@ pub struct Staggered<'c> {
     scratch: Vec<f64>,
     stage: [Vec<f64>; 5],
     tw: Vec<f64>,
+    tw_lagged: Vec<f64>,
+    wall: WallCoupling,
 }
 
 impl<'c> Staggered<'c> {
@@ -57,7 +71,15 @@ impl<'c> Staggered<'c> {
             scratch: vec![0.0; ni],
             stage: std::array::from_fn(|_| vec![0.0; dim]),
             tw: vec![0.0; m],
+            tw_lagged: vec![0.0; m],
+            wall: WallCoupling::InRhs,
         })
+    }
+
+    /// Chooses the treatment of T_w in step 1 (default [`WallCoupling::InRhs`]).
+    pub fn with_wall(mut self, wall: WallCoupling) -> Self {
+        self.wall = wall;
+        self
     }
 
     pub fn dt(&self) -> f64 {
@@ -99,6 +121,10 @@ impl<'c> Staggered<'c> {
             i_int: &self.i_int,
             j_over_r: &self.j_over_r,
             w0: self.ops.first().map_or(0.0, |o| o.w0()),
+            tw_fixed: match self.wall {
+                WallCoupling::InRhs => None,
+                WallCoupling::Lagged => Some(&self.tw_lagged),
+            },
         };
         mode_rates(
             self.coupling.orders(),
@@ -187,6 +213,7 @@ impl<'c> Staggered<'c> {
             }
             let i_int = op.i_interior(&s.t_nodes[mi]);
             self.tw[mi] = (src - 2.0 * i_int) / (1.0 + 2.0 * w0);
+            self.tw_lagged[mi] = self.tw[mi];
         }
         if let Some(what) = s.non_finite() {
             return Err(VorticityError::NonFinite { t: s.t, what });
