@@ -87,7 +87,7 @@ fn staggered_stability_threshold() {
             continue;
         }
         for _ in 0..14 {
-            let mid = (lo * hi as f64).sqrt();
+            let mid = (lo * hi).sqrt();
             if stable(k, mid) { lo = mid } else { hi = mid }
         }
         let m = mode(k);
