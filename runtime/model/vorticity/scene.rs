@@ -80,6 +80,21 @@ impl ModeCoupling for SceneCoupling<'_> {
     }
 }
 
+/// How to integrate the full model (times in units of t*).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SchemeSettings {
+    pub scheme: VorticityScheme,
+    /// Fixed step of the staggered scheme.
+    pub dt: f64,
+    /// Tolerances of the monolithic scheme.
+    pub rtol: f64,
+    pub atol: f64,
+    pub t_end: f64,
+    /// Output interval.
+    pub sample: f64,
+    pub max_steps: u64,
+}
+
 /// A scene's full model.
 pub struct FullModel {
     model: Model,
@@ -131,20 +146,10 @@ impl FullModel {
         z
     }
 
-    /// Runs the scene with its scheme: `observer(t, state)` at t = 0 and every multiple of
-    /// `sample` (nondimensional) up to `t_end`; it returns `false` to stop. Staggered: fixed
-    /// step `dt`; monolithic: tolerances `rtol`, `atol`.
-    pub fn run_nondim(
-        &self,
-        scheme: VorticityScheme,
-        dt: f64,
-        rtol: f64,
-        atol: f64,
-        t_end: f64,
-        sample: f64,
-        max_steps: u64,
-        observer: &mut dyn FnMut(&FullState) -> bool,
-    ) -> Result<Stats, VorticityError> {
+    /// Runs with `settings` (nondimensional times): `observer(state)` at t = 0 and every
+    /// multiple of `sample` up to `t_end`; it returns `false` to stop.
+    pub fn run_nondim(&self, settings: &SchemeSettings, observer: &mut dyn FnMut(&FullState) -> bool) -> Result<Stats, VorticityError> {
+        let SchemeSettings { scheme, dt, rtol, atol, t_end, sample, max_steps } = *settings;
         let c = self.coupling();
         let init = self.initial_state();
         if !observer(&init) {
@@ -213,16 +218,16 @@ impl FullModel {
             }
         };
         let it = &run.integrator;
-        let result = self.run_nondim(
-            self.scheme,
-            it.dt / ts,
-            it.rtol,
-            it.atol,
-            run.duration / ts,
-            run.sample_interval / ts,
-            it.max_steps,
-            &mut obs,
-        );
+        let settings = SchemeSettings {
+            scheme: self.scheme,
+            dt: it.dt / ts,
+            rtol: it.rtol,
+            atol: it.atol,
+            t_end: run.duration / ts,
+            sample: run.sample_interval / ts,
+            max_steps: it.max_steps,
+        };
+        let result = self.run_nondim(&settings, &mut obs);
         let (status, stats) = match result {
             Ok(stats) => (
                 match blow.take() {
