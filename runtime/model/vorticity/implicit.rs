@@ -8,11 +8,18 @@
 //! Step: W = I − h d J, d = 1/(2 + √2), e32 = 6 + √2, T = ∂f/∂t,
 //! k1 = W⁻¹(F0 + h d T), F1 = f(t + h/2, y + h k1/2), k2 = W⁻¹(F1 − k1) + k1, y1 = y + h k2,
 //! F2 = f(t + h, y1), k3 = W⁻¹[F2 − e32(k2 − F1) − 2(k1 − F0) + h d T], err = h(k1 − 2k2 + k3)/6.
+//!
+//! The pair is a W-method (Wolfbrandt's, modified by Shampine): it keeps order 2 with an
+//! approximate J, so J is re-differenced only every [`JAC_MAX_AGE`] steps or after a rejection,
+//! and W is refactored only when h changes (a proposed growth below 20 % keeps h).
 
 use super::monolithic::Monolithic;
 use super::structured::StructuredJacobian;
 use super::VorticityError;
 use crate::integrate::OdeSystem;
+
+/// Steps a Jacobian is reused for.
+pub const JAC_MAX_AGE: u32 = 2;
 
 /// Tolerances and limits (time in the coupling's unit).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,6 +68,9 @@ pub fn integrate(
     let (mut f1, mut f2, mut ft, mut ytmp, mut y1) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut n_out = 1u64;
     let mut yout = vec![0.0; n];
+    let mut jac: Option<std::rc::Rc<StructuredJacobian>> = None;
+    let mut lu: Option<(f64, super::structured::StructuredLu<f64>)> = None;
+    let mut jac_age = 0u32;
     while t < t_end {
         if st.accepted + st.rejected >= s.max_steps {
             return Err(VorticityError::NonFinite { t, what: format!("step limit {} reached", s.max_steps) });
@@ -69,8 +79,13 @@ pub fn integrate(
         if landing {
             h = t_end - t;
         }
-        let jac = StructuredJacobian::new(sys, t, y);
-        st.rhs_evals += (2 + 5 * sys.operators().len()) as u64;
+        if jac.is_none() || jac_age >= JAC_MAX_AGE {
+            jac = Some(StructuredJacobian::new(sys, t, y));
+            st.rhs_evals += (2 + 5 * sys.operators().len()) as u64;
+            jac_age = 0;
+            lu = None;
+        }
+        jac_age += 1;
         let dt_t = (f64::EPSILON.sqrt()) * t.abs().max(h);
         sys.rhs(t + dt_t, y, &mut ft);
         st.rhs_evals += 1;
@@ -79,11 +94,15 @@ pub fn integrate(
         }
         loop {
             let sigma = 1.0 / (h * d);
-            let lu = jac.factor(sigma).ok_or(VorticityError::Singular { k: 0, t })?;
-            st.factorizations += 1;
+            if lu.as_ref().is_none_or(|(s0, _)| *s0 != sigma) {
+                let j = jac.as_ref().expect("set above");
+                lu = Some((sigma, j.factor(sigma).ok_or(VorticityError::Singular { k: 0, t })?));
+                st.factorizations += 1;
+            }
+            let lu_now = &lu.as_ref().expect("set above").1;
             // W⁻¹ v = σ (σI − J)⁻¹ v
             let wsolve = |v: &mut [f64]| {
-                lu.solve(v);
+                lu_now.solve(v);
                 v.iter_mut().for_each(|x| *x *= sigma);
             };
             for i in 0..n {
@@ -153,12 +172,21 @@ pub fn integrate(
                 y.copy_from_slice(&y1);
                 f0.copy_from_slice(&f2);
                 st.accepted += 1;
-                h *= fac;
+                if !(1.0..1.2).contains(&fac) {
+                    h *= fac;
+                }
                 break;
             }
             st.rejected += 1;
             h *= fac.min(0.9);
             landing = false;
+            if jac_age > 1 {
+                // a stale Jacobian may be the cause: re-difference it
+                jac = Some(StructuredJacobian::new(sys, t, y));
+                st.rhs_evals += (2 + 5 * sys.operators().len()) as u64;
+                jac_age = 1;
+                lu = None;
+            }
             if h < 1e-14 * span {
                 return Err(VorticityError::NonFinite { t, what: format!("implicit step size underflow (h = {h:e})") });
             }

@@ -16,6 +16,7 @@ use super::monolithic::Monolithic;
 use super::operator::Rows;
 use crate::integrate::OdeSystem;
 use nalgebra::{ComplexField, DMatrix, DVector};
+use std::rc::Rc;
 
 /// J at one (t, y), in structured form.
 pub struct StructuredJacobian {
@@ -75,9 +76,9 @@ impl<T: ComplexField<RealField = f64> + Copy> TriLu<T> {
     }
 }
 
-/// The factorisation of σI − J.
-pub struct StructuredLu<'j, T: ComplexField<RealField = f64> + Copy> {
-    jac: &'j StructuredJacobian,
+/// The factorisation of σI − J (shares the Jacobian it was built from).
+pub struct StructuredLu<T: ComplexField<RealField = f64> + Copy> {
+    jac: Rc<StructuredJacobian>,
     tri: Vec<TriLu<T>>,
     /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k
     u: Vec<[Vec<T>; 3]>,
@@ -86,7 +87,7 @@ pub struct StructuredLu<'j, T: ComplexField<RealField = f64> + Copy> {
 
 impl StructuredJacobian {
     /// Builds J of `sys` at (t, y) by structured differencing.
-    pub fn new(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> Self {
+    pub fn new(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> Rc<Self> {
         let ops = sys.operators();
         let m = ops.len();
         let nz = 2 + 3 * m;
@@ -160,11 +161,11 @@ impl StructuredJacobian {
             r_rd.push(frd);
             pw.push([op.wi[1..=ni].to_vec(), op.wj[1..=ni].to_vec()]);
         }
-        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw }
+        Rc::new(Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw })
     }
 
     /// Factors σI − J. `None` if singular.
-    pub fn factor<T: ComplexField<RealField = f64> + Copy>(&self, sigma: T) -> Option<StructuredLu<'_, T>> {
+    pub fn factor<T: ComplexField<RealField = f64> + Copy>(self: &Rc<Self>, sigma: T) -> Option<StructuredLu<T>> {
         let (m, nz, ni) = (self.m, self.nz, self.ni);
         let mut tri = Vec::with_capacity(m);
         let mut u = Vec::with_capacity(m);
@@ -211,14 +212,14 @@ impl StructuredJacobian {
         if !small.is_invertible() {
             return None;
         }
-        Some(StructuredLu { jac: self, tri, u, small })
+        Some(StructuredLu { jac: Rc::clone(self), tri, u, small })
     }
 }
 
-impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<'_, T> {
+impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
     /// Solves (σI − J) x = b in place (state layout of the monolithic system).
     pub fn solve(&self, b: &mut [T]) {
-        let j = self.jac;
+        let j = &*self.jac;
         let (m, nz, nb) = (j.m, j.nz, j.nb);
         // D_k⁻¹ b_T,k
         for k in 0..m {
