@@ -13,4 +13,6 @@ pub mod periodic;
 pub mod stability;
 pub mod sweep;
 
-// Issue 6 (H6) adds here: pub mod convergence; pub mod compare; pub mod dispersion;
+pub mod compare;
+pub mod convergence;
+pub mod dispersion;

@@ -15,6 +15,7 @@ pub mod boundary_layer;
 pub mod params;
 pub mod radial;
 mod simulate;
+pub mod vorticity;
 
 pub use boundary_layer::BoundaryLayerSystem;
 pub use params::{Groups, Params, Scales};

@@ -1,0 +1,90 @@
+//! The mode equations of the full model (FORMULATION §4.2; paper eqs 2.64, 2.65, 2.67 corrected),
+//! shared by the staggered and the monolithic schemes. Given the vorticity integrals they give
+//! ä_k, ḃ_k and the wall vorticity T_w,k, which is eliminated algebraically from the corrected
+//! tangential stress balance (TS) with the trapezoid weight w_0 of the wall node:
+//!
+//! T_w = [2(k+2)ȧ/(k+1) + 2(1−k)Ṙa/((k+1)R) − 2Ĩ_int − R G_t/η] / (1 + 2w_0)      (TS, audit 3, 4)
+//! Ĩ   = w_0 T_w + Ĩ_int,   J = R ∫(y⁻³ − 1) y^{−k} T dy
+//! ḃ   = Ṙb/R − ȧ/(k+1) − 2Ṙa/((k+1)R) + Ĩ                                          (NS, 2.67)
+//! ä   = −[3Ṙȧ − (k−1)R̈a]/R − (k+1)/(ρR)[2η(k+2)ȧ/R + 4η(k−1)Ṙa/R² + kηT_w/R
+//!        + kρṘJ/R − 2ηk(k+1)Ĩ/R + G_n]                                              (N, 2.64 × (k+1)/(ρR), audit 5)
+
+use super::ModeCoupling;
+
+/// Everything the mode equations need at one instant, for all M modes (index m ↔ k = orders[m]).
+pub struct ModeInputs<'a> {
+    pub r: f64,
+    pub rdot: f64,
+    pub rddot: f64,
+    pub a: &'a [f64],
+    pub adot: &'a [f64],
+    pub b: &'a [f64],
+    /// G_n,k and G_t,k (FORMULATION §4.1) at this state.
+    pub gn: &'a [f64],
+    pub gt: &'a [f64],
+    /// Ĩ_int,k = Σ_{i≥1} W_i T_i (without the wall node).
+    pub i_int: &'a [f64],
+    /// ∫(y⁻³ − 1) y^{−k} T dy, so that J_k = R · j_over_r[m].
+    pub j_over_r: &'a [f64],
+    /// Trapezoid weight w_0 of the wall node (same for every mode: y_0 = 1).
+    pub w0: f64,
+    /// `Some`: use these wall values instead of solving (TS) (the paper's literal lagged
+    /// staggered step, [`super::staggered::WallCoupling::Lagged`]).
+    pub tw_fixed: Option<&'a [f64]>,
+}
+
+/// The outputs: ä_k, ḃ_k and T_w,k.
+pub struct ModeRates<'a> {
+    pub add: &'a mut [f64],
+    pub bdot: &'a mut [f64],
+    pub tw: &'a mut [f64],
+}
+
+/// Right-hand side of (TS) without the Ĩ term: A = 2(k+2)ȧ/(k+1) + 2(1−k)Ṙa/((k+1)R) − R G_t/η.
+#[inline]
+pub fn wall_source(k: f64, eta: f64, r: f64, rdot: f64, a: f64, adot: f64, gt: f64) -> f64 {
+    2.0 * (k + 2.0) * adot / (k + 1.0) + 2.0 * (1.0 - k) * rdot * a / ((k + 1.0) * r) - r * gt / eta
+}
+
+/// Evaluates (TS), (NS), (N) for every mode.
+pub fn mode_rates(orders: &[usize], rho: f64, eta: f64, x: &ModeInputs<'_>, out: ModeRates<'_>) {
+    let (r, rdot, rddot) = (x.r, x.rdot, x.rddot);
+    for (m, &k) in orders.iter().enumerate() {
+        let kf = k as f64;
+        let (a, adot, b) = (x.a[m], x.adot[m], x.b[m]);
+        let src = wall_source(kf, eta, r, rdot, a, adot, x.gt[m]);
+        let tw = match x.tw_fixed {
+            Some(fixed) => fixed[m],
+            None => (src - 2.0 * x.i_int[m]) / (1.0 + 2.0 * x.w0),
+        };
+        let itil = x.w0 * tw + x.i_int[m];
+        let j = r * x.j_over_r[m];
+        out.tw[m] = tw;
+        out.bdot[m] = rdot * b / r - adot / (kf + 1.0) - 2.0 * rdot * a / ((kf + 1.0) * r) + itil;
+        let bracket = 2.0 * eta * (kf + 2.0) * adot / r
+            + 4.0 * eta * (kf - 1.0) * rdot * a / (r * r)
+            + kf * eta * tw / r
+            + kf * rho * rdot * j / r
+            - 2.0 * eta * kf * (kf + 1.0) * itil / r
+            + x.gn[m];
+        out.add[m] = -(3.0 * rdot * adot - (kf - 1.0) * rddot * a) / r - (kf + 1.0) / (rho * r) * bracket;
+    }
+}
+
+/// Scratch for one evaluation of the loads (avoids allocation in right-hand sides).
+#[derive(Debug, Clone, Default)]
+pub struct LoadScratch {
+    pub gn: Vec<f64>,
+    pub gt: Vec<f64>,
+}
+
+impl LoadScratch {
+    pub fn new(m: usize) -> Self {
+        Self { gn: vec![0.0; m], gt: vec![0.0; m] }
+    }
+    /// R̈ and the loads at (t, R, Ṙ, a, b).
+    pub fn eval(&mut self, c: &dyn ModeCoupling, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64 {
+        c.shape_loads(t, r, a, b, &mut self.gn, &mut self.gt);
+        c.radial_acceleration(t, r, rdot, a, b)
+    }
+}

@@ -1,0 +1,95 @@
+//! The full model: toroidal vorticity T_k(y, t) of every shape mode on y = r/R ∈ [1, Y_max]
+//! (paper §2.4–2.5 and §5, eqs 2.52, 2.64–2.67, 5.1–5.3; FORMULATION §4.2, audit items 3, 4, 5,
+//! 11, 12), coupled to the radial equation and the mode equations.
+//!
+//! Two time discretisations:
+//! - [`staggered`]: the paper's loosely coupled scheme (§5): RK4 for (R, Ṙ, a, ȧ, b) with lagged
+//!   vorticity integrals, then backward Euler for T with upwind artificial diffusion, one
+//!   bordered tridiagonal (Thomas + Sherman–Morrison) solve per mode and step.
+//! - [`monolithic`]: the method of lines, every interior T node an ODE state and T_w eliminated
+//!   algebraically, as one [`crate::integrate::OdeSystem`] for an implicit integrator.
+//!
+//! [`linear`] linearises the full model at R0 (the damped spectrum) and compares it with the
+//! exact dispersion relation of [`crate::analysis::dispersion`].
+//!
+//! The vorticity part only needs, from the rest of the model, R̈ and the loads G_n,k, G_t,k at a
+//! state: the [`ModeCoupling`] trait. Units are whatever the coupling uses consistently (SI, or
+//! the nondimensional form of FORMULATION §4.5 with ρ = 1, η = 1/Re); nothing here assumes either.
+
+pub mod equations;
+pub mod grid;
+pub mod implicit;
+pub mod linear;
+pub mod monolithic;
+pub mod operator;
+pub mod staggered;
+pub mod structured;
+
+pub use grid::{Grid, GridError};
+
+use thiserror::Error;
+
+/// What the vorticity closure needs from the rest of the model (radial equation, membrane and
+/// magnetic loads). Mode index m ↔ k = `orders()[m]`; slices `a`, `b` have length M.
+pub trait ModeCoupling {
+    /// The shape-mode orders k = 2, 4, …, N.
+    fn orders(&self) -> &[usize];
+    /// ρ of the liquid (in the coupling's units).
+    fn density(&self) -> f64;
+    /// η of the liquid (in the coupling's units).
+    fn viscosity(&self) -> f64;
+    /// R̈ from the corrected radial equation (2.62, FORMULATION §4.1).
+    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64;
+    /// G_n,k = Ŝ1 a_k + Ŝ2 b_k − M_n,k and G_t,k = Ŝ11 a_k + Ŝ12 b_k − M_t,k (FORMULATION §4.1).
+    fn shape_loads(&self, t: f64, r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]);
+}
+
+/// A failure of a full-model run, with where and when.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum VorticityError {
+    #[error(transparent)]
+    Grid(#[from] GridError),
+    #[error("time step dt = {0} must be finite and > 0")]
+    TimeStep(f64),
+    #[error("non-finite state at t = {t} ({what}); the scheme is unstable at this time step or the solution blew up")]
+    NonFinite { t: f64, what: String },
+    #[error("singular tridiagonal system in the vorticity update of mode k = {k} at t = {t}")]
+    Singular { k: usize, t: f64 },
+}
+
+/// The state of the full model at one instant, mode-major.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FullState {
+    pub t: f64,
+    pub r: f64,
+    pub rdot: f64,
+    pub a: Vec<f64>,
+    pub adot: Vec<f64>,
+    pub b: Vec<f64>,
+    /// T_k on the interior nodes y_1 … y_{n−2} for each mode (T_0 = T_w, T_{n−1} = 0).
+    pub t_nodes: Vec<Vec<f64>>,
+}
+
+impl FullState {
+    /// At rest at radius `r` with zero vorticity (T(y, 0) = 0), shapes `a`, `b`.
+    pub fn new(t: f64, r: f64, rdot: f64, a: Vec<f64>, adot: Vec<f64>, b: Vec<f64>, interior: usize) -> Self {
+        let m = a.len();
+        Self { t, r, rdot, a, adot, b, t_nodes: vec![vec![0.0; interior]; m] }
+    }
+
+    /// First non-finite quantity, if any.
+    pub fn non_finite(&self) -> Option<String> {
+        if !self.r.is_finite() || !self.rdot.is_finite() {
+            return Some(format!("R = {}, Ṙ = {}", self.r, self.rdot));
+        }
+        for m in 0..self.a.len() {
+            if !(self.a[m].is_finite() && self.adot[m].is_finite() && self.b[m].is_finite()) {
+                return Some(format!("shape mode index {m}"));
+            }
+            if self.t_nodes[m].iter().any(|v| !v.is_finite()) {
+                return Some(format!("vorticity of mode index {m}"));
+            }
+        }
+        None
+    }
+}

@@ -1,0 +1,212 @@
+//! The monolithic full model: the method of lines (FORMULATION §4.2, "integrate monolithically").
+//! Every interior T node is an ODE state; T_w is eliminated algebraically from (TS) at every
+//! evaluation, so the system is an explicit ODE (not a DAE) of size 2 + M(3 + n − 2).
+//!
+//! State layout (mode-major, so a mode's unknowns are contiguous):
+//! `[R, Ṙ, (a_k, ȧ_k, b_k, T_k,1 … T_k,n−2) for k = 2, 4, …, N]`.
+//!
+//! Jacobian structure: per mode, the T block is tridiagonal except for its first row (T_w
+//! contains Ĩ_int = Σ W_i T_i) and the (ȧ, b) rows (they see Ĩ and J, integrals over the whole
+//! block); R and Ṙ couple to every row, and the field couples mode k to k ± 2. The Jacobian is
+//! therefore not banded (see docs/vorticity.md for the structured solve the implicit integrator
+//! needs); [`OdeSystem::bandwidth`] reports `None`.
+
+use super::equations::{mode_rates, LoadScratch, ModeInputs, ModeRates};
+use super::operator::{ModeOperator, Rows};
+use super::{FullState, Grid, ModeCoupling};
+use crate::integrate::OdeSystem;
+use std::cell::RefCell;
+
+/// The full model as one ODE system.
+pub struct Monolithic<'c> {
+    coupling: &'c dyn ModeCoupling,
+    pub grid: Grid,
+    ops: Vec<ModeOperator>,
+    scratch: RefCell<Scratch>,
+}
+
+#[derive(Default)]
+struct Scratch {
+    loads: LoadScratch,
+    a: Vec<f64>,
+    adot: Vec<f64>,
+    b: Vec<f64>,
+    add: Vec<f64>,
+    bdot: Vec<f64>,
+    tw: Vec<f64>,
+    rows: Rows,
+}
+
+impl<'c> Monolithic<'c> {
+    pub fn new(coupling: &'c dyn ModeCoupling, grid: Grid) -> Self {
+        let m = coupling.orders().len();
+        let ops = coupling.orders().iter().map(|&k| ModeOperator::new(&grid, k)).collect();
+        let z = || vec![0.0; m];
+        let scratch = Scratch {
+            loads: LoadScratch::new(m),
+            a: z(),
+            adot: z(),
+            b: z(),
+            add: z(),
+            bdot: z(),
+            tw: z(),
+            rows: Rows::default(),
+        };
+        Self { coupling, grid, ops, scratch: RefCell::new(scratch) }
+    }
+
+    /// Length of one mode block, 3 + n − 2.
+    pub fn block(&self) -> usize {
+        3 + self.grid.interior()
+    }
+
+    /// Offset of mode index m's block (its a_k).
+    pub fn offset(&self, m: usize) -> usize {
+        2 + m * self.block()
+    }
+
+    /// Packs a [`FullState`] into the ODE state vector.
+    pub fn pack(&self, s: &FullState) -> Vec<f64> {
+        let mut y = vec![0.0; self.dim()];
+        y[0] = s.r;
+        y[1] = s.rdot;
+        for m in 0..self.ops.len() {
+            let o = self.offset(m);
+            y[o] = s.a[m];
+            y[o + 1] = s.adot[m];
+            y[o + 2] = s.b[m];
+            y[o + 3..o + self.block()].copy_from_slice(&s.t_nodes[m]);
+        }
+        y
+    }
+
+    /// Unpacks an ODE state vector at time t.
+    pub fn unpack(&self, t: f64, y: &[f64]) -> FullState {
+        let m = self.ops.len();
+        let mut s = FullState::new(t, y[0], y[1], vec![0.0; m], vec![0.0; m], vec![0.0; m], self.grid.interior());
+        for mi in 0..m {
+            let o = self.offset(mi);
+            s.a[mi] = y[o];
+            s.adot[mi] = y[o + 1];
+            s.b[mi] = y[o + 2];
+            s.t_nodes[mi].copy_from_slice(&y[o + 3..o + self.block()]);
+        }
+        s
+    }
+
+    /// Wall vorticity T_w,k at state y (from TS, FORMULATION §4.2).
+    pub fn wall_vorticity(&self, t: f64, y: &[f64]) -> Vec<f64> {
+        let mut dy = vec![0.0; y.len()];
+        self.rhs(t, y, &mut dy);
+        self.scratch.borrow().tw.clone()
+    }
+}
+
+impl Monolithic<'_> {
+    /// The "reduced" right-hand side: the ODE part f_z and the wall values T_w from
+    /// z = [R, Ṙ, (a_k, ȧ_k, b_k)_k] (length 2 + 3M) and the vorticity functionals
+    /// p = [Ĩ_int,k (M), ∫(y⁻³−1)y^{−k}T dy (M)]. The T nodes enter the ODE part only through p,
+    /// which is what the structured linear solve ([`super::structured`]) exploits.
+    pub fn reduced(&self, t: f64, z: &[f64], p: &[f64], fz: &mut [f64], tw: &mut [f64]) {
+        let mut guard = self.scratch.borrow_mut();
+        let sc = &mut *guard;
+        let m = self.ops.len();
+        let (r, rdot) = (z[0], z[1]);
+        for mi in 0..m {
+            sc.a[mi] = z[2 + 3 * mi];
+            sc.adot[mi] = z[3 + 3 * mi];
+            sc.b[mi] = z[4 + 3 * mi];
+        }
+        let rddot = sc.loads.eval(self.coupling, t, r, rdot, &sc.a, &sc.b);
+        fz[0] = rdot;
+        fz[1] = rddot;
+        let inputs = ModeInputs {
+            r,
+            rdot,
+            rddot,
+            a: &sc.a,
+            adot: &sc.adot,
+            b: &sc.b,
+            gn: &sc.loads.gn,
+            gt: &sc.loads.gt,
+            i_int: &p[..m],
+            j_over_r: &p[m..2 * m],
+            w0: self.ops.first().map_or(0.0, |o| o.w0()),
+            tw_fixed: None,
+        };
+        mode_rates(
+            self.coupling.orders(),
+            self.coupling.density(),
+            self.coupling.viscosity(),
+            &inputs,
+            ModeRates { add: &mut sc.add, bdot: &mut sc.bdot, tw },
+        );
+        for mi in 0..m {
+            fz[2 + 3 * mi] = sc.adot[mi];
+            fz[3 + 3 * mi] = sc.add[mi];
+            fz[4 + 3 * mi] = sc.bdot[mi];
+        }
+    }
+
+    /// Splits a state into z (ODE part) and p (vorticity functionals).
+    pub fn split(&self, y: &[f64], z: &mut [f64], p: &mut [f64]) {
+        let m = self.ops.len();
+        let nb = self.block();
+        z[0] = y[0];
+        z[1] = y[1];
+        for (mi, op) in self.ops.iter().enumerate() {
+            let o = 2 + mi * nb;
+            z[2 + 3 * mi..5 + 3 * mi].copy_from_slice(&y[o..o + 3]);
+            let tn = &y[o + 3..o + nb];
+            p[mi] = op.i_interior(tn);
+            p[m + mi] = op.j_over_r(tn);
+        }
+    }
+
+    /// The mode operators (one per k).
+    pub fn operators(&self) -> &[ModeOperator] {
+        &self.ops
+    }
+
+    /// The coupling.
+    pub fn coupling(&self) -> &dyn ModeCoupling {
+        self.coupling
+    }
+}
+
+impl OdeSystem for Monolithic<'_> {
+    fn dim(&self) -> usize {
+        2 + self.ops.len() * self.block()
+    }
+
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let m = self.ops.len();
+        let nb = self.block();
+        let mut z = vec![0.0; 2 + 3 * m];
+        let mut p = vec![0.0; 2 * m];
+        let mut fz = vec![0.0; 2 + 3 * m];
+        let mut tw = vec![0.0; m];
+        self.split(y, &mut z, &mut p);
+        self.reduced(t, &z, &p, &mut fz, &mut tw);
+        dy[0] = fz[0];
+        dy[1] = fz[1];
+        let mut guard = self.scratch.borrow_mut();
+        let sc = &mut *guard;
+        sc.tw.copy_from_slice(&tw);
+        let (r, rdot) = (y[0], y[1]);
+        let nu = self.coupling.viscosity() / self.coupling.density();
+        for (mi, op) in self.ops.iter().enumerate() {
+            let o = 2 + mi * nb;
+            dy[o..o + 3].copy_from_slice(&fz[2 + 3 * mi..5 + 3 * mi]);
+            op.rows(r, rdot, nu, &mut sc.rows);
+            let tn = &y[o + 3..o + nb];
+            let out = &mut dy[o + 3..o + nb];
+            let ni = tn.len();
+            for i in 0..ni {
+                let left = if i == 0 { tw[mi] } else { tn[i - 1] };
+                let right = if i + 1 < ni { tn[i + 1] } else { 0.0 };
+                out[i] = sc.rows.lower[i] * left + sc.rows.diag[i] * tn[i] + sc.rows.upper[i] * right;
+            }
+        }
+    }
+}

@@ -1,0 +1,249 @@
+//! The paper's loosely coupled staggered scheme (§5, FORMULATION §4.2 steps 1–3), step t_n → t_{n+1}:
+//!
+//! 1. RK4 for (R, Ṙ, a, ȧ, b) over [t_n, t_{n+1}] with Ĩ_int,k and ∫(y⁻³−1)y^{−k}T dy frozen at T^n
+//!    (lagged); T_w is computed inside the right-hand side from (TS) (FORMULATION's recommendation).
+//! 2. Backward Euler for T^{n+1} (eq 5.3) with R^{n+1}, Ṙ^{n+1}: per mode a tridiagonal system
+//!    bordered by the Dirichlet row T_0 = (A^{n+1} − 2 Σ_{i≥1} W_i T_i^{n+1})/(1 + 2w_0). The border
+//!    is a rank-one update of the first row, solved by two Thomas sweeps and Sherman–Morrison —
+//!    never a dense matrix.
+//! 3. The integrals Ĩ_int, J are recomputed from T^{n+1} at the start of the next step.
+//!
+//! The lag makes the b_k ↔ T_w feedback explicit, which is only conditionally stable
+//! (FORMULATION audit 12; measured limits in docs/vorticity.md).
+
+use super::equations::{mode_rates, wall_source, LoadScratch, ModeInputs, ModeRates};
+use super::operator::{backward_euler_pair, ModeOperator, Rows};
+use super::{FullState, Grid, ModeCoupling, VorticityError};
+
+/// How step 1 treats the wall vorticity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum WallCoupling {
+    /// T_w from (TS) inside the RK right-hand side, with Ĩ_int, J lagged (FORMULATION §4.2,
+    /// recommended; the default).
+    #[default]
+    InRhs,
+    /// T_w frozen at T^n as well (the paper's wording, "the value of T_k at the previous time
+    /// step being utilized").
+    Lagged,
+}
+
+/// The staggered integrator of one coupling on one grid with a fixed step.
+pub struct Staggered<'c> {
+    coupling: &'c dyn ModeCoupling,
+    pub grid: Grid,
+    ops: Vec<ModeOperator>,
+    dt: f64,
+    // scratch
+    loads: LoadScratch,
+    i_int: Vec<f64>,
+    j_over_r: Vec<f64>,
+    rows: Rows,
+    rhs: Vec<f64>,
+    z: Vec<f64>,
+    scratch: Vec<f64>,
+    stage: [Vec<f64>; 5],
+    tw: Vec<f64>,
+    tw_lagged: Vec<f64>,
+    wall: WallCoupling,
+}
+
+impl<'c> Staggered<'c> {
+    /// `dt` in the coupling's time unit.
+    pub fn new(coupling: &'c dyn ModeCoupling, grid: Grid, dt: f64) -> Result<Self, VorticityError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(VorticityError::TimeStep(dt));
+        }
+        let m = coupling.orders().len();
+        let ops: Vec<ModeOperator> = coupling.orders().iter().map(|&k| ModeOperator::new(&grid, k)).collect();
+        let ni = grid.interior();
+        let dim = 2 + 3 * m;
+        Ok(Self {
+            coupling,
+            grid,
+            ops,
+            dt,
+            loads: LoadScratch::new(m),
+            i_int: vec![0.0; m],
+            j_over_r: vec![0.0; m],
+            rows: Rows::default(),
+            rhs: vec![0.0; ni],
+            z: vec![0.0; ni],
+            scratch: vec![0.0; ni],
+            stage: std::array::from_fn(|_| vec![0.0; dim]),
+            tw: vec![0.0; m],
+            tw_lagged: vec![0.0; m],
+            wall: WallCoupling::InRhs,
+        })
+    }
+
+    /// Chooses the treatment of T_w in step 1 (default [`WallCoupling::InRhs`]).
+    pub fn with_wall(mut self, wall: WallCoupling) -> Self {
+        self.wall = wall;
+        self
+    }
+
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// A state at rest at the initial conditions given, T = 0.
+    pub fn initial_state(&self, t: f64, r: f64, rdot: f64, a: Vec<f64>, adot: Vec<f64>, b: Vec<f64>) -> FullState {
+        FullState::new(t, r, rdot, a, adot, b, self.grid.interior())
+    }
+
+    /// Wall vorticity T_w,k of the last right-hand side evaluation.
+    pub fn wall_vorticity(&self) -> &[f64] {
+        &self.tw
+    }
+
+    /// f(u) for u = [R, Ṙ, a(M), ȧ(M), b(M)] with the lagged integrals.
+    fn ode_rhs(&mut self, t: f64, u: &[f64], du: &mut [f64]) {
+        let m = self.ops.len();
+        let (r, rdot) = (u[0], u[1]);
+        let a = &u[2..2 + m];
+        let adot = &u[2 + m..2 + 2 * m];
+        let b = &u[2 + 2 * m..2 + 3 * m];
+        let rddot = self.loads.eval(self.coupling, t, r, rdot, a, b);
+        du[0] = rdot;
+        du[1] = rddot;
+        du[2..2 + m].copy_from_slice(adot);
+        let (_, rest) = du.split_at_mut(2 + m);
+        let (add, bdot) = rest.split_at_mut(m);
+        let inputs = ModeInputs {
+            r,
+            rdot,
+            rddot,
+            a,
+            adot,
+            b,
+            gn: &self.loads.gn,
+            gt: &self.loads.gt,
+            i_int: &self.i_int,
+            j_over_r: &self.j_over_r,
+            w0: self.ops.first().map_or(0.0, |o| o.w0()),
+            tw_fixed: match self.wall {
+                WallCoupling::InRhs => None,
+                WallCoupling::Lagged => Some(&self.tw_lagged),
+            },
+        };
+        mode_rates(
+            self.coupling.orders(),
+            self.coupling.density(),
+            self.coupling.viscosity(),
+            &inputs,
+            ModeRates { add, bdot, tw: &mut self.tw },
+        );
+    }
+
+    /// One step t_n → t_n + dt.
+    pub fn step(&mut self, s: &mut FullState) -> Result<(), VorticityError> {
+        let m = self.ops.len();
+        let dt = self.dt;
+        // step 3 of the previous step / step 0: the lagged integrals from T^n
+        for (mi, op) in self.ops.iter().enumerate() {
+            self.i_int[mi] = op.i_interior(&s.t_nodes[mi]);
+            self.j_over_r[mi] = op.j_over_r(&s.t_nodes[mi]);
+        }
+        // step 1: classical RK4 on the ODE part
+        let dim = 2 + 3 * m;
+        let mut u0 = vec![0.0; dim];
+        u0[0] = s.r;
+        u0[1] = s.rdot;
+        u0[2..2 + m].copy_from_slice(&s.a);
+        u0[2 + m..2 + 2 * m].copy_from_slice(&s.adot);
+        u0[2 + 2 * m..].copy_from_slice(&s.b);
+        let mut stage = std::mem::take(&mut self.stage);
+        let [k1, k2, k3, k4, tmp] = &mut stage;
+        self.ode_rhs(s.t, &u0, k1);
+        for i in 0..dim {
+            tmp[i] = u0[i] + 0.5 * dt * k1[i];
+        }
+        self.ode_rhs(s.t + 0.5 * dt, tmp, k2);
+        for i in 0..dim {
+            tmp[i] = u0[i] + 0.5 * dt * k2[i];
+        }
+        self.ode_rhs(s.t + 0.5 * dt, tmp, k3);
+        for i in 0..dim {
+            tmp[i] = u0[i] + dt * k3[i];
+        }
+        self.ode_rhs(s.t + dt, tmp, k4);
+        for i in 0..dim {
+            u0[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+        self.stage = stage;
+        s.t += dt;
+        s.r = u0[0];
+        s.rdot = u0[1];
+        s.a.copy_from_slice(&u0[2..2 + m]);
+        s.adot.copy_from_slice(&u0[2 + m..2 + 2 * m]);
+        s.b.copy_from_slice(&u0[2 + 2 * m..]);
+        if let Some(what) = s.non_finite() {
+            return Err(VorticityError::NonFinite { t: s.t, what });
+        }
+        // step 2: backward Euler for T with the new R, Ṙ, a, ȧ, b
+        let eta = self.coupling.viscosity();
+        let nu = eta / self.coupling.density();
+        self.coupling.shape_loads(s.t, s.r, &s.a, &s.b, &mut self.loads.gn, &mut self.loads.gt);
+        for mi in 0..m {
+            let op = &self.ops[mi];
+            let kf = op.k as f64;
+            op.rows(s.r, s.rdot, nu, &mut self.rows);
+            let w0 = op.w0();
+            let src = wall_source(kf, eta, s.r, s.rdot, s.a[mi], s.adot[mi], self.loads.gt[mi]);
+            let ni = op.interior();
+            // (I − dt L) T^{n+1} = T^n, with T_0 = (src − 2 Σ W_j T_j)/(1 + 2 w0): the wall term
+            // of row 1 moves to the right-hand side, the Σ W_j T_j part is a rank-one border
+            // beta·e_1 W^T of the matrix (Sherman–Morrison).
+            self.rhs[..ni].copy_from_slice(&s.t_nodes[mi]);
+            let l1 = dt * self.rows.lower[0];
+            self.rhs[0] += l1 * src / (1.0 + 2.0 * w0);
+            let beta = 2.0 * l1 / (1.0 + 2.0 * w0);
+            let wi = &op.wi[1..=ni];
+            let ok = backward_euler_pair(&self.rows, dt, &mut self.rhs, &mut self.z, &mut self.scratch);
+            let (ok1, ok2) = (ok, true);
+            let wx: f64 = wi.iter().zip(&self.rhs).map(|(w, x)| w * x).sum();
+            let wz: f64 = wi.iter().zip(&self.z).map(|(w, x)| w * x).sum();
+            let den = 1.0 + beta * wz;
+            if !(ok1 && ok2) || den == 0.0 {
+                return Err(VorticityError::Singular { k: op.k, t: s.t });
+            }
+            let f = beta * wx / den;
+            for i in 0..ni {
+                s.t_nodes[mi][i] = self.rhs[i] - f * self.z[i];
+            }
+            let i_int = op.i_interior(&s.t_nodes[mi]);
+            self.tw[mi] = (src - 2.0 * i_int) / (1.0 + 2.0 * w0);
+            self.tw_lagged[mi] = self.tw[mi];
+        }
+        if let Some(what) = s.non_finite() {
+            return Err(VorticityError::NonFinite { t: s.t, what });
+        }
+        Ok(())
+    }
+
+    /// Runs to `t_end` (the last step is shortened to land on it). `observer(state)` is called
+    /// after every step; returning `false` stops the run.
+    pub fn run(
+        &mut self,
+        s: &mut FullState,
+        t_end: f64,
+        mut observer: impl FnMut(&FullState, &[f64]) -> bool,
+    ) -> Result<u64, VorticityError> {
+        let dt = self.dt;
+        let mut steps = 0u64;
+        while s.t < t_end - 1e-12 * dt {
+            let h = (t_end - s.t).min(dt);
+            if h < dt {
+                self.dt = h;
+            }
+            let res = self.step(s);
+            self.dt = dt;
+            res?;
+            steps += 1;
+            if !observer(s, &self.tw) {
+                break;
+            }
+        }
+        Ok(steps)
+    }
+}

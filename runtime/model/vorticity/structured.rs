@@ -1,0 +1,291 @@
+//! Structured linear algebra for implicit integration of the monolithic system: solves
+//! (σI − J) x = b, σ real or complex, in O(M·n) work instead of a dense O((M n)³) LU.
+//!
+//! Structure of J (see [`super::monolithic`]): the ODE part z = [R, Ṙ, (a, ȧ, b)_k] sees the
+//! vorticity only through the 2M functionals p = P T (Ĩ_int,k and ∫(y⁻³−1)y^{−k}T dy); the T rows
+//! of mode k are tridiagonal (L_k) plus the wall term l_0 T_w,k on the first row, where
+//! T_w,k(z, p) is the algebraic wall value, plus the dependence of L_k on R and Ṙ. Introducing
+//! π = P x_T as unknowns, x_T,k = D_k⁻¹(b_T,k + c_k s_k + r_R,k x_R + r_Ṙ,k x_Ṙ) with D_k = σI − L_k,
+//! c_k = l_0 e_1 and s_k = δT_w,k; what is left is a dense system of size (2 + 3M) + 2M in (x_z, π).
+//!
+//! The pieces of J come from the model itself: the reduced function (f_z, T_w)(z, p) is
+//! differenced in z and p (2 + 5M evaluations, each O(M)), L_k is the operator, and its R, Ṙ
+//! derivatives are differenced (2 evaluations per mode, O(n)).
+
+use super::monolithic::Monolithic;
+use super::operator::Rows;
+use crate::integrate::OdeSystem;
+use nalgebra::{ComplexField, DMatrix, DVector};
+use std::rc::Rc;
+
+/// J at one (t, y), in structured form.
+pub struct StructuredJacobian {
+    m: usize,     // number of modes M
+    nz: usize,    // 2 + 3M
+    ni: usize,    // interior nodes per mode
+    nb: usize,    // block length 3 + ni
+    /// ∂(f_z, T_w)/∂z: (nz + M) × nz
+    gz: DMatrix<f64>,
+    /// ∂(f_z, T_w)/∂p: (nz + M) × 2M
+    gp: DMatrix<f64>,
+    rows: Vec<Rows>,
+    /// ∂(T rows)/∂R and ∂/∂Ṙ at fixed T, T_w (per mode, length ni)
+    r_r: Vec<Vec<f64>>,
+    r_rd: Vec<Vec<f64>>,
+    /// P rows per mode: weights of Ĩ_int and of ∫(y⁻³−1)y^{−k}T dy on the interior nodes
+    pw: Vec<[Vec<f64>; 2]>,
+}
+
+/// Thomas factors of a tridiagonal matrix (lower, 1/pivot, upper·(1/pivot) sweep).
+struct TriLu<T> {
+    lower: Vec<T>,
+    inv_beta: Vec<T>,
+    gamma: Vec<T>,
+}
+
+impl<T: ComplexField<RealField = f64> + Copy> TriLu<T> {
+    fn new(sigma: T, rows: &Rows) -> Option<Self> {
+        let n = rows.diag.len();
+        let mut lower = vec![T::zero(); n];
+        let mut inv_beta = vec![T::zero(); n];
+        let mut gamma = vec![T::zero(); n];
+        let mut beta = sigma - T::from_real(rows.diag[0]);
+        for i in 0..n {
+            if i > 0 {
+                lower[i] = -T::from_real(rows.lower[i]);
+                gamma[i] = -T::from_real(rows.upper[i - 1]) * inv_beta[i - 1];
+                beta = sigma - T::from_real(rows.diag[i]) - lower[i] * gamma[i];
+            }
+            if beta == T::zero() {
+                return None;
+            }
+            inv_beta[i] = T::one() / beta;
+        }
+        Some(Self { lower, inv_beta, gamma })
+    }
+    fn solve(&self, x: &mut [T]) {
+        let n = x.len();
+        x[0] *= self.inv_beta[0];
+        for i in 1..n {
+            x[i] = (x[i] - self.lower[i] * x[i - 1]) * self.inv_beta[i];
+        }
+        for i in (0..n - 1).rev() {
+            let next = x[i + 1];
+            x[i] -= self.gamma[i + 1] * next;
+        }
+    }
+}
+
+/// The factorisation of σI − J (shares the Jacobian it was built from).
+pub struct StructuredLu<T: ComplexField<RealField = f64> + Copy> {
+    jac: Rc<StructuredJacobian>,
+    tri: Vec<TriLu<T>>,
+    /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k
+    u: Vec<[Vec<T>; 3]>,
+    small: nalgebra::LU<T, nalgebra::Dyn, nalgebra::Dyn>,
+}
+
+impl StructuredJacobian {
+    /// Builds J of `sys` at (t, y) by structured differencing.
+    pub fn new(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> Rc<Self> {
+        let ops = sys.operators();
+        let m = ops.len();
+        let nz = 2 + 3 * m;
+        let ni = sys.grid.interior();
+        let nb = 3 + ni;
+        let mut z = vec![0.0; nz];
+        let mut p = vec![0.0; 2 * m];
+        sys.split(y, &mut z, &mut p);
+        let eval = |z: &[f64], p: &[f64]| -> Vec<f64> {
+            let mut fz = vec![0.0; nz];
+            let mut tw = vec![0.0; m];
+            sys.reduced(t, z, p, &mut fz, &mut tw);
+            fz.extend_from_slice(&tw);
+            fz
+        };
+        let f0 = eval(&z, &p);
+        let mut gz = DMatrix::zeros(nz + m, nz);
+        for j in 0..nz {
+            let mut zz = z.clone();
+            let d = (f64::EPSILON * z[j].abs().max(1e-5)).sqrt();
+            zz[j] += d;
+            let d = zz[j] - z[j];
+            let f = eval(&zz, &p);
+            for i in 0..nz + m {
+                gz[(i, j)] = (f[i] - f0[i]) / d;
+            }
+        }
+        let mut gp = DMatrix::zeros(nz + m, 2 * m);
+        for j in 0..2 * m {
+            let mut pp = p.clone();
+            let d = (f64::EPSILON * p[j].abs().max(1e-5)).sqrt();
+            pp[j] += d;
+            let d = pp[j] - p[j];
+            let f = eval(&z, &pp);
+            for i in 0..nz + m {
+                gp[(i, j)] = (f[i] - f0[i]) / d;
+            }
+        }
+        let c = sys.coupling();
+        let nu = c.viscosity() / c.density();
+        let (r, rd) = (y[0], y[1]);
+        let mut rows = Vec::with_capacity(m);
+        let mut r_r = Vec::with_capacity(m);
+        let mut r_rd = Vec::with_capacity(m);
+        let mut pw = Vec::with_capacity(m);
+        let apply = |rw: &Rows, tw: f64, tn: &[f64]| -> Vec<f64> {
+            (0..ni)
+                .map(|i| {
+                    let left = if i == 0 { tw } else { tn[i - 1] };
+                    let right = if i + 1 < ni { tn[i + 1] } else { 0.0 };
+                    rw.lower[i] * left + rw.diag[i] * tn[i] + rw.upper[i] * right
+                })
+                .collect()
+        };
+        for (mi, op) in ops.iter().enumerate() {
+            let tn = &y[2 + mi * nb + 3..2 + (mi + 1) * nb];
+            let tw = f0[nz + mi];
+            let mut base = Rows::default();
+            op.rows(r, rd, nu, &mut base);
+            let f_base = apply(&base, tw, tn);
+            let mut pert = Rows::default();
+            let dr = (f64::EPSILON * r.abs().max(1e-5)).sqrt();
+            op.rows(r + dr, rd, nu, &mut pert);
+            let fr: Vec<f64> = apply(&pert, tw, tn).iter().zip(&f_base).map(|(a, b)| (a - b) / dr).collect();
+            let drd = (f64::EPSILON * rd.abs().max(1e-5)).sqrt();
+            op.rows(r, rd + drd, nu, &mut pert);
+            // |Ṙ| in the artificial diffusion is not differentiable at 0; a one-sided difference is fine
+            let frd: Vec<f64> = apply(&pert, tw, tn).iter().zip(&f_base).map(|(a, b)| (a - b) / drd).collect();
+            rows.push(base);
+            r_r.push(fr);
+            r_rd.push(frd);
+            pw.push([op.wi[1..=ni].to_vec(), op.wj[1..=ni].to_vec()]);
+        }
+        Rc::new(Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw })
+    }
+
+    /// Factors σI − J. `None` if singular.
+    pub fn factor<T: ComplexField<RealField = f64> + Copy>(self: &Rc<Self>, sigma: T) -> Option<StructuredLu<T>> {
+        let (m, nz, ni) = (self.m, self.nz, self.ni);
+        let mut tri = Vec::with_capacity(m);
+        let mut u = Vec::with_capacity(m);
+        let ns = nz + 2 * m;
+        let mut s = DMatrix::<T>::zeros(ns, ns);
+        for i in 0..nz {
+            for j in 0..nz {
+                s[(i, j)] = -T::from_real(self.gz[(i, j)]);
+            }
+            s[(i, i)] += sigma;
+            for q in 0..2 * m {
+                s[(i, nz + q)] = -T::from_real(self.gp[(i, q)]);
+            }
+        }
+        for k in 0..m {
+            let t = TriLu::new(sigma, &self.rows[k])?;
+            let mut uc = vec![T::zero(); ni];
+            uc[0] = T::from_real(self.rows[k].lower[0]);
+            t.solve(&mut uc);
+            let mut ur: Vec<T> = self.r_r[k].iter().map(|&v| T::from_real(v)).collect();
+            t.solve(&mut ur);
+            let mut urd: Vec<T> = self.r_rd[k].iter().map(|&v| T::from_real(v)).collect();
+            t.solve(&mut urd);
+            for (kind, w) in self.pw[k].iter().enumerate() {
+                let q = kind * m + k; // π ordering = p ordering
+                let dot = |v: &[T]| v.iter().zip(w).fold(T::zero(), |acc, (a, b)| acc + *a * T::from_real(*b));
+                let (pu, pr, prd) = (dot(&uc), dot(&ur), dot(&urd));
+                let row = nz + q;
+                let tw_row = nz + k; // row of T_w,k in gz/gp
+                for j in 0..nz {
+                    s[(row, j)] = -pu * T::from_real(self.gz[(tw_row, j)]);
+                }
+                s[(row, 0)] -= pr;
+                s[(row, 1)] -= prd;
+                for q2 in 0..2 * m {
+                    s[(row, nz + q2)] = -pu * T::from_real(self.gp[(tw_row, q2)]);
+                }
+                s[(row, row)] += T::one();
+            }
+            tri.push(t);
+            u.push([uc, ur, urd]);
+        }
+        let small = s.lu();
+        if !small.is_invertible() {
+            return None;
+        }
+        Some(StructuredLu { jac: Rc::clone(self), tri, u, small })
+    }
+}
+
+impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
+    /// Solves (σI − J) x = b in place (state layout of the monolithic system).
+    pub fn solve(&self, b: &mut [T]) {
+        let j = &*self.jac;
+        let (m, nz, nb) = (j.m, j.nz, j.nb);
+        // D_k⁻¹ b_T,k
+        for k in 0..m {
+            let o = 2 + k * nb + 3;
+            self.tri[k].solve(&mut b[o..o + j.ni]);
+        }
+        let mut rhs = DVector::<T>::zeros(nz + 2 * m);
+        rhs[0] = b[0];
+        rhs[1] = b[1];
+        for k in 0..m {
+            for c in 0..3 {
+                rhs[2 + 3 * k + c] = b[2 + k * nb + c];
+            }
+            let o = 2 + k * nb + 3;
+            for (kind, w) in j.pw[k].iter().enumerate() {
+                rhs[nz + kind * m + k] =
+                    b[o..o + j.ni].iter().zip(w).fold(T::zero(), |acc, (a, ww)| acc + *a * T::from_real(*ww));
+            }
+        }
+        let x = match self.small.solve(&rhs) {
+            Some(x) => x,
+            None => {
+                b.iter_mut().for_each(|v| *v = T::from_real(f64::NAN));
+                return;
+            }
+        };
+        b[0] = x[0];
+        b[1] = x[1];
+        for k in 0..m {
+            for c in 0..3 {
+                b[2 + k * nb + c] = x[2 + 3 * k + c];
+            }
+            // s_k = δT_w,k
+            let tw_row = nz + k;
+            let mut sk = T::zero();
+            for jj in 0..nz {
+                sk += T::from_real(j.gz[(tw_row, jj)]) * x[jj];
+            }
+            for q in 0..2 * m {
+                sk += T::from_real(j.gp[(tw_row, q)]) * x[nz + q];
+            }
+            let o = 2 + k * nb + 3;
+            let [uc, ur, urd] = &self.u[k];
+            for i in 0..j.ni {
+                b[o + i] += uc[i] * sk + ur[i] * x[0] + urd[i] * x[1];
+            }
+        }
+    }
+}
+
+/// Dense J of `sys` by finite differences (for tests of the structured form on small grids).
+pub fn dense_jacobian(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> DMatrix<f64> {
+    let n = sys.dim();
+    let mut f0 = vec![0.0; n];
+    sys.rhs(t, y, &mut f0);
+    let mut jac = DMatrix::zeros(n, n);
+    let mut f1 = vec![0.0; n];
+    for j in 0..n {
+        let mut yy = y.to_vec();
+        let d = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt();
+        yy[j] += d;
+        let d = yy[j] - y[j];
+        sys.rhs(t, &yy, &mut f1);
+        for i in 0..n {
+            jac[(i, j)] = (f1[i] - f0[i]) / d;
+        }
+    }
+    jac
+}
