@@ -35,6 +35,9 @@ pub enum ModelError {
     Field(#[from] FieldError),
     #[error("modes.max_order = {max_order}: the generated tables stop at k = {kmax} (rebuild with MAGBUBBLE_KMAX)")]
     TooManyModes { max_order: usize, kmax: usize },
+    /// The full vorticity model could not be assembled (grid or scene error).
+    #[error("full vorticity model: {0}")]
+    FullModel(String),
     #[error("{key} = {value}: {reason}")]
     Unsupported { key: &'static str, value: String, reason: &'static str },
 }
@@ -70,7 +73,7 @@ impl Model {
             return Err(ModelError::Unsupported {
                 key: "modes.viscous",
                 value: "vorticity".into(),
-                reason: "the full vorticity model is not available yet; use \"boundary-layer\"",
+                reason: "the full vorticity model is built by model::vorticity::FullModel (model::simulate dispatches to it)",
             });
         }
         let source = scene

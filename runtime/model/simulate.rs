@@ -40,6 +40,10 @@ pub struct RunReport {
 /// Builds the model of `scene` and runs it; `observer` gets (t [s], row R, a2, b2, … [m]) at
 /// every output sample (`run.sample_interval`), including t = 0.
 pub fn simulate(scene: &Scene, observer: &mut dyn FnMut(f64, &[f64])) -> Result<RunReport, ModelError> {
+    if scene.modes.viscous == crate::scene::Viscous::Vorticity && scene.modes.max_order > 0 {
+        return super::vorticity::scene::simulate_full(scene, observer)
+            .map_err(|e| ModelError::FullModel(e.to_string()));
+    }
     let model = Model::from_scene(scene)?;
     Ok(model.run(&scene.run, observer))
 }

@@ -24,6 +24,7 @@ pub mod monolithic;
 pub mod operator;
 pub mod staggered;
 pub mod structured;
+pub mod scene;
 
 pub use grid::{Grid, GridError};
 
