@@ -57,18 +57,19 @@ pub fn time_series_select(title: &str, runs: &[TimeSeries], shapes: &[&str]) -> 
     let mut top = Panel::new(t_axis(), Axis::linear("R [µm]")).legend(Legend::UpperRight);
     let mut bottom = Panel::new(t_axis(), Axis::linear("shape amplitude [µm]"));
     let several = runs.len() > 1;
+    let mut color = 0;
     for (i, run) in runs.iter().enumerate() {
         let t = scaled(&run.t_s, 1e6);
         top.push(Series::line(run.label.clone(), t.clone(), scaled(&run.radius_m, 1e6)).color(i));
         let chosen: Vec<&(String, Vec<f64>)> =
             run.shapes.iter().filter(|(n, _)| shapes.is_empty() || shapes.contains(&n.as_str())).collect();
-        for (j, (name, v)) in chosen.iter().enumerate() {
+        for (name, v) in chosen {
             let label = match (several, run.label.is_empty()) {
                 (true, false) => format!("{}: {}", run.label, mode_name(name)),
                 _ => mode_name(name),
             };
-            let color = if several { i } else { j };
             bottom.push(Series::line(label, t.clone(), scaled(v, 1e6)).color(color));
+            color += 1;
         }
     }
     if !several {
@@ -144,7 +145,8 @@ pub fn work_precision(title: &str, error_label: &str, curves: &[Curve]) -> Figur
 }
 
 /// Convergence: error against the step (e.g. Δt' [–]), log–log, with dashed reference lines
-/// of slope p for each order in `orders`, drawn through the finest point of the first curve.
+/// of slope p for each order in `orders`, drawn through half the error of the finest point of
+/// the first curve (so they run just below the data instead of hiding it).
 pub fn convergence(title: &str, step_label: &str, error_label: &str, curves: &[Curve], orders: &[u32]) -> Figure {
     let mut p = Panel::new(Axis::log(step_label), Axis::log(error_label)).legend(Legend::LowerRight);
     for (i, c) in curves.iter().enumerate() {
@@ -158,7 +160,7 @@ pub fn convergence(title: &str, step_label: &str, error_label: &str, curves: &[C
         if let Some(&(x0, y0)) = pts.iter().find(|p| p.0 == lo) {
             if lo < hi {
                 for (j, &q) in orders.iter().enumerate() {
-                    let y = |x: f64| y0 * (x / x0).powi(q as i32);
+                    let y = |x: f64| 0.5 * y0 * (x / x0).powi(q as i32);
                     p.push(Series::dashed(format!("slope {q}"), vec![lo, hi], vec![y(lo), y(hi)]).color(7 + j));
                 }
             }

@@ -16,6 +16,7 @@
 mod figure;
 pub mod fonts;
 pub mod kinds;
+mod logaxis;
 mod render;
 mod series_csv;
 

@@ -6,6 +6,7 @@
 //! with nothing drawable is an error, never a panic.
 
 use super::figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series};
+use super::logaxis::LogAxis;
 use super::{fonts, PlotError};
 use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::coord::Shift;
@@ -236,16 +237,23 @@ fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &Figure, 
         let (x0, x1) = xr;
         let (y0, y1) = yr;
         match (panel.x.scale, panel.y.scale) {
-            (Scale::Linear, Scale::Linear) => draw_panel(area, panel, x0..x1, y0..y1),
-            (Scale::Log, Scale::Linear) => draw_panel(area, panel, (x0..x1).log_scale(), y0..y1),
-            (Scale::Linear, Scale::Log) => draw_panel(area, panel, x0..x1, (y0..y1).log_scale()),
-            (Scale::Log, Scale::Log) => draw_panel(area, panel, (x0..x1).log_scale(), (y0..y1).log_scale()),
+            (Scale::Linear, Scale::Linear) => draw_panel(area, panel, xr, yr, x0..x1, y0..y1),
+            (Scale::Log, Scale::Linear) => draw_panel(area, panel, xr, yr, LogAxis { lo: x0, hi: x1 }, y0..y1),
+            (Scale::Linear, Scale::Log) => draw_panel(area, panel, xr, yr, x0..x1, LogAxis { lo: y0, hi: y1 }),
+            (Scale::Log, Scale::Log) => draw_panel(area, panel, xr, yr, LogAxis { lo: x0, hi: x1 }, LogAxis { lo: y0, hi: y1 }),
         }?;
     }
     Ok(())
 }
 
-fn draw_panel<DB, XS, YS>(area: &DrawingArea<DB, Shift>, panel: &Panel, xs: XS, ys: YS) -> Result<(), String>
+fn draw_panel<DB, XS, YS>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+    xr: (f64, f64),
+    yr: (f64, f64),
+    xs: XS,
+    ys: YS,
+) -> Result<(), String>
 where
     DB: DrawingBackend,
     XS: AsRangedCoord<Value = f64>,
@@ -260,16 +268,20 @@ where
         builder.caption(t, (fonts::FAMILY, 22).into_font());
     }
     let mut chart = builder.build_cartesian_2d(xs, ys).map_err(|e| err(&e))?;
-    let fmt = |v: &f64| tick_label(*v);
+    // A tick that is zero up to rounding (1.39e-17 on a ±0.1 axis) prints as 0.
+    let snap = |v: f64, (lo, hi): (f64, f64)| if v.abs() < 1e-9 * lo.abs().max(hi.abs()) { 0.0 } else { v };
+    let xfmt = move |v: &f64| tick_label(snap(*v, xr));
+    let yfmt = move |v: &f64| tick_label(snap(*v, yr));
     chart
         .configure_mesh()
         .x_desc(panel.x.label.as_str())
         .y_desc(panel.y.label.as_str())
         .axis_desc_style((fonts::FAMILY, 20))
         .label_style((fonts::FAMILY, 16))
-        .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt)
-        .light_line_style(RGBColor(235, 235, 235))
+        .x_label_formatter(&xfmt)
+        .y_label_formatter(&yfmt)
+        .max_light_lines(4)
+        .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(210, 210, 210))
         .draw()
         .map_err(|e| err(&e))?;
