@@ -168,3 +168,42 @@ pub fn convergence(title: &str, step_label: &str, error_label: &str, curves: &[C
     }
     Figure::single(p).title(title)
 }
+
+/// Stacked panels sharing the time axis: R(t) (when `radius`), then one panel per shape
+/// column named in `shapes` (`"a_2"`, `"a_4"`), each with one curve per run.
+pub fn time_series_panels(title: &str, runs: &[TimeSeries], radius: bool, shapes: &[&str]) -> Figure {
+    let t_axis = || Axis::linear("t [µs]");
+    let mut panels = Vec::new();
+    let legend = if runs.len() > 1 { Legend::UpperRight } else { Legend::Hidden };
+    if radius {
+        let mut p = Panel::new(t_axis(), Axis::linear("R [µm]")).legend(legend);
+        for (i, run) in runs.iter().enumerate() {
+            p.push(Series::line(run.label.clone(), scaled(&run.t_s, 1e6), scaled(&run.radius_m, 1e6)).color(i));
+        }
+        panels.push(p);
+    }
+    for shape in shapes {
+        let mut p = Panel::new(t_axis(), Axis::linear(format!("{} [µm]", mode_name(shape)))).legend(legend);
+        for (i, run) in runs.iter().enumerate() {
+            if let Some((_, v)) = run.shapes.iter().find(|(n, _)| n == shape) {
+                p.push(Series::line(run.label.clone(), scaled(&run.t_s, 1e6), scaled(v, 1e6)).color(i));
+            }
+        }
+        panels.push(p);
+    }
+    Figure::stacked(panels).title(title)
+}
+
+/// dy/dt by central differences (one-sided at the ends); NaN where a neighbour is not finite.
+pub fn derivative(t: &[f64], y: &[f64]) -> Vec<f64> {
+    let n = t.len().min(y.len());
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n.saturating_sub(1)));
+            if a == b {
+                return f64::NAN;
+            }
+            (y[b] - y[a]) / (t[b] - t[a])
+        })
+        .collect()
+}

@@ -17,6 +17,7 @@ mod figure;
 pub mod fonts;
 pub mod kinds;
 mod logaxis;
+pub mod paper;
 mod render;
 mod series_csv;
 

@@ -1,0 +1,154 @@
+//! The recipe of the time-series figures (12–16): one run per curve, stacked panels sharing
+//! the time axis, a long-format CSV and a note with timings and how each run ended.
+
+use super::{write_atomic, FigureError, PaperFigure, RunOutput, Simulator, TimeSeriesSpec, QUICK_OVERRIDES};
+use crate::plot::kinds::{derivative, mode_name, phase_portrait, time_series_panels, Curve, TimeSeries};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What a recipe wrote and how long it took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FigureReport {
+    pub number: u32,
+    pub files: Vec<PathBuf>,
+    /// Wall time of the whole figure [s].
+    pub seconds: f64,
+    /// Per curve: label, how the run ended, wall time [s].
+    pub runs: Vec<(String, String, f64)>,
+    pub quick: bool,
+}
+
+/// `a2` → `a_2`; other names unchanged.
+fn shape_column(name: &str) -> Option<String> {
+    let (head, digits) = name.split_at(1);
+    ((head == "a" || head == "b") && !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| format!("{head}_{digits}"))
+}
+
+fn to_time_series(label: &str, out: &RunOutput) -> Result<TimeSeries, String> {
+    let col = |i: usize| out.rows.iter().map(|r| r.get(i).copied().unwrap_or(f64::NAN)).collect::<Vec<f64>>();
+    let r = out.columns.iter().position(|c| c == "R").ok_or("the run has no R column")?;
+    let shapes = out
+        .columns
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| shape_column(c).map(|n| (n, col(i))))
+        .collect();
+    Ok(TimeSeries { label: label.to_string(), t_s: out.t_s.clone(), radius_m: col(r), shapes })
+}
+
+/// Runs every curve of `fig` and writes `figNN.csv`, `figNN.svg/.png` (and `figNN_phase.*`
+/// for a phase portrait) and `figNN.md` into `out_dir`. `progress` gets each curve's label
+/// before it runs.
+pub fn make_time_series(
+    fig: &PaperFigure,
+    spec: &TimeSeriesSpec,
+    scenes_dir: &Path,
+    out_dir: &Path,
+    quick: bool,
+    sim: &dyn Simulator,
+    progress: &mut dyn FnMut(&str),
+) -> Result<FigureReport, FigureError> {
+    let start = Instant::now();
+    let scene = scenes_dir.join(fig.scene);
+    if !scene.is_file() {
+        return Err(FigureError::MissingScene { figure: fig.number, path: scene });
+    }
+    let mut runs = Vec::new();
+    let mut outputs = Vec::new();
+    let mut report_runs = Vec::new();
+    for variant in spec.variants {
+        progress(variant.label);
+        let mut overrides: Vec<String> = variant.overrides.iter().map(|s| s.to_string()).collect();
+        if quick {
+            overrides.extend(QUICK_OVERRIDES.iter().map(|s| s.to_string()));
+        }
+        let run_err = |message: String| FigureError::Run { figure: fig.number, variant: variant.label.into(), message };
+        let out = sim.simulate(&scene, &overrides).map_err(run_err)?;
+        let ts = to_time_series(variant.label, &out).map_err(|m| run_err(m.to_string()))?;
+        report_runs.push((variant.label.to_string(), out.status.clone(), out.wall_seconds));
+        runs.push(ts);
+        outputs.push(out);
+    }
+
+    let stem = fig.stem();
+    let mut files = Vec::new();
+    let csv = out_dir.join(format!("{stem}.csv"));
+    write_atomic(&csv, long_csv(spec, &outputs).as_bytes())?;
+    files.push(csv);
+
+    let title = format!("Figure {}{}", fig.number, if quick { " (quick)" } else { "" });
+    let saved = time_series_panels(&title, &runs, spec.radius, spec.shapes).save(out_dir, &stem)?;
+    files.extend([saved.svg, saved.png]);
+    if spec.phase_portrait {
+        let curves: Vec<Curve> = runs
+            .iter()
+            .filter_map(|r| {
+                let (_, a) = r.shapes.iter().find(|(n, _)| n == "a_2")?;
+                let da = derivative(&r.t_s, a);
+                Some(Curve::new(r.label.clone(), a.iter().map(|v| v * 1e6).collect(), da))
+            })
+            .collect();
+        let name = mode_name("a_2");
+        let saved = phase_portrait(&format!("{title}: phase portrait"), &format!("{name} [µm]"), &format!("d{name}/dt [m/s]"), &curves)
+            .save(out_dir, &format!("{stem}_phase"))?;
+        files.extend([saved.svg, saved.png]);
+    }
+
+    let seconds = start.elapsed().as_secs_f64();
+    let md = out_dir.join(format!("{stem}.md"));
+    let report = FigureReport { number: fig.number, files, seconds, runs: report_runs, quick };
+    write_atomic(&md, note(fig, &report, &scene).as_bytes())?;
+    let mut report = report;
+    report.files.push(md);
+    Ok(report)
+}
+
+/// `variant,t_s,<columns…>` with one row per sample of every run (NaN where a run lacks a column).
+fn long_csv(spec: &TimeSeriesSpec, outputs: &[RunOutput]) -> String {
+    let mut columns: Vec<&str> = Vec::new();
+    for o in outputs {
+        for c in &o.columns {
+            if !columns.contains(&c.as_str()) {
+                columns.push(c);
+            }
+        }
+    }
+    let mut s = String::from("variant,t_s");
+    for c in &columns {
+        let _ = write!(s, ",{c}_m");
+    }
+    s.push('\n');
+    for (variant, o) in spec.variants.iter().zip(outputs) {
+        let idx: Vec<Option<usize>> = columns.iter().map(|c| o.columns.iter().position(|x| x == c)).collect();
+        for (t, row) in o.t_s.iter().zip(&o.rows) {
+            let _ = write!(s, "\"{}\",{t:e}", variant.label);
+            for i in &idx {
+                let v = i.and_then(|i| row.get(i).copied()).unwrap_or(f64::NAN);
+                let _ = write!(s, ",{v:e}");
+            }
+            s.push('\n');
+        }
+    }
+    s
+}
+
+fn note(fig: &PaperFigure, r: &FigureReport, scene: &Path) -> String {
+    let mut s = format!("# Figure {}\n\n{}.\n\n", fig.number, fig.shows);
+    let _ = writeln!(s, "- scene: `{}`{}", scene.display(), if r.quick { " with `--quick` (20 µs, modes up to 4)" } else { "" });
+    let _ = writeln!(s, "- total wall time: {:.1} s\n", r.seconds);
+    s.push_str("| curve | how the run ended | wall time [s] |\n|---|---|---|\n");
+    for (label, status, wall) in &r.runs {
+        let _ = writeln!(s, "| {label} | {status} | {wall:.2} |");
+    }
+    s.push_str("\nFiles: ");
+    let names: Vec<String> = r
+        .files
+        .iter()
+        .filter_map(|p| p.file_name().map(|n| format!("`{}`", n.to_string_lossy())))
+        .collect();
+    s.push_str(&names.join(", "));
+    s.push('\n');
+    s
+}

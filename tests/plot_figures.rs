@@ -1,0 +1,114 @@
+//! The figure registry and the time-series recipe (with a synthetic simulator, so this test
+//! checks the pipeline, not the physics).
+
+use magbubble::plot::paper::{self, make_time_series, FigureError, Recipe, RunOutput, Simulator};
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/figures")
+}
+
+#[test]
+fn the_registry_lists_figures_3_to_16_each_with_a_shipped_scene() {
+    let numbers: Vec<u32> = paper::FIGURES.iter().map(|f| f.number).collect();
+    assert_eq!(numbers, (3..=16).collect::<Vec<_>>());
+    for f in paper::FIGURES {
+        let path = scenes().join(f.scene);
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert!(text.starts_with(&format!("# Figure {}", f.number)), "{} does not open with its comment", f.scene);
+        text.parse::<toml::Table>().unwrap_or_else(|e| panic!("{}: {e}", f.scene));
+        assert!(!f.shows.is_empty());
+        let variants = match f.recipe {
+            Recipe::TimeSeries(s) => s.variants,
+            Recipe::Stability { families, .. } => families,
+            _ => &[],
+        };
+        for v in variants {
+            for o in v.overrides {
+                assert!(o.contains('='), "figure {}: override `{o}` is not key=value", f.number);
+            }
+        }
+    }
+    assert!(paper::find(2).is_none() && paper::find(17).is_none());
+    assert_eq!(paper::find(7).unwrap().stem(), "fig07");
+}
+
+/// Returns damped sines whose a_2 amplitude grows with a number read from the overrides.
+struct Synthetic {
+    calls: RefCell<Vec<Vec<String>>>,
+}
+
+impl Simulator for Synthetic {
+    fn simulate(&self, scene: &Path, overrides: &[String]) -> Result<RunOutput, String> {
+        assert!(scene.is_file());
+        self.calls.borrow_mut().push(overrides.to_vec());
+        let n = 2000;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-8).collect();
+        let rows = t
+            .iter()
+            .map(|&t| {
+                let w = 2.0 * std::f64::consts::PI * 1e6 * t;
+                vec![10e-6 * (1.0 + 0.1 * w.sin()), 1e-7 * (0.5 * w).sin(), 0.0, 2e-8 * w.cos(), 0.0]
+            })
+            .collect();
+        Ok(RunOutput {
+            columns: ["R", "a2", "b2", "a4", "b4"].map(String::from).to_vec(),
+            t_s: t,
+            rows,
+            status: "completed".into(),
+            wall_seconds: 0.01,
+        })
+    }
+}
+
+#[test]
+fn a_time_series_figure_runs_every_curve_and_writes_csv_images_and_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let sim = Synthetic { calls: RefCell::new(Vec::new()) };
+    for n in [15, 16] {
+        let fig = paper::find(n).unwrap();
+        let Recipe::TimeSeries(spec) = &fig.recipe else { panic!("figure {n} is a time series") };
+        let mut seen = Vec::new();
+        let report =
+            make_time_series(fig, spec, &scenes(), dir.path(), true, &sim, &mut |l: &str| seen.push(l.to_string())).unwrap();
+        assert_eq!(seen.len(), spec.variants.len());
+        assert_eq!(report.runs.len(), spec.variants.len());
+        let stem = fig.stem();
+        for ext in ["csv", "svg", "png", "md"] {
+            assert!(dir.path().join(format!("{stem}.{ext}")).is_file(), "{stem}.{ext} missing");
+        }
+        let csv = std::fs::read_to_string(dir.path().join(format!("{stem}.csv"))).unwrap();
+        assert!(csv.starts_with("variant,t_s,R_m,a2_m,b2_m,a4_m,b4_m\n"), "{}", &csv[..60]);
+        assert_eq!(csv.lines().count(), 1 + 2000 * spec.variants.len());
+        let md = std::fs::read_to_string(dir.path().join(format!("{stem}.md"))).unwrap();
+        assert!(md.contains("total wall time") && md.contains("--quick"), "{md}");
+    }
+    assert!(dir.path().join("fig15_phase.png").is_file());
+    let svg = std::fs::read_to_string(dir.path().join("fig16.svg")).unwrap();
+    assert!(svg.contains("a₄ [µm]") && svg.contains("M = 10 A m²"));
+    // Quick mode appends the CI overrides after the curve's own.
+    let calls = sim.calls.borrow();
+    assert!(calls.iter().all(|c| c.iter().any(|o| o == "modes.max_order=4")));
+    assert!(calls.last().unwrap().contains(&"field.dipole.moment=10.0".to_string()));
+}
+
+#[test]
+fn a_missing_scene_and_a_failing_run_are_errors_that_name_the_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let fig = paper::find(12).unwrap();
+    let Recipe::TimeSeries(spec) = &fig.recipe else { unreachable!() };
+    let sim = Synthetic { calls: RefCell::new(Vec::new()) };
+    let err = make_time_series(fig, spec, dir.path(), dir.path(), true, &sim, &mut |_: &str| {}).unwrap_err();
+    assert!(matches!(err, FigureError::MissingScene { figure: 12, .. }), "{err}");
+
+    struct Failing;
+    impl Simulator for Failing {
+        fn simulate(&self, _: &Path, _: &[String]) -> Result<RunOutput, String> {
+            Err("shell.c1 = -1: must be positive".into())
+        }
+    }
+    let err = make_time_series(fig, spec, &scenes(), dir.path(), true, &Failing, &mut |_: &str| {}).unwrap_err();
+    let text = err.to_string();
+    assert!(text.contains("figure 12") && text.contains("χ = 1") && text.contains("shell.c1"), "{text}");
+}
