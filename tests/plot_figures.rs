@@ -1,7 +1,9 @@
 //! The figure registry and the time-series recipe (with a synthetic simulator, so this test
 //! checks the pipeline, not the physics).
 
-use magbubble::plot::paper::{self, make_time_series, FigureError, Recipe, RunOutput, Simulator};
+use magbubble::plot::paper::{
+    self, make_stability, make_time_series, Analyzer, CriticalRow, FigureError, ModeRow, Recipe, RunOutput, Simulator, Sweep,
+};
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
@@ -21,7 +23,7 @@ fn the_registry_lists_figures_3_to_16_each_with_a_shipped_scene() {
         assert!(!f.shows.is_empty());
         let variants = match f.recipe {
             Recipe::TimeSeries(s) => s.variants,
-            Recipe::Stability { families, .. } => families,
+            Recipe::Stability(s) => s.families,
             _ => &[],
         };
         for v in variants {
@@ -111,4 +113,61 @@ fn a_missing_scene_and_a_failing_run_are_errors_that_name_the_figure() {
     let err = make_time_series(fig, spec, &scenes(), dir.path(), true, &Failing, &mut |_: &str| {}).unwrap_err();
     let text = err.to_string();
     assert!(text.contains("figure 12") && text.contains("χ = 1") && text.contains("shell.c1"), "{text}");
+}
+
+/// A V-shaped critical curve around 2 MHz, lowered by a number in the overrides; ω_k ∝ k^1.5.
+struct SyntheticAnalyzer;
+
+impl Analyzer for SyntheticAnalyzer {
+    fn modes(&self, _: &Path, _: &[String], kmax: usize) -> Result<(Vec<ModeRow>, f64), String> {
+        let rows = (2..=kmax).map(|k| ModeRow { k, omega_rad_s: 1e6 * (k as f64).powf(1.5), omega_nondim: 0.1 * (k as f64).powf(1.5) });
+        Ok((rows.collect(), 1e-7))
+    }
+    fn critical(&self, _: &Path, overrides: &[String], sweep: &Sweep) -> Result<Vec<CriticalRow>, String> {
+        let shift = overrides.len() as f64 * 0.01;
+        Ok(sweep
+            .freqs_hz
+            .iter()
+            .map(|&f| {
+                let c = 0.05 + shift + ((f - 2e6) / 4e6).abs();
+                let ok = c < sweep.range.1;
+                CriticalRow {
+                    frequency_hz: f,
+                    critical: if ok { c } else { f64::NAN },
+                    outcome: if ok { "critical" } else { "stable_throughout" }.into(),
+                    mode: ok.then_some(2 + 2 * (f / 1e6) as usize),
+                }
+            })
+            .collect())
+    }
+    fn max_multiplier(&self, _: &Path, _: &[String], _: &str, freqs_hz: &[f64]) -> Result<Vec<f64>, String> {
+        Ok(freqs_hz.iter().map(|f| 0.9 + 0.2 * (f / 1e6).sin().abs()).collect())
+    }
+}
+
+#[test]
+fn a_stability_figure_writes_every_panel_it_asks_for() {
+    let dir = tempfile::tempdir().unwrap();
+    for n in [5, 6, 7, 10] {
+        let fig = paper::find(n).unwrap();
+        let Recipe::Stability(spec) = &fig.recipe else { panic!("figure {n} is a stability figure") };
+        let report = make_stability(fig, spec, &scenes(), dir.path(), true, &SyntheticAnalyzer, &mut |_: &str| {}).unwrap();
+        assert_eq!(report.runs.len(), 2, "--quick keeps two families");
+        let stem = fig.stem();
+        let csv = std::fs::read_to_string(dir.path().join(format!("{stem}.csv"))).unwrap();
+        assert_eq!(csv.lines().count(), 1 + 2 * spec.quick_freqs.2, "{csv}");
+        let want: &[&str] = match n {
+            5 => &["", "_mode"],
+            6 => &["", "_omega", "_mu"],
+            7 => &["", "_omega"],
+            _ => &[""],
+        };
+        for suffix in want {
+            assert!(dir.path().join(format!("{stem}{suffix}.png")).is_file(), "{stem}{suffix}.png missing");
+        }
+    }
+    let svg = std::fs::read_to_string(dir.path().join("fig07.svg")).unwrap();
+    assert!(svg.contains("ω_d t* [–]"), "figure 7 uses the nondimensional frequency");
+    let svg = std::fs::read_to_string(dir.path().join("fig10.svg")).unwrap();
+    assert!(svg.contains("f2 = 0.5 MHz"), "figure 10 has its panel titles");
 }

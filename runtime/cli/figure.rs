@@ -1,7 +1,7 @@
 //! `magbubble figure N|all --out DIR [--quick]`: reproduce the paper's figures 3–16 from the
 //! scenes shipped under `scenes/figures/` (registry: [`magbubble::plot::paper`]).
 
-use crate::plot::paper::{self, FigureError, FigureReport, PaperFigure, Recipe, Simulator};
+use crate::plot::paper::{self, Analyzer, FigureError, FigureReport, PaperFigure, Recipe, Simulator};
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 
@@ -85,7 +85,7 @@ fn scenes_dir(given: Option<&Path>) -> anyhow::Result<PathBuf> {
 fn make(fig: &PaperFigure, scenes: &Path, out: &Path, quick: bool) -> Result<FigureReport, FigureError> {
     let progress = indicatif::ProgressBar::new(match &fig.recipe {
         Recipe::TimeSeries(s) => s.variants.len() as u64,
-        Recipe::Stability { families, .. } => families.len() as u64,
+        Recipe::Stability(s) => s.families.len() as u64,
         _ => 1,
     });
     progress.set_style(
@@ -105,7 +105,11 @@ fn make(fig: &PaperFigure, scenes: &Path, out: &Path, quick: bool) -> Result<Fig
             Some(sim) => paper::make_time_series(fig, spec, scenes, out, quick, sim.as_ref(), &mut tick),
             None => Err(FigureError::NotAvailable { figure: fig.number, needs: fig.recipe.needs() }),
         },
-        // TODO(H6/H7 merge): convergence / compare / stability recipes.
+        Recipe::Stability(spec) => match analyzer() {
+            Some(a) => paper::make_stability(fig, spec, scenes, out, quick, a.as_ref(), &mut tick),
+            None => Err(FigureError::NotAvailable { figure: fig.number, needs: fig.recipe.needs() }),
+        },
+        // TODO(H6 merge): convergence / compare recipes.
         other => Err(FigureError::NotAvailable { figure: fig.number, needs: other.needs() }),
     };
     progress.finish_and_clear();
@@ -115,6 +119,12 @@ fn make(fig: &PaperFigure, scenes: &Path, out: &Path, quick: bool) -> Result<Fig
 /// The model-backed simulator, once `model::simulate` is merged.
 fn simulator() -> Option<Box<dyn Simulator>> {
     // TODO(model merge): `scene::load` + `model::simulate`.
+    None
+}
+
+/// The analysis-backed analyzer, once `analysis::{frequencies, stability}` are merged.
+fn analyzer() -> Option<Box<dyn Analyzer>> {
+    // TODO(analysis merge): natural_frequencies + critical_point + floquet.
     None
 }
 

@@ -134,7 +134,7 @@ fn long_csv(spec: &TimeSeriesSpec, outputs: &[RunOutput]) -> String {
     s
 }
 
-fn note(fig: &PaperFigure, r: &FigureReport, scene: &Path) -> String {
+pub(super) fn note(fig: &PaperFigure, r: &FigureReport, scene: &Path) -> String {
     let mut s = format!("# Figure {}\n\n{}.\n\n", fig.number, fig.shows);
     let _ = writeln!(s, "- scene: `{}`{}", scene.display(), if r.quick { " with `--quick` (20 µs, modes up to 4)" } else { "" });
     let _ = writeln!(s, "- total wall time: {:.1} s\n", r.seconds);
