@@ -149,11 +149,11 @@ pub fn make_stability(
     files.extend([saved.svg, saved.png]);
 
     if spec.omega_k {
-        let y_label = if spec.nondimensional { "ω_k t* [–]" } else { "ω_k [rad/s]" };
+        let y_label = if spec.nondimensional { "ω_k t* [–]" } else { "ω_k [10⁶ rad/s]" };
         let curves: Vec<Curve> = omegas
             .iter()
             .map(|(label, rows)| {
-                let y = rows.iter().map(|r| if spec.nondimensional { r.omega_nondim } else { r.omega_rad_s });
+                let y = rows.iter().map(|r| if spec.nondimensional { r.omega_nondim } else { r.omega_rad_s * 1e-6 });
                 Curve::new(*label, rows.iter().map(|r| r.k as f64).collect(), y.collect())
             })
             .collect();
