@@ -3,7 +3,7 @@
 //! Set `MAGBUBBLE_PLOT_KEEP=DIR` to keep the rendered files for a look.
 
 use magbubble::plot::kinds::{self, Curve, TimeSeries};
-use magbubble::plot::{series_plot, Axis, Figure, Panel, PlotError, Series};
+use magbubble::plot::{series_plot, stability_plot, Axis, Figure, Panel, PlotError, Series};
 use std::path::{Path, PathBuf};
 
 fn out_dir(name: &str) -> (Option<tempfile::TempDir>, PathBuf) {
@@ -199,4 +199,27 @@ fn series_csv_is_read_and_plotted() {
     std::fs::write(dir.join("nor.csv"), "t,x\n0,1\n").unwrap();
     let err = series_plot(&dir.join("nor.csv"), &dir).unwrap_err();
     assert!(err.to_string().contains("radius"), "{err}");
+}
+
+#[test]
+fn stability_csvs_are_plotted_with_their_modes() {
+    let (_keep, dir) = out_dir("stability_csv");
+    std::fs::create_dir_all(&dir).unwrap();
+    let header = "index,drive.frequency_hz,critical,outcome,stable,unstable,mode,max_multiplier_stable,max_multiplier_unstable,orbit_multiple,evaluations,note\n";
+    let mut fams = Vec::new();
+    for (n, shift) in [(12, 0.0), (16, 0.02)] {
+        let mut text = String::from(header);
+        for i in 0..10 {
+            let f = 0.5e6 + i as f64 * 0.5e6;
+            let (crit, outcome, mode) = if i == 7 { ("nan".to_string(), "stable_throughout", "") } else { (format!("{}", 0.1 + shift + 0.02 * i as f64), "critical", "a4") };
+            text += &format!("{i},{f:e},{crit},{outcome},0,0,{mode},0.99,1.01,1,12,\"no orbit at 0.7, unstable\"\n");
+        }
+        let path = dir.join(format!("stability_modes.max_order={n}.csv"));
+        std::fs::write(&path, text).unwrap();
+        fams.push((format!("{n} modes"), path));
+    }
+    let saved = stability_plot(&fams, &dir, "stability", "critical ε_p", false).unwrap();
+    assert_eq!(saved.len(), 2);
+    assert_rendered(&dir, "stability", &["f_d [MHz]", "critical ε_p", "16 modes"]);
+    assert_rendered(&dir, "stability_mode", &["first unstable mode k"]);
 }

@@ -7,7 +7,8 @@
 //!   ω_k against k, stability diagrams, first unstable mode, Floquet multiplier,
 //!   work–precision, convergence), taking plain vectors so every command can call them.
 //! - [`series_plot`]: reads a `series.csv` written by `magbubble run` and plots R(t) above the
-//!   shape amplitudes.
+//!   shape amplitudes; [`stability_plot`]: the diagram from `magbubble stability` CSVs.
+//! - [`paper`]: the registry and recipes of the paper's figures 3–16 (`magbubble figure`).
 //!
 //! Non-finite values are skipped (they break a line, they never panic); a panel with no
 //! drawable point is a [`PlotError::Empty`]. Text uses an embedded font ([`fonts`]), so PNGs
@@ -15,12 +16,14 @@
 
 mod figure;
 pub mod fonts;
+mod from_csv;
 pub mod kinds;
 mod logaxis;
 pub mod paper;
 mod render;
 mod series_csv;
 
+pub use from_csv::{stability_plot, CsvTable};
 pub use figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series};
 pub use render::Saved;
 pub use series_csv::{series_plot, SeriesTable};
