@@ -51,7 +51,7 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
                 done.push(report);
             }
             Err(e) => {
-                eprintln!("figure {}: {e}", fig.number);
+                eprintln!("{e}");
                 failed.push((fig.number, e));
             }
         }
