@@ -59,6 +59,7 @@ impl Simulator for Synthetic {
             t_s: t,
             rows,
             status: "completed".into(),
+            blow_up: overrides.iter().any(|o| o.contains("moment=10.0")).then(|| ("a4".to_string(), 1.5e-5)),
             wall_seconds: 0.01,
         })
     }
@@ -88,7 +89,7 @@ fn a_time_series_figure_runs_every_curve_and_writes_csv_images_and_note() {
     }
     assert!(dir.path().join("fig15_phase.png").is_file());
     let svg = std::fs::read_to_string(dir.path().join("fig16.svg")).unwrap();
-    assert!(svg.contains("a₄ [µm]") && svg.contains("M = 10 A m²"));
+    assert!(svg.contains("a₄ [µm]") && svg.contains("M = 10 A m² (a4 blew up at 15.0 µs)"));
     // Quick mode appends the CI overrides after the curve's own.
     let calls = sim.calls.borrow();
     assert!(calls.iter().all(|c| c.iter().any(|o| o == "modes.max_order=4")));

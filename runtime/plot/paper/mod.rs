@@ -120,6 +120,8 @@ pub struct RunOutput {
     pub rows: Vec<Vec<f64>>,
     /// How the run ended, in words (`completed`, `blow_up of a12 at t = 35.1 µs`, …).
     pub status: String,
+    /// When the run stopped at a blow-up: the mode and the time [s] (shown in the legend).
+    pub blow_up: Option<(String, f64)>,
     pub wall_seconds: f64,
 }
 

@@ -66,7 +66,11 @@ pub fn make_time_series(
         }
         let run_err = |message: String| FigureError::Run { figure: fig.number, variant: variant.label.into(), message };
         let out = sim.simulate(&scene, &overrides).map_err(run_err)?;
-        let ts = to_time_series(variant.label, &out).map_err(|m| run_err(m.to_string()))?;
+        let label = match &out.blow_up {
+            Some((mode, t)) => format!("{} ({mode} blew up at {:.1} µs)", variant.label, t * 1e6),
+            None => variant.label.to_string(),
+        };
+        let ts = to_time_series(&label, &out).map_err(|m| run_err(m.to_string()))?;
         report_runs.push((variant.label.to_string(), out.status.clone(), out.wall_seconds));
         runs.push(ts);
         outputs.push(out);
