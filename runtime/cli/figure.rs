@@ -44,9 +44,9 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
         eprintln!("figure {}: {}", fig.number, fig.shows);
         match make(fig, &scenes, &args.out, args.quick) {
             Ok(report) => {
-                eprintln!("figure {}: done in {:.1} s", fig.number, report.seconds);
+                eprintln!("figure {}: done in {:.2} s", fig.number, report.seconds);
                 for (label, status, wall) in &report.runs {
-                    eprintln!("  {label}: {status} ({wall:.1} s)");
+                    eprintln!("  {label}: {status} ({wall:.2} s)");
                 }
                 done.push(report);
             }
@@ -131,6 +131,7 @@ fn analyzer() -> Option<Box<dyn Analyzer>> {
 /// `DIR/figures.md`: one line per figure, its time and its files (the README gallery's source).
 fn write_index(out: &Path, done: &[FigureReport], failed: &[(u32, FigureError)]) -> anyhow::Result<()> {
     let mut s = String::from("# magbubble: the paper's figures\n\n| figure | what it shows | time [s] | files |\n|---|---|---|---|\n");
+    let mut rows: Vec<(u32, String)> = Vec::new();
     for r in done {
         let shows = paper::find(r.number).map(|f| f.shows).unwrap_or("");
         let files: Vec<String> = r
@@ -139,10 +140,14 @@ fn write_index(out: &Path, done: &[FigureReport], failed: &[(u32, FigureError)])
             .filter_map(|p| p.file_name())
             .map(|n| format!("[{0}]({0})", n.to_string_lossy()))
             .collect();
-        s += &format!("| {} | {} | {:.1} | {} |\n", r.number, shows, r.seconds, files.join(" "));
+        rows.push((r.number, format!("| {} | {} | {:.2} | {} |\n", r.number, shows, r.seconds, files.join(" "))));
     }
     for (n, e) in failed {
-        s += &format!("| {n} | not produced: {e} | – | – |\n");
+        rows.push((*n, format!("| {n} | not produced: {e} | – | – |\n")));
+    }
+    rows.sort_by_key(|r| r.0);
+    for (_, row) in rows {
+        s += &row;
     }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     std::fs::write(out.join("figures.md"), s).with_context(|| format!("writing {}/figures.md", out.display()))

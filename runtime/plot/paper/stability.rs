@@ -135,12 +135,28 @@ pub fn make_stability(
         if !t.is_empty() {
             p = p.title(t.clone());
         }
+        let mut any = false;
+        let (mut xlo, mut xhi) = (f64::INFINITY, f64::NEG_INFINITY);
         for (j, c) in idx.iter().filter_map(|&i| curve(i)).enumerate() {
+            any |= c.x.iter().zip(&c.y).any(|(x, y)| x.is_finite() && y.is_finite());
+            for &x in c.x.iter().filter(|x| x.is_finite()) {
+                (xlo, xhi) = (xlo.min(x), xhi.max(x));
+            }
             p.push(Series::line_points(c.label, c.x, c.y).color(j));
         }
-        if !p.series.is_empty() {
-            panels.push(p);
+        if p.series.is_empty() {
+            continue;
         }
+        if !any && xlo < xhi {
+            // Nothing went unstable in the search range: a result, drawn as an empty diagram
+            // over the searched region, not an error.
+            let (lo, hi) = (spec.range.0 * spec.vary_scale, spec.range.1 * spec.vary_scale);
+            p.x.range = Some((xlo, xhi));
+            p.y.range = Some((lo, hi));
+            let what = format!("no critical value in [{lo}, {hi}]");
+            p.title = Some(if t.is_empty() { what } else { format!("{t}: {what}") });
+        }
+        panels.push(p);
     }
     let csv = out_dir.join(format!("{stem}.csv"));
     write_atomic(&csv, critical_csv(spec, &crit).as_bytes())?;

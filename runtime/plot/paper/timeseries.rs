@@ -141,7 +141,7 @@ fn long_csv(spec: &TimeSeriesSpec, outputs: &[RunOutput]) -> String {
 pub(super) fn note(fig: &PaperFigure, r: &FigureReport, scene: &Path) -> String {
     let mut s = format!("# Figure {}\n\n{}.\n\n", fig.number, fig.shows);
     let _ = writeln!(s, "- scene: `{}`{}", scene.display(), if r.quick { " with `--quick` (20 µs, modes up to 4)" } else { "" });
-    let _ = writeln!(s, "- total wall time: {:.1} s\n", r.seconds);
+    let _ = writeln!(s, "- total wall time: {:.2} s\n", r.seconds);
     s.push_str("| curve | how the run ended | wall time [s] |\n|---|---|---|\n");
     for (label, status, wall) in &r.runs {
         let _ = writeln!(s, "| {label} | {status} | {wall:.2} |");
