@@ -89,13 +89,16 @@ pub fn make_time_series(
         let curves: Vec<Curve> = runs
             .iter()
             .filter_map(|r| {
+                // The second half of the run: past the transient (which decays over ~50 µs,
+                // FORMULATION §4.6 — the whole run with --quick is shorter than that).
                 let (_, a) = r.shapes.iter().find(|(n, _)| n == "a_2")?;
                 let da = derivative(&r.t_s, a);
-                Some(Curve::new(r.label.clone(), a.iter().map(|v| v * 1e6).collect(), da))
+                let from = a.len() / 2;
+                Some(Curve::new(r.label.clone(), a[from..].iter().map(|v| v * 1e6).collect(), da[from..].to_vec()))
             })
             .collect();
         let name = mode_name("a_2");
-        let saved = phase_portrait(&format!("{title}: phase portrait"), &format!("{name} [µm]"), &format!("d{name}/dt [m/s]"), &curves)
+        let saved = phase_portrait(&format!("{title}: phase portrait, second half of the run"), &format!("{name} [µm]"), &format!("d{name}/dt [m/s]"), &curves)
             .save(out_dir, &format!("{stem}_phase"))?;
         files.extend([saved.svg, saved.png]);
     }
