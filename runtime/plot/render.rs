@@ -163,8 +163,11 @@ fn usable(v: f64, scale: Scale) -> bool {
     v.is_finite() && (scale == Scale::Linear || v > 0.0)
 }
 
-/// Min/max of the drawable points of a panel, per axis (`None`: no drawable point).
-fn drawable_extent(panel: &Panel) -> (Option<(f64, f64)>, Option<(f64, f64)>) {
+/// `(min, max)` of an axis' drawable values; `None` when there is none.
+type Extent = Option<(f64, f64)>;
+
+/// Min/max of the drawable points of a panel, per axis.
+fn drawable_extent(panel: &Panel) -> (Extent, Extent) {
     let mut xr: Option<(f64, f64)> = None;
     let mut yr: Option<(f64, f64)> = None;
     let grow = |r: &mut Option<(f64, f64)>, v: f64| {
@@ -185,7 +188,7 @@ fn drawable_extent(panel: &Panel) -> (Option<(f64, f64)>, Option<(f64, f64)>) {
 }
 
 /// The axis range: the user's (checked), or the data's with a 4 % margin.
-fn resolve(axis: &Axis, data: Option<(f64, f64)>, figure: &str, what: &str) -> Result<(f64, f64), PlotError> {
+fn resolve(axis: &Axis, data: Extent, figure: &str, what: &str) -> Result<(f64, f64), PlotError> {
     let bad = |reason: String| PlotError::Axis { figure: figure.to_string(), axis: axis.label.clone(), reason };
     if let Some((lo, hi)) = axis.range {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
