@@ -1,7 +1,9 @@
 //! `magbubble figure N|all --out DIR [--quick]`: reproduce the paper's figures 3–16 from the
 //! scenes shipped under `scenes/figures/` (registry: [`magbubble::plot::paper`]).
 
-use crate::plot::paper::{self, Analyzer, FigureError, FigureReport, PaperFigure, Recipe, Simulator};
+use crate::plot::paper::{
+    self, Analyzer, FigureError, FigureReport, PaperFigure, Recipe, Simulator,
+};
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 
@@ -31,10 +33,12 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
     let figures: Vec<&PaperFigure> = if args.figure == "all" {
         paper::FIGURES.iter().collect()
     } else {
-        let n: u32 = args
-            .figure
-            .parse()
-            .with_context(|| format!("figure `{}`: expected a number 3–16, `all` or `list`", args.figure))?;
+        let n: u32 = args.figure.parse().with_context(|| {
+            format!(
+                "figure `{}`: expected a number 3–16, `all` or `list`",
+                args.figure
+            )
+        })?;
         vec![paper::find(n).ok_or(FigureError::Unknown(n))?]
     };
     let scenes = scenes_dir(args.scenes.as_deref())?;
@@ -62,7 +66,10 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
     match failed.len() {
         0 => Ok(()),
         1 if done.is_empty() => Err(failed.remove(0).1.into()),
-        n => anyhow::bail!("{n} figure(s) failed: {:?}", failed.iter().map(|f| f.0).collect::<Vec<_>>()),
+        n => anyhow::bail!(
+            "{n} figure(s) failed: {:?}",
+            failed.iter().map(|f| f.0).collect::<Vec<_>>()
+        ),
     }
 }
 
@@ -78,11 +85,20 @@ fn scenes_dir(given: Option<&Path>) -> anyhow::Result<PathBuf> {
         return Ok(here);
     }
     let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/figures");
-    anyhow::ensure!(built.is_dir(), "no scenes/figures directory here nor in {}; pass --scenes DIR", built.display());
+    anyhow::ensure!(
+        built.is_dir(),
+        "no scenes/figures directory here nor in {}; pass --scenes DIR",
+        built.display()
+    );
     Ok(built)
 }
 
-fn make(fig: &PaperFigure, scenes: &Path, out: &Path, quick: bool) -> Result<FigureReport, FigureError> {
+fn make(
+    fig: &PaperFigure,
+    scenes: &Path,
+    out: &Path,
+    quick: bool,
+) -> Result<FigureReport, FigureError> {
     let progress = indicatif::ProgressBar::new(match &fig.recipe {
         Recipe::TimeSeries(s) => s.variants.len() as u64,
         Recipe::Stability(s) => s.families.len() as u64,
@@ -102,15 +118,26 @@ fn make(fig: &PaperFigure, scenes: &Path, out: &Path, quick: bool) -> Result<Fig
     };
     let result = match &fig.recipe {
         Recipe::TimeSeries(spec) => match simulator() {
-            Some(sim) => paper::make_time_series(fig, spec, scenes, out, quick, sim.as_ref(), &mut tick),
-            None => Err(FigureError::NotAvailable { figure: fig.number, needs: fig.recipe.needs() }),
+            Some(sim) => {
+                paper::make_time_series(fig, spec, scenes, out, quick, sim.as_ref(), &mut tick)
+            }
+            None => Err(FigureError::NotAvailable {
+                figure: fig.number,
+                needs: fig.recipe.needs(),
+            }),
         },
         Recipe::Stability(spec) => match analyzer() {
             Some(a) => paper::make_stability(fig, spec, scenes, out, quick, a.as_ref(), &mut tick),
-            None => Err(FigureError::NotAvailable { figure: fig.number, needs: fig.recipe.needs() }),
+            None => Err(FigureError::NotAvailable {
+                figure: fig.number,
+                needs: fig.recipe.needs(),
+            }),
         },
         // TODO(H6 merge): convergence / compare recipes.
-        other => Err(FigureError::NotAvailable { figure: fig.number, needs: other.needs() }),
+        other => Err(FigureError::NotAvailable {
+            figure: fig.number,
+            needs: other.needs(),
+        }),
     };
     progress.finish_and_clear();
     result
@@ -129,7 +156,11 @@ fn analyzer() -> Option<Box<dyn Analyzer>> {
 }
 
 /// `DIR/figures.md`: one line per figure, its time and its files (the README gallery's source).
-fn write_index(out: &Path, done: &[FigureReport], failed: &[(u32, FigureError)]) -> anyhow::Result<()> {
+fn write_index(
+    out: &Path,
+    done: &[FigureReport],
+    failed: &[(u32, FigureError)],
+) -> anyhow::Result<()> {
     let mut s = String::from("# magbubble: the paper's figures\n\n| figure | what it shows | time [s] | files |\n|---|---|---|---|\n");
     let mut rows: Vec<(u32, String)> = Vec::new();
     for r in done {
@@ -140,7 +171,16 @@ fn write_index(out: &Path, done: &[FigureReport], failed: &[(u32, FigureError)])
             .filter_map(|p| p.file_name())
             .map(|n| format!("[{0}]({0})", n.to_string_lossy()))
             .collect();
-        rows.push((r.number, format!("| {} | {} | {:.2} | {} |\n", r.number, shows, r.seconds, files.join(" "))));
+        rows.push((
+            r.number,
+            format!(
+                "| {} | {} | {:.2} | {} |\n",
+                r.number,
+                shows,
+                r.seconds,
+                files.join(" ")
+            ),
+        ));
     }
     for (n, e) in failed {
         rows.push((*n, format!("| {n} | not produced: {e} | – | – |\n")));
@@ -150,5 +190,6 @@ fn write_index(out: &Path, done: &[FigureReport], failed: &[(u32, FigureError)])
         s += &row;
     }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    std::fs::write(out.join("figures.md"), s).with_context(|| format!("writing {}/figures.md", out.display()))
+    std::fs::write(out.join("figures.md"), s)
+        .with_context(|| format!("writing {}/figures.md", out.display()))
 }

@@ -21,10 +21,18 @@ pub struct Axis {
 
 impl Axis {
     pub fn linear(label: impl Into<String>) -> Self {
-        Self { label: label.into(), scale: Scale::Linear, range: None }
+        Self {
+            label: label.into(),
+            scale: Scale::Linear,
+            range: None,
+        }
     }
     pub fn log(label: impl Into<String>) -> Self {
-        Self { label: label.into(), scale: Scale::Log, range: None }
+        Self {
+            label: label.into(),
+            scale: Scale::Log,
+            range: None,
+        }
     }
     /// Linear when `log` is false, logarithmic otherwise.
     pub fn with_scale(label: impl Into<String>, log: bool) -> Self {
@@ -71,7 +79,13 @@ pub struct Series {
 
 impl Series {
     pub fn new(name: impl Into<String>, x: Vec<f64>, y: Vec<f64>, mark: Mark) -> Self {
-        Self { name: name.into(), x, y, mark, color: None }
+        Self {
+            name: name.into(),
+            x,
+            y,
+            mark,
+            color: None,
+        }
     }
     pub fn line(name: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
         Self::new(name, x, y, Mark::Line)
@@ -118,7 +132,13 @@ pub struct Panel {
 
 impl Panel {
     pub fn new(x: Axis, y: Axis) -> Self {
-        Self { title: None, x, y, series: Vec::new(), legend: Legend::default() }
+        Self {
+            title: None,
+            x,
+            y,
+            series: Vec::new(),
+            legend: Legend::default(),
+        }
     }
     pub fn title(mut self, title: impl Into<String>) -> Self {
         self.title = Some(title.into());

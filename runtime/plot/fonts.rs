@@ -17,8 +17,12 @@ pub const FAMILY: &str = "sans-serif";
 pub fn register() -> Result<(), PlotError> {
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
-        plotters::style::register_font(FAMILY, plotters::style::FontStyle::Normal, dejavu::sans::regular())
-            .map_err(|_| "the embedded DejaVu Sans font could not be parsed".to_string())
+        plotters::style::register_font(
+            FAMILY,
+            plotters::style::FontStyle::Normal,
+            dejavu::sans::regular(),
+        )
+        .map_err(|_| "the embedded DejaVu Sans font could not be parsed".to_string())
     })
     .clone()
     .map_err(PlotError::Font)

@@ -40,10 +40,20 @@ fn split_fields(line: &str) -> Vec<String> {
 impl CsvTable {
     /// Reads a CSV with a header; `#` lines and blank lines are skipped.
     pub fn read(path: &Path) -> Result<Self, PlotError> {
-        let text = std::fs::read_to_string(path).map_err(|source| PlotError::Io { path: path.to_path_buf(), source })?;
-        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
+        let text = std::fs::read_to_string(path).map_err(|source| PlotError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
         let Some((_, head)) = lines.next() else {
-            return Err(PlotError::Csv { path: path.to_path_buf(), line: 1, reason: "the file has no header line".into() });
+            return Err(PlotError::Csv {
+                path: path.to_path_buf(),
+                line: 1,
+                reason: "the file has no header line".into(),
+            });
         };
         let header = split_fields(head);
         let mut rows = Vec::new();
@@ -58,7 +68,11 @@ impl CsvTable {
             }
             rows.push(fields);
         }
-        Ok(Self { path: path.to_path_buf(), header, rows })
+        Ok(Self {
+            path: path.to_path_buf(),
+            header,
+            rows,
+        })
     }
 
     /// Index of the first column satisfying `pred`.
@@ -68,7 +82,10 @@ impl CsvTable {
 
     /// A column as numbers; a cell that is not a number is NaN.
     pub fn numbers(&self, col: usize) -> Vec<f64> {
-        self.rows.iter().map(|r| r[col].parse::<f64>().unwrap_or(f64::NAN)).collect()
+        self.rows
+            .iter()
+            .map(|r| r[col].parse::<f64>().unwrap_or(f64::NAN))
+            .collect()
     }
 
     fn require(&self, what: &str, pred: impl Fn(&str) -> bool) -> Result<usize, PlotError> {
@@ -82,20 +99,30 @@ impl CsvTable {
 
 /// `a12` → 12, `12` → 12; anything else NaN.
 fn mode_number(cell: &str) -> f64 {
-    cell.trim_start_matches(|c: char| c.is_ascii_alphabetic()).parse::<f64>().unwrap_or(f64::NAN)
+    cell.trim_start_matches(|c: char| c.is_ascii_alphabetic())
+        .parse::<f64>()
+        .unwrap_or(f64::NAN)
 }
 
 /// Stability diagram from `magbubble stability` CSVs, one `(legend, csv)` per family: writes
 /// `out_dir/stem.svg/png` (critical value against frequency in MHz) and, when the CSVs have
 /// a `mode` column, `stem_mode.svg/png` (first unstable mode). `y_label` names the critical
 /// quantity with its unit (`"critical ε_p"`, `"critical I0 [A]"`).
-pub fn stability_plot(families: &[(String, PathBuf)], out_dir: &Path, stem: &str, y_label: &str, log_y: bool) -> Result<Vec<Saved>, PlotError> {
+pub fn stability_plot(
+    families: &[(String, PathBuf)],
+    out_dir: &Path,
+    stem: &str,
+    y_label: &str,
+    log_y: bool,
+) -> Result<Vec<Saved>, PlotError> {
     let mut crit = Vec::new();
     let mut modes = Vec::new();
     let mut x_label = "f [MHz]";
     for (label, path) in families {
         let t = CsvTable::read(path)?;
-        let f = t.require("frequency (…frequency_hz)", |h| h.ends_with("frequency_hz"))?;
+        let f = t.require("frequency (…frequency_hz)", |h| {
+            h.ends_with("frequency_hz")
+        })?;
         if t.header[f].starts_with("field.coil.current") {
             x_label = "f2 [MHz]";
         } else if t.header[f].starts_with("drive") {
@@ -105,12 +132,22 @@ pub fn stability_plot(families: &[(String, PathBuf)], out_dir: &Path, stem: &str
         let x: Vec<f64> = t.numbers(f).iter().map(|v| v * 1e-6).collect();
         crit.push(Curve::new(label.clone(), x.clone(), t.numbers(c)));
         if let Some(m) = t.find(|h| h == "mode") {
-            modes.push(Curve::new(label.clone(), x, t.rows.iter().map(|r| mode_number(&r[m])).collect()));
+            modes.push(Curve::new(
+                label.clone(),
+                x,
+                t.rows.iter().map(|r| mode_number(&r[m])).collect(),
+            ));
         }
     }
-    let mut saved = vec![stability_diagram("stability diagram", x_label, y_label, &crit, log_y).save(out_dir, stem)?];
+    let mut saved = vec![
+        stability_diagram("stability diagram", x_label, y_label, &crit, log_y)
+            .save(out_dir, stem)?,
+    ];
     if modes.iter().any(|c| c.y.iter().any(|v| v.is_finite())) {
-        saved.push(first_unstable_mode("first unstable mode", x_label, &modes).save(out_dir, &format!("{stem}_mode"))?);
+        saved.push(
+            first_unstable_mode("first unstable mode", x_label, &modes)
+                .save(out_dir, &format!("{stem}_mode"))?,
+        );
     }
     Ok(saved)
 }

@@ -25,7 +25,11 @@ pub struct Curve {
 
 impl Curve {
     pub fn new(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
-        Self { label: label.into(), x, y }
+        Self {
+            label: label.into(),
+            x,
+            y,
+        }
     }
 }
 
@@ -37,7 +41,9 @@ fn scaled(v: &[f64], s: f64) -> Vec<f64> {
 pub fn mode_name(name: &str) -> String {
     const SUB: [char; 10] = ['₀', '₁', '₂', '₃', '₄', '₅', '₆', '₇', '₈', '₉'];
     match name.split_once('_') {
-        Some((head, digits)) if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) => {
+        Some((head, digits))
+            if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) =>
+        {
             let sub: String = digits.bytes().map(|b| SUB[(b - b'0') as usize]).collect();
             format!("{head}{sub}")
         }
@@ -61,8 +67,11 @@ pub fn time_series_select(title: &str, runs: &[TimeSeries], shapes: &[&str]) -> 
     for (i, run) in runs.iter().enumerate() {
         let t = scaled(&run.t_s, 1e6);
         top.push(Series::line(run.label.clone(), t.clone(), scaled(&run.radius_m, 1e6)).color(i));
-        let chosen: Vec<&(String, Vec<f64>)> =
-            run.shapes.iter().filter(|(n, _)| shapes.is_empty() || shapes.contains(&n.as_str())).collect();
+        let chosen: Vec<&(String, Vec<f64>)> = run
+            .shapes
+            .iter()
+            .filter(|(n, _)| shapes.is_empty() || shapes.contains(&n.as_str()))
+            .collect();
         for (name, v) in chosen {
             let label = match (several, run.label.is_empty()) {
                 (true, false) => format!("{}: {}", run.label, mode_name(name)),
@@ -91,7 +100,11 @@ pub fn phase_portrait(title: &str, x_label: &str, y_label: &str, curves: &[Curve
 /// Natural frequencies against the mode number k, one curve per family (static current, c1 …).
 /// `curves`: x = k, y = ω_k in the unit named by `y_label` (e.g. `"ω_k [rad/s]"`, `"ω_k t* [–]"`).
 pub fn omega_vs_k(title: &str, y_label: &str, curves: &[Curve], log_y: bool) -> Figure {
-    let mut p = Panel::new(Axis::linear("mode number k"), Axis::with_scale(y_label, log_y)).legend(Legend::UpperLeft);
+    let mut p = Panel::new(
+        Axis::linear("mode number k"),
+        Axis::with_scale(y_label, log_y),
+    )
+    .legend(Legend::UpperLeft);
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -100,8 +113,15 @@ pub fn omega_vs_k(title: &str, y_label: &str, curves: &[Curve], log_y: bool) -> 
 
 /// A stability diagram: the critical value (ε_p, or I0 for fig 9) against frequency, one curve
 /// per family. Points that found no critical value (NaN) leave a gap.
-pub fn stability_diagram(title: &str, x_label: &str, y_label: &str, curves: &[Curve], log_y: bool) -> Figure {
-    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale(y_label, log_y)).legend(Legend::UpperLeft);
+pub fn stability_diagram(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    curves: &[Curve],
+    log_y: bool,
+) -> Figure {
+    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale(y_label, log_y))
+        .legend(Legend::UpperLeft);
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -110,7 +130,8 @@ pub fn stability_diagram(title: &str, x_label: &str, y_label: &str, curves: &[Cu
 
 /// First unstable mode number against the driving frequency (fig 5b), as a staircase.
 pub fn first_unstable_mode(title: &str, x_label: &str, curves: &[Curve]) -> Figure {
-    let mut p = Panel::new(Axis::linear(x_label), Axis::linear("first unstable mode k")).legend(Legend::UpperLeft);
+    let mut p = Panel::new(Axis::linear(x_label), Axis::linear("first unstable mode k"))
+        .legend(Legend::UpperLeft);
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::steps(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -119,7 +140,8 @@ pub fn first_unstable_mode(title: &str, x_label: &str, curves: &[Curve]) -> Figu
 
 /// Largest Floquet multiplier modulus against frequency (fig 6c), with the |μ| = 1 line.
 pub fn max_multiplier(title: &str, x_label: &str, curves: &[Curve], log_y: bool) -> Figure {
-    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale("max |μ|", log_y)).legend(Legend::UpperLeft);
+    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale("max |μ|", log_y))
+        .legend(Legend::UpperLeft);
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for (i, c) in curves.iter().enumerate() {
         for &x in c.x.iter().filter(|x| x.is_finite()) {
@@ -137,7 +159,8 @@ pub fn max_multiplier(title: &str, x_label: &str, curves: &[Curve], log_y: bool)
 /// Work–precision: error against wall time, log–log, one curve per integrator (x = wall time
 /// [s], y = error [–]).
 pub fn work_precision(title: &str, error_label: &str, curves: &[Curve]) -> Figure {
-    let mut p = Panel::new(Axis::log("wall time [s]"), Axis::log(error_label)).legend(Legend::UpperRight);
+    let mut p =
+        Panel::new(Axis::log("wall time [s]"), Axis::log(error_label)).legend(Legend::UpperRight);
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -147,21 +170,36 @@ pub fn work_precision(title: &str, error_label: &str, curves: &[Curve]) -> Figur
 /// Convergence: error against the step (e.g. Δt' [–]), log–log, with dashed reference lines
 /// of slope p for each order in `orders`, drawn through half the error of the finest point of
 /// the first curve (so they run just below the data instead of hiding it).
-pub fn convergence(title: &str, step_label: &str, error_label: &str, curves: &[Curve], orders: &[u32]) -> Figure {
-    let mut p = Panel::new(Axis::log(step_label), Axis::log(error_label)).legend(Legend::LowerRight);
+pub fn convergence(
+    title: &str,
+    step_label: &str,
+    error_label: &str,
+    curves: &[Curve],
+    orders: &[u32],
+) -> Figure {
+    let mut p =
+        Panel::new(Axis::log(step_label), Axis::log(error_label)).legend(Legend::LowerRight);
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
     let usable = |x: f64, y: f64| x.is_finite() && y.is_finite() && x > 0.0 && y > 0.0;
     if let Some(c) = curves.first() {
-        let pts: Vec<(f64, f64)> = c.x.iter().zip(&c.y).map(|(&x, &y)| (x, y)).filter(|&(x, y)| usable(x, y)).collect();
+        let pts: Vec<(f64, f64)> =
+            c.x.iter()
+                .zip(&c.y)
+                .map(|(&x, &y)| (x, y))
+                .filter(|&(x, y)| usable(x, y))
+                .collect();
         let lo = pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
         let hi = pts.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
         if let Some(&(x0, y0)) = pts.iter().find(|p| p.0 == lo) {
             if lo < hi {
                 for (j, &q) in orders.iter().enumerate() {
                     let y = |x: f64| 0.5 * y0 * (x / x0).powi(q as i32);
-                    p.push(Series::dashed(format!("slope {q}"), vec![lo, hi], vec![y(lo), y(hi)]).color(7 + j));
+                    p.push(
+                        Series::dashed(format!("slope {q}"), vec![lo, hi], vec![y(lo), y(hi)])
+                            .color(7 + j),
+                    );
                 }
             }
         }
@@ -171,22 +209,41 @@ pub fn convergence(title: &str, step_label: &str, error_label: &str, curves: &[C
 
 /// Stacked panels sharing the time axis: R(t) (when `radius`), then one panel per shape
 /// column named in `shapes` (`"a_2"`, `"a_4"`), each with one curve per run.
-pub fn time_series_panels(title: &str, runs: &[TimeSeries], radius: bool, shapes: &[&str]) -> Figure {
+pub fn time_series_panels(
+    title: &str,
+    runs: &[TimeSeries],
+    radius: bool,
+    shapes: &[&str],
+) -> Figure {
     let t_axis = || Axis::linear("t [µs]");
     let mut panels = Vec::new();
-    let legend = if runs.len() > 1 { Legend::UpperRight } else { Legend::Hidden };
+    let legend = if runs.len() > 1 {
+        Legend::UpperRight
+    } else {
+        Legend::Hidden
+    };
     if radius {
         let mut p = Panel::new(t_axis(), Axis::linear("R [µm]")).legend(legend);
         for (i, run) in runs.iter().enumerate() {
-            p.push(Series::line(run.label.clone(), scaled(&run.t_s, 1e6), scaled(&run.radius_m, 1e6)).color(i));
+            p.push(
+                Series::line(
+                    run.label.clone(),
+                    scaled(&run.t_s, 1e6),
+                    scaled(&run.radius_m, 1e6),
+                )
+                .color(i),
+            );
         }
         panels.push(p);
     }
     for shape in shapes {
-        let mut p = Panel::new(t_axis(), Axis::linear(format!("{} [µm]", mode_name(shape)))).legend(legend);
+        let mut p =
+            Panel::new(t_axis(), Axis::linear(format!("{} [µm]", mode_name(shape)))).legend(legend);
         for (i, run) in runs.iter().enumerate() {
             if let Some((_, v)) = run.shapes.iter().find(|(n, _)| n == shape) {
-                p.push(Series::line(run.label.clone(), scaled(&run.t_s, 1e6), scaled(v, 1e6)).color(i));
+                p.push(
+                    Series::line(run.label.clone(), scaled(&run.t_s, 1e6), scaled(v, 1e6)).color(i),
+                );
             }
         }
         panels.push(p);

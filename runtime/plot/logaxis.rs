@@ -16,7 +16,10 @@ pub(crate) struct LogAxis {
 impl LogAxis {
     /// Every `m · 10^n` within the range, for the multipliers given, ascending.
     fn multiples(&self, mults: &[f64]) -> Vec<f64> {
-        let (n0, n1) = (self.lo.log10().floor() as i32, self.hi.log10().ceil() as i32);
+        let (n0, n1) = (
+            self.lo.log10().floor() as i32,
+            self.hi.log10().ceil() as i32,
+        );
         let mut out = Vec::new();
         for n in n0..=n1 {
             let p = 10f64.powi(n);
@@ -36,7 +39,11 @@ impl LogAxis {
         let span = self.hi - self.lo;
         let raw = span / (max.clamp(2, 5) as f64);
         let mag = 10f64.powf(raw.log10().floor());
-        let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|&s| s >= raw).unwrap_or(10.0 * mag);
+        let step = [1.0, 2.0, 5.0, 10.0]
+            .iter()
+            .map(|m| m * mag)
+            .find(|&s| s >= raw)
+            .unwrap_or(10.0 * mag);
         let mut v = (self.lo / step).ceil() * step;
         let mut out = Vec::new();
         while v <= self.hi && out.len() < max {
@@ -55,9 +62,17 @@ impl Ranged for LogAxis {
 
     fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
         let (l0, l1) = (self.lo.log10(), self.hi.log10());
-        let f = if *v > 0.0 { (v.log10() - l0) / (l1 - l0) } else { -10.0 };
+        let f = if *v > 0.0 {
+            (v.log10() - l0) / (l1 - l0)
+        } else {
+            -10.0
+        };
         // Clamp far-away values so the pixel coordinate cannot overflow.
-        let f = if f.is_finite() { f.clamp(-10.0, 11.0) } else { -10.0 };
+        let f = if f.is_finite() {
+            f.clamp(-10.0, 11.0)
+        } else {
+            -10.0
+        };
         limit.0 + ((limit.1 - limit.0) as f64 * f).round() as i32
     }
 
@@ -75,7 +90,12 @@ impl Ranged for LogAxis {
         let decades = self.multiples(&[1.0]);
         if decades.len() >= 3 {
             let step = decades.len().div_ceil(max).max(1);
-            return decades.into_iter().enumerate().filter(|(i, _)| i % step == 0).map(|(_, v)| v).collect();
+            return decades
+                .into_iter()
+                .enumerate()
+                .filter(|(i, _)| i % step == 0)
+                .map(|(_, v)| v)
+                .collect();
         }
         for mults in [&[1.0, 2.0, 5.0][..], &ALL[..]] {
             let v = self.multiples(mults);
@@ -102,16 +122,25 @@ mod tests {
 
     #[test]
     fn ticks_are_decades_or_one_two_five() {
-        let wide = LogAxis { lo: 1e-10, hi: 2e-3 };
+        let wide = LogAxis {
+            lo: 1e-10,
+            hi: 2e-3,
+        };
         let t = wide.key_points(BoldPoints(10));
         assert_eq!(t.len(), 8, "{t:?}");
         assert!((t[0] - 1e-10).abs() < 1e-22 && (t[7] - 1e-3).abs() < 1e-15);
-        let narrow = LogAxis { lo: 1.1e-3, hi: 1.1e-2 };
+        let narrow = LogAxis {
+            lo: 1.1e-3,
+            hi: 1.1e-2,
+        };
         let t = narrow.key_points(BoldPoints(10));
         assert_eq!(t.len(), 3, "{t:?}"); // 2e-3, 5e-3, 1e-2
         let tiny = LogAxis { lo: 1.1, hi: 1.3 };
         let t = tiny.key_points(BoldPoints(10));
-        assert!(t.len() >= 2 && t.iter().all(|&v| (1.1..=1.3).contains(&v)), "{t:?}");
+        assert!(
+            t.len() >= 2 && t.iter().all(|&v| (1.1..=1.3).contains(&v)),
+            "{t:?}"
+        );
         assert_eq!(wide.map(&1e-10, (0, 100)), 0);
         assert_eq!(wide.map(&2e-3, (0, 100)), 100);
         assert_eq!(wide.map(&0.0, (0, 100)), -1000);

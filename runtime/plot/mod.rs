@@ -23,8 +23,8 @@ pub mod paper;
 mod render;
 mod series_csv;
 
-pub use from_csv::{stability_plot, CsvTable};
 pub use figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series};
+pub use from_csv::{stability_plot, CsvTable};
 pub use render::Saved;
 pub use series_csv::{series_plot, SeriesTable};
 
@@ -36,9 +36,18 @@ pub enum PlotError {
     #[error("figure `{figure}`: {what}")]
     Empty { figure: String, what: String },
     #[error("figure `{figure}`: axis `{axis}`: {reason}")]
-    Axis { figure: String, axis: String, reason: String },
+    Axis {
+        figure: String,
+        axis: String,
+        reason: String,
+    },
     #[error("figure `{figure}`: series `{series}` has {x} x values but {y} y values")]
-    Length { figure: String, series: String, x: usize, y: usize },
+    Length {
+        figure: String,
+        series: String,
+        x: usize,
+        y: usize,
+    },
     #[error("invalid figure file stem `{stem}`: {reason}")]
     Stem { stem: String, reason: &'static str },
     #[error("cannot write {}: {source}", path.display())]
@@ -50,7 +59,11 @@ pub enum PlotError {
     #[error("rendering {} failed: {message}", path.display())]
     Render { path: PathBuf, message: String },
     #[error("{}: line {line}: {reason}", path.display())]
-    Csv { path: PathBuf, line: usize, reason: String },
+    Csv {
+        path: PathBuf,
+        line: usize,
+        reason: String,
+    },
     #[error("font: {0}")]
     Font(String),
 }

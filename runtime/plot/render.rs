@@ -50,8 +50,10 @@ impl Figure {
         check_stem(stem)?;
         let layout = Layout::of(self)?;
         fonts::register()?;
-        std::fs::create_dir_all(dir)
-            .map_err(|source| PlotError::Io { path: dir.to_path_buf(), source })?;
+        std::fs::create_dir_all(dir).map_err(|source| PlotError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
         let size = (self.width.max(200), layout.height);
 
         let svg = dir.join(format!("{stem}.svg"));
@@ -62,10 +64,16 @@ impl Figure {
                 path: svg.clone(),
                 message,
             })?;
-            root.present().map_err(|e| PlotError::Render { path: svg.clone(), message: e.to_string() })?;
+            root.present().map_err(|e| PlotError::Render {
+                path: svg.clone(),
+                message: e.to_string(),
+            })?;
         }
         let tmp = temp_path(dir, stem, "svg");
-        std::fs::write(&tmp, text.as_bytes()).map_err(|source| PlotError::Io { path: tmp.clone(), source })?;
+        std::fs::write(&tmp, text.as_bytes()).map_err(|source| PlotError::Io {
+            path: tmp.clone(),
+            source,
+        })?;
         rename(&tmp, &svg)?;
 
         let png = dir.join(format!("{stem}.png"));
@@ -96,7 +104,10 @@ fn check_stem(stem: &str) -> Result<(), PlotError> {
         None
     };
     match reason {
-        Some(reason) => Err(PlotError::Stem { stem: stem.to_string(), reason }),
+        Some(reason) => Err(PlotError::Stem {
+            stem: stem.to_string(),
+            reason,
+        }),
         None => Ok(()),
     }
 }
@@ -110,7 +121,10 @@ fn temp_path(dir: &Path, stem: &str, ext: &str) -> PathBuf {
 fn rename(from: &Path, to: &Path) -> Result<(), PlotError> {
     std::fs::rename(from, to).map_err(|source| {
         let _ = std::fs::remove_file(from);
-        PlotError::Io { path: to.to_path_buf(), source }
+        PlotError::Io {
+            path: to.to_path_buf(),
+            source,
+        }
     })
 }
 
@@ -126,7 +140,10 @@ impl Layout {
     fn of(fig: &Figure) -> Result<Self, PlotError> {
         let name = fig.describe();
         if fig.panels.is_empty() {
-            return Err(PlotError::Empty { figure: name, what: "the figure has no panel".into() });
+            return Err(PlotError::Empty {
+                figure: name,
+                what: "the figure has no panel".into(),
+            });
         }
         let mut ranges = Vec::with_capacity(fig.panels.len());
         for (i, panel) in fig.panels.iter().enumerate() {
@@ -148,13 +165,17 @@ impl Layout {
         }
         if fig.share_x {
             let lo = ranges.iter().map(|r| r.0 .0).fold(f64::INFINITY, f64::min);
-            let hi = ranges.iter().map(|r| r.0 .1).fold(f64::NEG_INFINITY, f64::max);
+            let hi = ranges
+                .iter()
+                .map(|r| r.0 .1)
+                .fold(f64::NEG_INFINITY, f64::max);
             for r in &mut ranges {
                 r.0 = (lo, hi);
             }
         }
         let n = fig.panels.len() as u32;
-        let height = n * fig.panel_height.max(150) + if fig.title.is_some() { TITLE_HEIGHT } else { 0 };
+        let height =
+            n * fig.panel_height.max(150) + if fig.title.is_some() { TITLE_HEIGHT } else { 0 };
         Ok(Self { ranges, height })
     }
 }
@@ -189,13 +210,21 @@ fn drawable_extent(panel: &Panel) -> (Extent, Extent) {
 
 /// The axis range: the user's (checked), or the data's with a 4 % margin.
 fn resolve(axis: &Axis, data: Extent, figure: &str, what: &str) -> Result<(f64, f64), PlotError> {
-    let bad = |reason: String| PlotError::Axis { figure: figure.to_string(), axis: axis.label.clone(), reason };
+    let bad = |reason: String| PlotError::Axis {
+        figure: figure.to_string(),
+        axis: axis.label.clone(),
+        reason,
+    };
     if let Some((lo, hi)) = axis.range {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-            return Err(bad(format!("range {lo}..{hi} is not an increasing finite interval")));
+            return Err(bad(format!(
+                "range {lo}..{hi} is not an increasing finite interval"
+            )));
         }
         if axis.scale == Scale::Log && lo <= 0.0 {
-            return Err(bad(format!("a log axis needs a positive range, got {lo}..{hi}")));
+            return Err(bad(format!(
+                "a log axis needs a positive range, got {lo}..{hi}"
+            )));
         }
         return Ok((lo, hi));
     }
@@ -227,7 +256,11 @@ fn resolve(axis: &Axis, data: Extent, figure: &str, what: &str) -> Result<(f64, 
     })
 }
 
-fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &Figure, layout: &Layout) -> Result<(), String> {
+fn draw_figure<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    layout: &Layout,
+) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let body = match &fig.title {
         Some(t) => root
@@ -241,9 +274,20 @@ fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &Figure, 
         let (y0, y1) = yr;
         match (panel.x.scale, panel.y.scale) {
             (Scale::Linear, Scale::Linear) => draw_panel(area, panel, xr, yr, x0..x1, y0..y1),
-            (Scale::Log, Scale::Linear) => draw_panel(area, panel, xr, yr, LogAxis { lo: x0, hi: x1 }, y0..y1),
-            (Scale::Linear, Scale::Log) => draw_panel(area, panel, xr, yr, x0..x1, LogAxis { lo: y0, hi: y1 }),
-            (Scale::Log, Scale::Log) => draw_panel(area, panel, xr, yr, LogAxis { lo: x0, hi: x1 }, LogAxis { lo: y0, hi: y1 }),
+            (Scale::Log, Scale::Linear) => {
+                draw_panel(area, panel, xr, yr, LogAxis { lo: x0, hi: x1 }, y0..y1)
+            }
+            (Scale::Linear, Scale::Log) => {
+                draw_panel(area, panel, xr, yr, x0..x1, LogAxis { lo: y0, hi: y1 })
+            }
+            (Scale::Log, Scale::Log) => draw_panel(
+                area,
+                panel,
+                xr,
+                yr,
+                LogAxis { lo: x0, hi: x1 },
+                LogAxis { lo: y0, hi: y1 },
+            ),
         }?;
     }
     Ok(())
@@ -266,13 +310,22 @@ where
 {
     let err = |e: &dyn std::fmt::Display| e.to_string();
     let mut builder = ChartBuilder::on(area);
-    builder.margin(12).x_label_area_size(56).y_label_area_size(88);
+    builder
+        .margin(12)
+        .x_label_area_size(56)
+        .y_label_area_size(88);
     if let Some(t) = &panel.title {
         builder.caption(t, (fonts::FAMILY, 22).into_font());
     }
     let mut chart = builder.build_cartesian_2d(xs, ys).map_err(|e| err(&e))?;
     // A tick that is zero up to rounding (1.39e-17 on a ±0.1 axis) prints as 0.
-    let snap = |v: f64, (lo, hi): (f64, f64)| if v.abs() < 1e-9 * lo.abs().max(hi.abs()) { 0.0 } else { v };
+    let snap = |v: f64, (lo, hi): (f64, f64)| {
+        if v.abs() < 1e-9 * lo.abs().max(hi.abs()) {
+            0.0
+        } else {
+            v
+        }
+    };
     let xfmt = move |v: &f64| tick_label(snap(*v, xr));
     let yfmt = move |v: &f64| tick_label(snap(*v, yr));
     chart
@@ -297,14 +350,22 @@ where
         for piece in pieces {
             let anno = match s.mark {
                 Mark::Line => chart.draw_series(LineSeries::new(thin(piece), c.stroke_width(2))),
-                Mark::Dashed => chart.draw_series(DashedLineSeries::new(thin(piece), 8, 6, c.stroke_width(2))),
-                Mark::Points => chart.draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled()))),
+                Mark::Dashed => {
+                    chart.draw_series(DashedLineSeries::new(thin(piece), 8, 6, c.stroke_width(2)))
+                }
+                Mark::Points => {
+                    chart.draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                }
                 Mark::LinePoints => {
-                    chart.draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled()))).map_err(|e| err(&e))?;
+                    chart
+                        .draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                        .map_err(|e| err(&e))?;
                     chart.draw_series(LineSeries::new(thin(piece), c.stroke_width(2)))
                 }
                 Mark::Steps => {
-                    chart.draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled()))).map_err(|e| err(&e))?;
+                    chart
+                        .draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                        .map_err(|e| err(&e))?;
                     chart.draw_series(LineSeries::new(staircase(&piece), c.stroke_width(2)))
                 }
             }

@@ -69,9 +69,19 @@ fn shape_key(base: &str) -> Option<(char, usize)> {
 impl SeriesTable {
     /// Reads a CSV with a header line; lines starting with `#` are skipped; empty cells are NaN.
     pub fn read(path: &Path) -> Result<Self, PlotError> {
-        let text = std::fs::read_to_string(path).map_err(|source| PlotError::Io { path: path.to_path_buf(), source })?;
-        let err = |line: usize, reason: String| PlotError::Csv { path: path.to_path_buf(), line, reason };
-        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
+        let text = std::fs::read_to_string(path).map_err(|source| PlotError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let err = |line: usize, reason: String| PlotError::Csv {
+            path: path.to_path_buf(),
+            line,
+            reason,
+        };
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
         let Some((_, header)) = lines.next() else {
             return Err(err(1, "the file has no header line".into()));
         };
@@ -80,19 +90,27 @@ impl SeriesTable {
         for (i, line) in lines {
             let cells: Vec<&str> = line.split(',').collect();
             if cells.len() != columns.len() {
-                return Err(err(i + 1, format!("{} fields, the header has {}", cells.len(), columns.len())));
+                return Err(err(
+                    i + 1,
+                    format!("{} fields, the header has {}", cells.len(), columns.len()),
+                ));
             }
             for (col, cell) in data.iter_mut().zip(cells) {
                 let cell = cell.trim();
                 let v = if cell.is_empty() {
                     f64::NAN
                 } else {
-                    cell.parse::<f64>().map_err(|_| err(i + 1, format!("`{cell}` is not a number")))?
+                    cell.parse::<f64>()
+                        .map_err(|_| err(i + 1, format!("`{cell}` is not a number")))?
                 };
                 col.push(v);
             }
         }
-        Ok(Self { path: path.to_path_buf(), columns, data })
+        Ok(Self {
+            path: path.to_path_buf(),
+            columns,
+            data,
+        })
     }
 
     /// The column whose name (unit stripped) satisfies `pred`, converted to SI.
@@ -150,7 +168,12 @@ impl SeriesTable {
                 }
             }
         }
-        Ok(TimeSeries { label: label.to_string(), t_s, radius_m, shapes })
+        Ok(TimeSeries {
+            label: label.to_string(),
+            t_s,
+            radius_m,
+            shapes,
+        })
     }
 }
 

@@ -140,24 +140,44 @@ pub enum FigureError {
     #[error("figure {figure}: scene {} not found (looked in the scenes directory)", path.display())]
     MissingScene { figure: u32, path: PathBuf },
     #[error("figure {figure}, curve `{variant}`: {message}")]
-    Run { figure: u32, variant: String, message: String },
+    Run {
+        figure: u32,
+        variant: String,
+        message: String,
+    },
     #[error(transparent)]
     Plot(#[from] PlotError),
 }
 
 /// Overrides that make a figure fast enough for CI (`--quick`): 20 µs, modes up to 4,
 /// 20 ns sampling.
-pub const QUICK_OVERRIDES: &[&str] = &["run.duration=20e-6", "modes.max_order=4", "run.sample_interval=2e-8"];
+pub const QUICK_OVERRIDES: &[&str] = &[
+    "run.duration=20e-6",
+    "modes.max_order=4",
+    "run.sample_interval=2e-8",
+];
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlotError> {
     let dir = path.parent().unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).map_err(|source| PlotError::Io { path: dir.to_path_buf(), source })?;
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    std::fs::create_dir_all(dir).map_err(|source| PlotError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    std::fs::write(&tmp, bytes).map_err(|source| PlotError::Io { path: tmp.clone(), source })?;
+    std::fs::write(&tmp, bytes).map_err(|source| PlotError::Io {
+        path: tmp.clone(),
+        source,
+    })?;
     std::fs::rename(&tmp, path).map_err(|source| {
         let _ = std::fs::remove_file(&tmp);
-        PlotError::Io { path: path.to_path_buf(), source }
+        PlotError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
     })
 }

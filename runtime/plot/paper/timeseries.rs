@@ -1,8 +1,12 @@
 //! The recipe of the time-series figures (12–16): one run per curve, stacked panels sharing
 //! the time axis, a long-format CSV and a note with timings and how each run ended.
 
-use super::{write_atomic, FigureError, PaperFigure, RunOutput, Simulator, TimeSeriesSpec, QUICK_OVERRIDES};
-use crate::plot::kinds::{derivative, mode_name, phase_portrait, time_series_panels, Curve, TimeSeries};
+use super::{
+    write_atomic, FigureError, PaperFigure, RunOutput, Simulator, TimeSeriesSpec, QUICK_OVERRIDES,
+};
+use crate::plot::kinds::{
+    derivative, mode_name, phase_portrait, time_series_panels, Curve, TimeSeries,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -22,20 +26,36 @@ pub struct FigureReport {
 /// `a2` → `a_2`; other names unchanged.
 fn shape_column(name: &str) -> Option<String> {
     let (head, digits) = name.split_at(1);
-    ((head == "a" || head == "b") && !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
-        .then(|| format!("{head}_{digits}"))
+    ((head == "a" || head == "b")
+        && !digits.is_empty()
+        && digits.bytes().all(|b| b.is_ascii_digit()))
+    .then(|| format!("{head}_{digits}"))
 }
 
 fn to_time_series(label: &str, out: &RunOutput) -> Result<TimeSeries, String> {
-    let col = |i: usize| out.rows.iter().map(|r| r.get(i).copied().unwrap_or(f64::NAN)).collect::<Vec<f64>>();
-    let r = out.columns.iter().position(|c| c == "R").ok_or("the run has no R column")?;
+    let col = |i: usize| {
+        out.rows
+            .iter()
+            .map(|r| r.get(i).copied().unwrap_or(f64::NAN))
+            .collect::<Vec<f64>>()
+    };
+    let r = out
+        .columns
+        .iter()
+        .position(|c| c == "R")
+        .ok_or("the run has no R column")?;
     let shapes = out
         .columns
         .iter()
         .enumerate()
         .filter_map(|(i, c)| shape_column(c).map(|n| (n, col(i))))
         .collect();
-    Ok(TimeSeries { label: label.to_string(), t_s: out.t_s.clone(), radius_m: col(r), shapes })
+    Ok(TimeSeries {
+        label: label.to_string(),
+        t_s: out.t_s.clone(),
+        radius_m: col(r),
+        shapes,
+    })
 }
 
 /// Runs every curve of `fig` and writes `figNN.csv`, `figNN.svg/.png` (and `figNN_phase.*`
@@ -53,7 +73,10 @@ pub fn make_time_series(
     let start = Instant::now();
     let scene = scenes_dir.join(fig.scene);
     if !scene.is_file() {
-        return Err(FigureError::MissingScene { figure: fig.number, path: scene });
+        return Err(FigureError::MissingScene {
+            figure: fig.number,
+            path: scene,
+        });
     }
     let mut runs = Vec::new();
     let mut outputs = Vec::new();
@@ -64,14 +87,22 @@ pub fn make_time_series(
         if quick {
             overrides.extend(QUICK_OVERRIDES.iter().map(|s| s.to_string()));
         }
-        let run_err = |message: String| FigureError::Run { figure: fig.number, variant: variant.label.into(), message };
+        let run_err = |message: String| FigureError::Run {
+            figure: fig.number,
+            variant: variant.label.into(),
+            message,
+        };
         let out = sim.simulate(&scene, &overrides).map_err(run_err)?;
         let label = match &out.blow_up {
             Some((mode, t)) => format!("{} ({mode} blew up at {:.1} µs)", variant.label, t * 1e6),
             None => variant.label.to_string(),
         };
         let ts = to_time_series(&label, &out).map_err(|m| run_err(m.to_string()))?;
-        report_runs.push((variant.label.to_string(), out.status.clone(), out.wall_seconds));
+        report_runs.push((
+            variant.label.to_string(),
+            out.status.clone(),
+            out.wall_seconds,
+        ));
         runs.push(ts);
         outputs.push(out);
     }
@@ -82,7 +113,11 @@ pub fn make_time_series(
     write_atomic(&csv, long_csv(spec, &outputs).as_bytes())?;
     files.push(csv);
 
-    let title = format!("Figure {}{}", fig.number, if quick { " (quick)" } else { "" });
+    let title = format!(
+        "Figure {}{}",
+        fig.number,
+        if quick { " (quick)" } else { "" }
+    );
     let saved = time_series_panels(&title, &runs, spec.radius, spec.shapes).save(out_dir, &stem)?;
     files.extend([saved.svg, saved.png]);
     if spec.phase_portrait {
@@ -94,18 +129,33 @@ pub fn make_time_series(
                 let (_, a) = r.shapes.iter().find(|(n, _)| n == "a_2")?;
                 let da = derivative(&r.t_s, a);
                 let from = a.len() / 2;
-                Some(Curve::new(r.label.clone(), a[from..].iter().map(|v| v * 1e6).collect(), da[from..].to_vec()))
+                Some(Curve::new(
+                    r.label.clone(),
+                    a[from..].iter().map(|v| v * 1e6).collect(),
+                    da[from..].to_vec(),
+                ))
             })
             .collect();
         let name = mode_name("a_2");
-        let saved = phase_portrait(&format!("{title}: phase portrait, second half of the run"), &format!("{name} [µm]"), &format!("d{name}/dt [m/s]"), &curves)
-            .save(out_dir, &format!("{stem}_phase"))?;
+        let saved = phase_portrait(
+            &format!("{title}: phase portrait, second half of the run"),
+            &format!("{name} [µm]"),
+            &format!("d{name}/dt [m/s]"),
+            &curves,
+        )
+        .save(out_dir, &format!("{stem}_phase"))?;
         files.extend([saved.svg, saved.png]);
     }
 
     let seconds = start.elapsed().as_secs_f64();
     let md = out_dir.join(format!("{stem}.md"));
-    let report = FigureReport { number: fig.number, files, seconds, runs: report_runs, quick };
+    let report = FigureReport {
+        number: fig.number,
+        files,
+        seconds,
+        runs: report_runs,
+        quick,
+    };
     write_atomic(&md, note(fig, &report, &scene).as_bytes())?;
     let mut report = report;
     report.files.push(md);
@@ -128,7 +178,10 @@ fn long_csv(spec: &TimeSeriesSpec, outputs: &[RunOutput]) -> String {
     }
     s.push('\n');
     for (variant, o) in spec.variants.iter().zip(outputs) {
-        let idx: Vec<Option<usize>> = columns.iter().map(|c| o.columns.iter().position(|x| x == c)).collect();
+        let idx: Vec<Option<usize>> = columns
+            .iter()
+            .map(|c| o.columns.iter().position(|x| x == c))
+            .collect();
         for (t, row) in o.t_s.iter().zip(&o.rows) {
             let _ = write!(s, "\"{}\",{t:e}", variant.label);
             for i in &idx {
@@ -143,7 +196,16 @@ fn long_csv(spec: &TimeSeriesSpec, outputs: &[RunOutput]) -> String {
 
 pub(super) fn note(fig: &PaperFigure, r: &FigureReport, scene: &Path) -> String {
     let mut s = format!("# Figure {}\n\n{}.\n\n", fig.number, fig.shows);
-    let _ = writeln!(s, "- scene: `{}`{}", scene.display(), if r.quick { " with `--quick` (20 µs, modes up to 4)" } else { "" });
+    let _ = writeln!(
+        s,
+        "- scene: `{}`{}",
+        scene.display(),
+        if r.quick {
+            " with `--quick` (20 µs, modes up to 4)"
+        } else {
+            ""
+        }
+    );
     let _ = writeln!(s, "- total wall time: {:.2} s\n", r.seconds);
     s.push_str("| curve | how the run ended | wall time [s] |\n|---|---|---|\n");
     for (label, status, wall) in &r.runs {
