@@ -5,8 +5,8 @@ use magbubble::plot::paper::{
     self, make_stability, make_time_series, Analyzer, CriticalRow, FigureError, ModeRow, Recipe,
     RunOutput, Simulator, Sweep,
 };
-use std::cell::RefCell;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/figures")
@@ -49,13 +49,13 @@ fn the_registry_lists_figures_3_to_16_each_with_a_shipped_scene() {
 
 /// Returns damped sines whose a_2 amplitude grows with a number read from the overrides.
 struct Synthetic {
-    calls: RefCell<Vec<Vec<String>>>,
+    calls: Mutex<Vec<Vec<String>>>,
 }
 
 impl Simulator for Synthetic {
     fn simulate(&self, scene: &Path, overrides: &[String]) -> Result<RunOutput, String> {
         assert!(scene.is_file());
-        self.calls.borrow_mut().push(overrides.to_vec());
+        self.calls.lock().unwrap().push(overrides.to_vec());
         let n = 2000;
         let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-8).collect();
         let rows = t
@@ -89,25 +89,19 @@ impl Simulator for Synthetic {
 fn a_time_series_figure_runs_every_curve_and_writes_csv_images_and_note() {
     let dir = tempfile::tempdir().unwrap();
     let sim = Synthetic {
-        calls: RefCell::new(Vec::new()),
+        calls: Mutex::new(Vec::new()),
     };
     for n in [15, 16] {
         let fig = paper::find(n).unwrap();
         let Recipe::TimeSeries(spec) = &fig.recipe else {
             panic!("figure {n} is a time series")
         };
-        let mut seen = Vec::new();
-        let report = make_time_series(
-            fig,
-            spec,
-            &scenes(),
-            dir.path(),
-            true,
-            &sim,
-            &mut |l: &str| seen.push(l.to_string()),
-        )
+        let seen = Mutex::new(Vec::new());
+        let report = make_time_series(fig, spec, &scenes(), dir.path(), true, &sim, &|l: &str| {
+            seen.lock().unwrap().push(l.to_string())
+        })
         .unwrap();
-        assert_eq!(seen.len(), spec.variants.len());
+        assert_eq!(seen.lock().unwrap().len(), spec.variants.len());
         assert_eq!(report.runs.len(), spec.variants.len());
         let stem = fig.stem();
         for ext in ["csv", "svg", "png", "md"] {
@@ -133,7 +127,7 @@ fn a_time_series_figure_runs_every_curve_and_writes_csv_images_and_note() {
     let svg = std::fs::read_to_string(dir.path().join("fig16.svg")).unwrap();
     assert!(svg.contains("a₄ [µm]") && svg.contains("M = 10 A m² (a4 blew up at 15.0 µs)"));
     // Quick mode appends the CI overrides after the curve's own.
-    let calls = sim.calls.borrow();
+    let calls = sim.calls.lock().unwrap();
     assert!(calls
         .iter()
         .all(|c| c.iter().any(|o| o == "modes.max_order=4")));
@@ -151,18 +145,10 @@ fn a_missing_scene_and_a_failing_run_are_errors_that_name_the_figure() {
         unreachable!()
     };
     let sim = Synthetic {
-        calls: RefCell::new(Vec::new()),
+        calls: Mutex::new(Vec::new()),
     };
-    let err = make_time_series(
-        fig,
-        spec,
-        dir.path(),
-        dir.path(),
-        true,
-        &sim,
-        &mut |_: &str| {},
-    )
-    .unwrap_err();
+    let err =
+        make_time_series(fig, spec, dir.path(), dir.path(), true, &sim, &|_: &str| {}).unwrap_err();
     assert!(
         matches!(err, FigureError::MissingScene { figure: 12, .. }),
         "{err}"
@@ -181,7 +167,7 @@ fn a_missing_scene_and_a_failing_run_are_errors_that_name_the_figure() {
         dir.path(),
         true,
         &Failing,
-        &mut |_: &str| {},
+        &|_: &str| {},
     )
     .unwrap_err();
     let text = err.to_string();
@@ -255,7 +241,7 @@ fn a_stability_figure_writes_every_panel_it_asks_for() {
             dir.path(),
             true,
             &SyntheticAnalyzer,
-            &mut |_: &str| {},
+            &|_: &str| {},
         )
         .unwrap();
         assert_eq!(report.runs.len(), 2, "--quick keeps two families");

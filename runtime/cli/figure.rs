@@ -108,18 +108,14 @@ fn make(
         indicatif::ProgressStyle::with_template("  [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let mut first = true;
-    let mut tick = |label: &str| {
-        if !first {
-            progress.inc(1);
-        }
-        first = false;
-        progress.set_message(label.to_string());
+    let tick = |label: &str| {
+        progress.inc(1);
+        progress.set_message(format!("{label} done"));
     };
     let result = match &fig.recipe {
         Recipe::TimeSeries(spec) => match simulator() {
             Some(sim) => {
-                paper::make_time_series(fig, spec, scenes, out, quick, sim.as_ref(), &mut tick)
+                paper::make_time_series(fig, spec, scenes, out, quick, sim.as_ref(), &tick)
             }
             None => Err(FigureError::NotAvailable {
                 figure: fig.number,
@@ -127,7 +123,7 @@ fn make(
             }),
         },
         Recipe::Stability(spec) => match analyzer() {
-            Some(a) => paper::make_stability(fig, spec, scenes, out, quick, a.as_ref(), &mut tick),
+            Some(a) => paper::make_stability(fig, spec, scenes, out, quick, a.as_ref(), &tick),
             None => Err(FigureError::NotAvailable {
                 figure: fig.number,
                 needs: fig.recipe.needs(),

@@ -126,7 +126,8 @@ pub struct RunOutput {
 }
 
 /// Runs a scene file with overrides. The CLI implements it with `scene::load` + `model::simulate`.
-pub trait Simulator {
+/// `Sync`: the curves of a figure run in parallel.
+pub trait Simulator: Sync {
     fn simulate(&self, scene: &Path, overrides: &[String]) -> Result<RunOutput, String>;
 }
 

@@ -94,7 +94,7 @@ pub fn make_stability(
     out_dir: &Path,
     quick: bool,
     analyzer: &dyn Analyzer,
-    progress: &mut dyn FnMut(&str),
+    progress: &(dyn Fn(&str) + Sync),
 ) -> Result<FigureReport, FigureError> {
     let start = Instant::now();
     let scene = scenes_dir.join(fig.scene);
@@ -131,7 +131,6 @@ pub fn make_stability(
     let mut mus = Vec::new();
     for &(i, fam) in &families {
         let t0 = Instant::now();
-        progress(fam.label);
         let ov: Vec<String> = fam.overrides.iter().map(|s| s.to_string()).collect();
         let err = |message: String| FigureError::Run {
             figure: fig.number,
@@ -152,6 +151,7 @@ pub fn make_stability(
                     .map_err(err)?,
             ));
         }
+        progress(fam.label);
         let found = rows.iter().filter(|r| r.critical.is_finite()).count();
         runs.push((
             fam.label.to_string(),

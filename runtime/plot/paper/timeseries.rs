@@ -7,6 +7,7 @@ use super::{
 use crate::plot::kinds::{
     derivative, mode_name, phase_portrait, time_series_panels, Curve, TimeSeries,
 };
+use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -59,8 +60,8 @@ fn to_time_series(label: &str, out: &RunOutput) -> Result<TimeSeries, String> {
 }
 
 /// Runs every curve of `fig` and writes `figNN.csv`, `figNN.svg/.png` (and `figNN_phase.*`
-/// for a phase portrait) and `figNN.md` into `out_dir`. `progress` gets each curve's label
-/// before it runs.
+/// for a phase portrait) and `figNN.md` into `out_dir`. The curves run in parallel (rayon);
+/// `progress` gets each curve's label when it is done.
 pub fn make_time_series(
     fig: &PaperFigure,
     spec: &TimeSeriesSpec,
@@ -68,7 +69,7 @@ pub fn make_time_series(
     out_dir: &Path,
     quick: bool,
     sim: &dyn Simulator,
-    progress: &mut dyn FnMut(&str),
+    progress: &(dyn Fn(&str) + Sync),
 ) -> Result<FigureReport, FigureError> {
     let start = Instant::now();
     let scene = scenes_dir.join(fig.scene);
@@ -78,26 +79,38 @@ pub fn make_time_series(
             path: scene,
         });
     }
+    // The curves are independent runs: run them in parallel (results in registry order).
+    let results: Vec<Result<(TimeSeries, RunOutput), FigureError>> = spec
+        .variants
+        .par_iter()
+        .map(|variant| {
+            let mut overrides: Vec<String> =
+                variant.overrides.iter().map(|s| s.to_string()).collect();
+            if quick {
+                overrides.extend(QUICK_OVERRIDES.iter().map(|s| s.to_string()));
+            }
+            let run_err = |message: String| FigureError::Run {
+                figure: fig.number,
+                variant: variant.label.into(),
+                message,
+            };
+            let out = sim.simulate(&scene, &overrides).map_err(run_err)?;
+            let label = match &out.blow_up {
+                Some((mode, t)) => {
+                    format!("{} ({mode} blew up at {:.1} µs)", variant.label, t * 1e6)
+                }
+                None => variant.label.to_string(),
+            };
+            let ts = to_time_series(&label, &out).map_err(|m| run_err(m.to_string()))?;
+            progress(variant.label);
+            Ok((ts, out))
+        })
+        .collect();
     let mut runs = Vec::new();
     let mut outputs = Vec::new();
     let mut report_runs = Vec::new();
-    for variant in spec.variants {
-        progress(variant.label);
-        let mut overrides: Vec<String> = variant.overrides.iter().map(|s| s.to_string()).collect();
-        if quick {
-            overrides.extend(QUICK_OVERRIDES.iter().map(|s| s.to_string()));
-        }
-        let run_err = |message: String| FigureError::Run {
-            figure: fig.number,
-            variant: variant.label.into(),
-            message,
-        };
-        let out = sim.simulate(&scene, &overrides).map_err(run_err)?;
-        let label = match &out.blow_up {
-            Some((mode, t)) => format!("{} ({mode} blew up at {:.1} µs)", variant.label, t * 1e6),
-            None => variant.label.to_string(),
-        };
-        let ts = to_time_series(&label, &out).map_err(|m| run_err(m.to_string()))?;
+    for (variant, result) in spec.variants.iter().zip(results) {
+        let (ts, out) = result?;
         report_runs.push((
             variant.label.to_string(),
             out.status.clone(),
