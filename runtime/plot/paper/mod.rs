@@ -95,6 +95,8 @@ pub struct PaperFigure {
     pub scene: &'static str,
     /// One line: what the figure shows.
     pub shows: &'static str,
+    /// One line: what the paper reports from it (compared in the figure's note).
+    pub paper: &'static str,
     pub recipe: Recipe,
 }
 

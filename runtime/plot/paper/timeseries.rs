@@ -169,7 +169,9 @@ pub fn make_time_series(
         runs: report_runs,
         quick,
     };
-    write_atomic(&md, note(fig, &report, &scene).as_bytes())?;
+    let mut text = note(fig, &report, &scene);
+    text.push_str(&amplitudes(spec, &runs));
+    write_atomic(&md, text.as_bytes())?;
     let mut report = report;
     report.files.push(md);
     Ok(report)
@@ -208,7 +210,10 @@ fn long_csv(spec: &TimeSeriesSpec, outputs: &[RunOutput]) -> String {
 }
 
 pub(super) fn note(fig: &PaperFigure, r: &FigureReport, scene: &Path) -> String {
-    let mut s = format!("# Figure {}\n\n{}.\n\n", fig.number, fig.shows);
+    let mut s = format!(
+        "# Figure {}\n\n{}.\n\nThe paper reports: {}.\n\n",
+        fig.number, fig.shows, fig.paper
+    );
     let _ = writeln!(
         s,
         "- scene: `{}`{}",
@@ -232,5 +237,45 @@ pub(super) fn note(fig: &PaperFigure, r: &FigureReport, scene: &Path) -> String 
         .collect();
     s.push_str(&names.join(", "));
     s.push('\n');
+    s
+}
+
+/// Max |x| over the finite values of the second half of a series (past the transient).
+fn late_max(v: &[f64]) -> f64 {
+    v[v.len() / 2..]
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold(f64::NAN, |m, x| x.abs().max(m))
+}
+
+/// The measured amplitudes, per shape column: max |a_k| over the second half of each run and
+/// its ratio to the first curve (what the paper quotes for fig 13: ≈2.25× and 4×).
+fn amplitudes(spec: &TimeSeriesSpec, runs: &[TimeSeries]) -> String {
+    let mut s = String::new();
+    for shape in spec.shapes {
+        let name = mode_name(shape);
+        let maxima: Vec<f64> = runs
+            .iter()
+            .map(|r| {
+                r.shapes
+                    .iter()
+                    .find(|(n, _)| n == shape)
+                    .map_or(f64::NAN, |(_, v)| late_max(v))
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "\n| curve | max \\|{name}\\| over the second half [µm] | ratio to the first curve |\n|---|---|---|"
+        );
+        for (run, m) in runs.iter().zip(&maxima) {
+            let _ = writeln!(
+                s,
+                "| {} | {:.4e} | {:.3} |",
+                run.label,
+                m * 1e6,
+                m / maxima[0]
+            );
+        }
+    }
     s
 }
