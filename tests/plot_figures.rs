@@ -277,3 +277,19 @@ fn a_stability_figure_writes_every_panel_it_asks_for() {
         "figure 10 has its panel titles"
     );
 }
+
+#[test]
+fn an_unknown_figure_is_a_clear_error_and_list_names_every_figure() {
+    let bin = env!("CARGO_BIN_EXE_magbubble");
+    let out = std::process::Command::new(bin).args(["figure", "17"]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no figure 17"));
+    let out = std::process::Command::new(bin).args(["figure", "twelve"]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("expected a number 3–16"));
+    let out = std::process::Command::new(bin).args(["figure", "list"]).output().unwrap();
+    assert!(out.status.success());
+    let list = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(list.lines().count(), 14, "{list}");
+    assert!(list.contains("fig12_chi.toml"));
+}
