@@ -1,9 +1,191 @@
-//! `magbubble figure` (scaffold: replaced by its owner).
+//! `magbubble figure N|all --out DIR [--quick]`: reproduce the paper's figures 3–16 from the
+//! scenes shipped under `scenes/figures/` (registry: [`magbubble::plot::paper`]).
+
+use crate::plot::paper::{
+    self, Analyzer, FigureError, FigureReport, PaperFigure, Recipe, Simulator,
+};
+use anyhow::Context;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `magbubble figure`.
 #[derive(Debug, clap::Args)]
-pub struct FigureArgs {}
+pub struct FigureArgs {
+    /// Figure number (3–16) or `all`; `list` prints the registry.
+    pub figure: String,
+    /// Output directory (CSV, SVG, PNG and a figNN.md note per figure).
+    #[arg(long, default_value = "figures")]
+    pub out: PathBuf,
+    /// Reduced resolution (short runs, few modes, coarse sweeps) for CI and a first look.
+    #[arg(long)]
+    pub quick: bool,
+    /// Directory of the figure scenes (default: scenes/figures, here or in the source tree).
+    #[arg(long)]
+    pub scenes: Option<PathBuf>,
+}
 
-pub fn run(_args: &FigureArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`magbubble figure` is not built yet")
+pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
+    if args.figure == "list" {
+        for f in paper::FIGURES {
+            println!("{:>2}  {:<32} {}", f.number, f.scene, f.shows);
+        }
+        return Ok(());
+    }
+    let figures: Vec<&PaperFigure> = if args.figure == "all" {
+        paper::FIGURES.iter().collect()
+    } else {
+        let n: u32 = args.figure.parse().with_context(|| {
+            format!(
+                "figure `{}`: expected a number 3–16, `all` or `list`",
+                args.figure
+            )
+        })?;
+        vec![paper::find(n).ok_or(FigureError::Unknown(n))?]
+    };
+    let scenes = scenes_dir(args.scenes.as_deref())?;
+    let mut done = Vec::new();
+    let mut failed = Vec::new();
+    for fig in figures {
+        eprintln!("figure {}: {}", fig.number, fig.shows);
+        match make(fig, &scenes, &args.out, args.quick) {
+            Ok(report) => {
+                eprintln!("figure {}: done in {:.2} s", fig.number, report.seconds);
+                for (label, status, wall) in &report.runs {
+                    eprintln!("  {label}: {status} ({wall:.2} s)");
+                }
+                done.push(report);
+            }
+            Err(e) => {
+                eprintln!("{e}");
+                failed.push((fig.number, e));
+            }
+        }
+    }
+    if args.figure == "all" {
+        write_index(&args.out, &done, &failed)?;
+    }
+    match failed.len() {
+        0 => Ok(()),
+        1 if done.is_empty() => Err(failed.remove(0).1.into()),
+        n => anyhow::bail!(
+            "{n} figure(s) failed: {:?}",
+            failed.iter().map(|f| f.0).collect::<Vec<_>>()
+        ),
+    }
+}
+
+/// The scenes directory: the one given, else `scenes/figures` in the working directory, else
+/// the one in the source tree this binary was built from.
+fn scenes_dir(given: Option<&Path>) -> anyhow::Result<PathBuf> {
+    if let Some(d) = given {
+        anyhow::ensure!(d.is_dir(), "--scenes {}: not a directory", d.display());
+        return Ok(d.to_path_buf());
+    }
+    let here = PathBuf::from("scenes/figures");
+    if here.is_dir() {
+        return Ok(here);
+    }
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/figures");
+    anyhow::ensure!(
+        built.is_dir(),
+        "no scenes/figures directory here nor in {}; pass --scenes DIR",
+        built.display()
+    );
+    Ok(built)
+}
+
+fn make(
+    fig: &PaperFigure,
+    scenes: &Path,
+    out: &Path,
+    quick: bool,
+) -> Result<FigureReport, FigureError> {
+    let progress = indicatif::ProgressBar::new(match &fig.recipe {
+        Recipe::TimeSeries(s) => s.variants.len() as u64,
+        Recipe::Stability(s) => s.families.len() as u64,
+        _ => 1,
+    });
+    progress.set_style(
+        indicatif::ProgressStyle::with_template("  [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let tick = |label: &str| {
+        progress.inc(1);
+        progress.set_message(format!("{label} done"));
+    };
+    let result = match &fig.recipe {
+        Recipe::TimeSeries(spec) => match simulator() {
+            Some(sim) => {
+                paper::make_time_series(fig, spec, scenes, out, quick, sim.as_ref(), &tick)
+            }
+            None => Err(FigureError::NotAvailable {
+                figure: fig.number,
+                needs: fig.recipe.needs(),
+            }),
+        },
+        Recipe::Stability(spec) => match analyzer() {
+            Some(a) => paper::make_stability(fig, spec, scenes, out, quick, a.as_ref(), &tick),
+            None => Err(FigureError::NotAvailable {
+                figure: fig.number,
+                needs: fig.recipe.needs(),
+            }),
+        },
+        // TODO(H6 merge): convergence / compare recipes.
+        other => Err(FigureError::NotAvailable {
+            figure: fig.number,
+            needs: other.needs(),
+        }),
+    };
+    progress.finish_and_clear();
+    result
+}
+
+/// The model-backed simulator, once `model::simulate` is merged.
+fn simulator() -> Option<Box<dyn Simulator>> {
+    // TODO(model merge): `scene::load` + `model::simulate`.
+    None
+}
+
+/// The analysis-backed analyzer, once `analysis::{frequencies, stability}` are merged.
+fn analyzer() -> Option<Box<dyn Analyzer>> {
+    // TODO(analysis merge): natural_frequencies + critical_point + floquet.
+    None
+}
+
+/// `DIR/figures.md`: one line per figure, its time and its files (the README gallery's source).
+fn write_index(
+    out: &Path,
+    done: &[FigureReport],
+    failed: &[(u32, FigureError)],
+) -> anyhow::Result<()> {
+    let mut s = String::from("# magbubble: the paper's figures\n\n| figure | what it shows | time [s] | files |\n|---|---|---|---|\n");
+    let mut rows: Vec<(u32, String)> = Vec::new();
+    for r in done {
+        let shows = paper::find(r.number).map(|f| f.shows).unwrap_or("");
+        let files: Vec<String> = r
+            .files
+            .iter()
+            .filter_map(|p| p.file_name())
+            .map(|n| format!("[{0}]({0})", n.to_string_lossy()))
+            .collect();
+        rows.push((
+            r.number,
+            format!(
+                "| {} | {} | {:.2} | {} |\n",
+                r.number,
+                shows,
+                r.seconds,
+                files.join(" ")
+            ),
+        ));
+    }
+    for (n, e) in failed {
+        rows.push((*n, format!("| {n} | not produced: {e} | – | – |\n")));
+    }
+    rows.sort_by_key(|r| r.0);
+    for (_, row) in rows {
+        s += &row;
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    std::fs::write(out.join("figures.md"), s)
+        .with_context(|| format!("writing {}/figures.md", out.display()))
 }

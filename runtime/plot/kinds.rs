@@ -1,0 +1,266 @@
+//! One function per kind of output magbubble produces. Each takes plain vectors in SI units
+//! (s, m, Hz, rad/s) and returns a [`Figure`] (call `.save(dir, stem)`); the axes show
+//! researcher units (µs, µm, MHz) and say so in their labels.
+
+use super::figure::{Axis, Figure, Legend, Panel, Series};
+
+/// One simulated run for time-series figures (SI units).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimeSeries {
+    /// Legend text of the run (e.g. `"χ = 1"`); may be empty for a single run.
+    pub label: String,
+    pub t_s: Vec<f64>,
+    pub radius_m: Vec<f64>,
+    /// (`"a_2"`, values in m), (`"b_2"`, …) …
+    pub shapes: Vec<(String, Vec<f64>)>,
+}
+
+/// A named curve (x, y) in the units the caller states in the axis labels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    pub label: String,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+}
+
+impl Curve {
+    pub fn new(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
+        Self {
+            label: label.into(),
+            x,
+            y,
+        }
+    }
+}
+
+fn scaled(v: &[f64], s: f64) -> Vec<f64> {
+    v.iter().map(|x| x * s).collect()
+}
+
+/// Pretty mode name: `a_2` → `a₂`, `b_12` → `b₁₂`.
+pub fn mode_name(name: &str) -> String {
+    const SUB: [char; 10] = ['₀', '₁', '₂', '₃', '₄', '₅', '₆', '₇', '₈', '₉'];
+    match name.split_once('_') {
+        Some((head, digits))
+            if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) =>
+        {
+            let sub: String = digits.bytes().map(|b| SUB[(b - b'0') as usize]).collect();
+            format!("{head}{sub}")
+        }
+        _ => name.to_string(),
+    }
+}
+
+/// R(t) above the shape amplitudes (a_k, b_k) of one or several runs, sharing the time axis.
+/// With one run the legend names the modes; with several, runs × modes (`χ = 1: a₂`).
+pub fn time_series(title: &str, runs: &[TimeSeries]) -> Figure {
+    time_series_select(title, runs, &[])
+}
+
+/// As [`time_series`], with only the named shape columns (`&["a_2", "a_4"]`); empty: all.
+pub fn time_series_select(title: &str, runs: &[TimeSeries], shapes: &[&str]) -> Figure {
+    let t_axis = || Axis::linear("t [µs]");
+    let mut top = Panel::new(t_axis(), Axis::linear("R [µm]")).legend(Legend::UpperRight);
+    let mut bottom = Panel::new(t_axis(), Axis::linear("shape amplitude [µm]"));
+    let several = runs.len() > 1;
+    let mut color = 0;
+    for (i, run) in runs.iter().enumerate() {
+        let t = scaled(&run.t_s, 1e6);
+        top.push(Series::line(run.label.clone(), t.clone(), scaled(&run.radius_m, 1e6)).color(i));
+        let chosen: Vec<&(String, Vec<f64>)> = run
+            .shapes
+            .iter()
+            .filter(|(n, _)| shapes.is_empty() || shapes.contains(&n.as_str()))
+            .collect();
+        for (name, v) in chosen {
+            let label = match (several, run.label.is_empty()) {
+                (true, false) => format!("{}: {}", run.label, mode_name(name)),
+                _ => mode_name(name),
+            };
+            bottom.push(Series::line(label, t.clone(), scaled(v, 1e6)).color(color));
+            color += 1;
+        }
+    }
+    if !several {
+        top.legend = Legend::Hidden;
+    }
+    Figure::stacked(vec![top, bottom]).title(title)
+}
+
+/// Phase portrait of one or several trajectories, e.g. a₂ [µm] against ȧ₂ [m/s]: `x` and `y`
+/// are in the units of the labels given.
+pub fn phase_portrait(title: &str, x_label: &str, y_label: &str, curves: &[Curve]) -> Figure {
+    let mut p = Panel::new(Axis::linear(x_label), Axis::linear(y_label));
+    for (i, c) in curves.iter().enumerate() {
+        p.push(Series::line(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
+    }
+    Figure::single(p).title(title)
+}
+
+/// Natural frequencies against the mode number k, one curve per family (static current, c1 …).
+/// `curves`: x = k, y = ω_k in the unit named by `y_label` (e.g. `"ω_k [rad/s]"`, `"ω_k t* [–]"`).
+pub fn omega_vs_k(title: &str, y_label: &str, curves: &[Curve], log_y: bool) -> Figure {
+    let mut p = Panel::new(
+        Axis::linear("mode number k"),
+        Axis::with_scale(y_label, log_y),
+    )
+    .legend(Legend::UpperLeft);
+    for (i, c) in curves.iter().enumerate() {
+        p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
+    }
+    Figure::single(p).title(title)
+}
+
+/// A stability diagram: the critical value (ε_p, or I0 for fig 9) against frequency, one curve
+/// per family. Points that found no critical value (NaN) leave a gap.
+pub fn stability_diagram(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    curves: &[Curve],
+    log_y: bool,
+) -> Figure {
+    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale(y_label, log_y))
+        .legend(Legend::UpperLeft);
+    for (i, c) in curves.iter().enumerate() {
+        p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
+    }
+    Figure::single(p).title(title)
+}
+
+/// First unstable mode number against the driving frequency (fig 5b), as a staircase.
+pub fn first_unstable_mode(title: &str, x_label: &str, curves: &[Curve]) -> Figure {
+    let mut p = Panel::new(Axis::linear(x_label), Axis::linear("first unstable mode k"))
+        .legend(Legend::UpperLeft);
+    for (i, c) in curves.iter().enumerate() {
+        p.push(Series::steps(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
+    }
+    Figure::single(p).title(title)
+}
+
+/// Largest Floquet multiplier modulus against frequency (fig 6c), with the |μ| = 1 line.
+pub fn max_multiplier(title: &str, x_label: &str, curves: &[Curve], log_y: bool) -> Figure {
+    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale("max |μ|", log_y))
+        .legend(Legend::UpperLeft);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (i, c) in curves.iter().enumerate() {
+        for &x in c.x.iter().filter(|x| x.is_finite()) {
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
+    }
+    if lo < hi {
+        p.push(Series::dashed("|μ| = 1", vec![lo, hi], vec![1.0, 1.0]).color(7));
+    }
+    Figure::single(p).title(title)
+}
+
+/// Work–precision: error against wall time, log–log, one curve per integrator (x = wall time
+/// [s], y = error [–]).
+pub fn work_precision(title: &str, error_label: &str, curves: &[Curve]) -> Figure {
+    let mut p =
+        Panel::new(Axis::log("wall time [s]"), Axis::log(error_label)).legend(Legend::UpperRight);
+    for (i, c) in curves.iter().enumerate() {
+        p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
+    }
+    Figure::single(p).title(title)
+}
+
+/// Convergence: error against the step (e.g. Δt' [–]), log–log, with dashed reference lines
+/// of slope p for each order in `orders`, drawn through half the error of the finest point of
+/// the first curve (so they run just below the data instead of hiding it).
+pub fn convergence(
+    title: &str,
+    step_label: &str,
+    error_label: &str,
+    curves: &[Curve],
+    orders: &[u32],
+) -> Figure {
+    let mut p =
+        Panel::new(Axis::log(step_label), Axis::log(error_label)).legend(Legend::LowerRight);
+    for (i, c) in curves.iter().enumerate() {
+        p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
+    }
+    let usable = |x: f64, y: f64| x.is_finite() && y.is_finite() && x > 0.0 && y > 0.0;
+    if let Some(c) = curves.first() {
+        let pts: Vec<(f64, f64)> =
+            c.x.iter()
+                .zip(&c.y)
+                .map(|(&x, &y)| (x, y))
+                .filter(|&(x, y)| usable(x, y))
+                .collect();
+        let lo = pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+        let hi = pts.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
+        if let Some(&(x0, y0)) = pts.iter().find(|p| p.0 == lo) {
+            if lo < hi {
+                for (j, &q) in orders.iter().enumerate() {
+                    let y = |x: f64| 0.5 * y0 * (x / x0).powi(q as i32);
+                    p.push(
+                        Series::dashed(format!("slope {q}"), vec![lo, hi], vec![y(lo), y(hi)])
+                            .color(7 + j),
+                    );
+                }
+            }
+        }
+    }
+    Figure::single(p).title(title)
+}
+
+/// Stacked panels sharing the time axis: R(t) (when `radius`), then one panel per shape
+/// column named in `shapes` (`"a_2"`, `"a_4"`), each with one curve per run.
+pub fn time_series_panels(
+    title: &str,
+    runs: &[TimeSeries],
+    radius: bool,
+    shapes: &[&str],
+) -> Figure {
+    let t_axis = || Axis::linear("t [µs]");
+    let mut panels = Vec::new();
+    let legend = if runs.len() > 1 {
+        Legend::UpperRight
+    } else {
+        Legend::Hidden
+    };
+    if radius {
+        let mut p = Panel::new(t_axis(), Axis::linear("R [µm]")).legend(legend);
+        for (i, run) in runs.iter().enumerate() {
+            p.push(
+                Series::line(
+                    run.label.clone(),
+                    scaled(&run.t_s, 1e6),
+                    scaled(&run.radius_m, 1e6),
+                )
+                .color(i),
+            );
+        }
+        panels.push(p);
+    }
+    for shape in shapes {
+        let mut p =
+            Panel::new(t_axis(), Axis::linear(format!("{} [µm]", mode_name(shape)))).legend(legend);
+        for (i, run) in runs.iter().enumerate() {
+            if let Some((_, v)) = run.shapes.iter().find(|(n, _)| n == shape) {
+                p.push(
+                    Series::line(run.label.clone(), scaled(&run.t_s, 1e6), scaled(v, 1e6)).color(i),
+                );
+            }
+        }
+        panels.push(p);
+    }
+    Figure::stacked(panels).title(title)
+}
+
+/// dy/dt by central differences (one-sided at the ends); NaN where a neighbour is not finite.
+pub fn derivative(t: &[f64], y: &[f64]) -> Vec<f64> {
+    let n = t.len().min(y.len());
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n.saturating_sub(1)));
+            if a == b {
+                return f64::NAN;
+            }
+            (y[b] - y[a]) / (t[b] - t[a])
+        })
+        .collect()
+}

@@ -1,0 +1,486 @@
+//! Rendering a [`Figure`] with plotters to SVG and PNG, atomically (temp file + rename).
+//!
+//! Data hygiene happens here, once: non-finite points (and non-positive ones on a log axis)
+//! are skipped and break a line into pieces; very long lines are thinned with a min/max
+//! envelope so a 2000 µs run sampled every nanosecond still gives a small SVG; a panel
+//! with nothing drawable is an error, never a panic.
+
+use super::figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series};
+use super::logaxis::LogAxis;
+use super::{fonts, PlotError};
+use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The two files written by [`Figure::save`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Saved {
+    pub svg: PathBuf,
+    pub png: PathBuf,
+}
+
+/// Colour-blind-friendly palette (matplotlib's tab10).
+const PALETTE: [(u8, u8, u8); 10] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
+];
+
+/// Longest polyline drawn as is; longer ones keep a min/max envelope of about this many points.
+const MAX_LINE_POINTS: usize = 6000;
+
+fn color(i: usize) -> RGBColor {
+    let (r, g, b) = PALETTE[i % PALETTE.len()];
+    RGBColor(r, g, b)
+}
+
+impl Figure {
+    /// Writes `dir/stem.svg` and `dir/stem.png` (creating `dir`). Each file is first written
+    /// under a temporary name in `dir` and renamed, so a reader never sees a partial image.
+    pub fn save(&self, dir: &Path, stem: &str) -> Result<Saved, PlotError> {
+        check_stem(stem)?;
+        let layout = Layout::of(self)?;
+        fonts::register()?;
+        std::fs::create_dir_all(dir).map_err(|source| PlotError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        let size = (self.width.max(200), layout.height);
+
+        let svg = dir.join(format!("{stem}.svg"));
+        let mut text = String::new();
+        {
+            let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+            draw_figure(&root, self, &layout).map_err(|message| PlotError::Render {
+                path: svg.clone(),
+                message,
+            })?;
+            root.present().map_err(|e| PlotError::Render {
+                path: svg.clone(),
+                message: e.to_string(),
+            })?;
+        }
+        let tmp = temp_path(dir, stem, "svg");
+        std::fs::write(&tmp, text.as_bytes()).map_err(|source| PlotError::Io {
+            path: tmp.clone(),
+            source,
+        })?;
+        rename(&tmp, &svg)?;
+
+        let png = dir.join(format!("{stem}.png"));
+        // The bitmap encoder picks the format from the extension: keep `.png` on the temp name.
+        let tmp = temp_path(dir, stem, "png");
+        let drawn = (|| {
+            let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+            draw_figure(&root, self, &layout)?;
+            root.present().map_err(|e| e.to_string())
+        })();
+        if let Err(message) = drawn {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(PlotError::Render { path: png, message });
+        }
+        rename(&tmp, &png)?;
+        Ok(Saved { svg, png })
+    }
+}
+
+fn check_stem(stem: &str) -> Result<(), PlotError> {
+    let reason = if stem.is_empty() {
+        Some("it is empty")
+    } else if stem.contains(['/', '\\']) {
+        Some("it contains a path separator (pass the directory separately)")
+    } else if stem.starts_with('.') {
+        Some("it starts with a dot")
+    } else {
+        None
+    };
+    match reason {
+        Some(reason) => Err(PlotError::Stem {
+            stem: stem.to_string(),
+            reason,
+        }),
+        None => Ok(()),
+    }
+}
+
+fn temp_path(dir: &Path, stem: &str, ext: &str) -> PathBuf {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    dir.join(format!(".{stem}.{}.{n}.tmp.{ext}", std::process::id()))
+}
+
+fn rename(from: &Path, to: &Path) -> Result<(), PlotError> {
+    std::fs::rename(from, to).map_err(|source| {
+        let _ = std::fs::remove_file(from);
+        PlotError::Io {
+            path: to.to_path_buf(),
+            source,
+        }
+    })
+}
+
+/// Ranges of every panel, resolved before any drawing (so all errors come first).
+struct Layout {
+    ranges: Vec<((f64, f64), (f64, f64))>,
+    height: u32,
+}
+
+const TITLE_HEIGHT: u32 = 40;
+
+impl Layout {
+    fn of(fig: &Figure) -> Result<Self, PlotError> {
+        let name = fig.describe();
+        if fig.panels.is_empty() {
+            return Err(PlotError::Empty {
+                figure: name,
+                what: "the figure has no panel".into(),
+            });
+        }
+        let mut ranges = Vec::with_capacity(fig.panels.len());
+        for (i, panel) in fig.panels.iter().enumerate() {
+            let what = format!("panel {} ({} vs {})", i + 1, panel.y.label, panel.x.label);
+            for s in &panel.series {
+                if s.x.len() != s.y.len() {
+                    return Err(PlotError::Length {
+                        figure: name.clone(),
+                        series: s.name.clone(),
+                        x: s.x.len(),
+                        y: s.y.len(),
+                    });
+                }
+            }
+            let (xs, ys) = drawable_extent(panel);
+            let x = resolve(&panel.x, xs, &name, &what)?;
+            let y = resolve(&panel.y, ys, &name, &what)?;
+            ranges.push((x, y));
+        }
+        if fig.share_x {
+            let lo = ranges.iter().map(|r| r.0 .0).fold(f64::INFINITY, f64::min);
+            let hi = ranges
+                .iter()
+                .map(|r| r.0 .1)
+                .fold(f64::NEG_INFINITY, f64::max);
+            for r in &mut ranges {
+                r.0 = (lo, hi);
+            }
+        }
+        let n = fig.panels.len() as u32;
+        let height =
+            n * fig.panel_height.max(150) + if fig.title.is_some() { TITLE_HEIGHT } else { 0 };
+        Ok(Self { ranges, height })
+    }
+}
+
+fn usable(v: f64, scale: Scale) -> bool {
+    v.is_finite() && (scale == Scale::Linear || v > 0.0)
+}
+
+/// `(min, max)` of an axis' drawable values; `None` when there is none.
+type Extent = Option<(f64, f64)>;
+
+/// Min/max of the drawable points of a panel, per axis.
+fn drawable_extent(panel: &Panel) -> (Extent, Extent) {
+    let mut xr: Option<(f64, f64)> = None;
+    let mut yr: Option<(f64, f64)> = None;
+    let grow = |r: &mut Option<(f64, f64)>, v: f64| {
+        *r = Some(match *r {
+            None => (v, v),
+            Some((lo, hi)) => (lo.min(v), hi.max(v)),
+        })
+    };
+    for s in &panel.series {
+        for (&x, &y) in s.x.iter().zip(&s.y) {
+            if usable(x, panel.x.scale) && usable(y, panel.y.scale) {
+                grow(&mut xr, x);
+                grow(&mut yr, y);
+            }
+        }
+    }
+    (xr, yr)
+}
+
+/// The axis range: the user's (checked), or the data's with a 4 % margin.
+fn resolve(axis: &Axis, data: Extent, figure: &str, what: &str) -> Result<(f64, f64), PlotError> {
+    let bad = |reason: String| PlotError::Axis {
+        figure: figure.to_string(),
+        axis: axis.label.clone(),
+        reason,
+    };
+    if let Some((lo, hi)) = axis.range {
+        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+            return Err(bad(format!(
+                "range {lo}..{hi} is not an increasing finite interval"
+            )));
+        }
+        if axis.scale == Scale::Log && lo <= 0.0 {
+            return Err(bad(format!(
+                "a log axis needs a positive range, got {lo}..{hi}"
+            )));
+        }
+        return Ok((lo, hi));
+    }
+    let Some((lo, hi)) = data else {
+        return Err(PlotError::Empty {
+            figure: figure.to_string(),
+            what: format!("{what} has no finite data point to plot"),
+        });
+    };
+    Ok(match axis.scale {
+        Scale::Linear => {
+            let span = hi - lo;
+            if span > 0.0 && span > 1e-12 * lo.abs().max(hi.abs()) {
+                (lo - 0.04 * span, hi + 0.04 * span)
+            } else {
+                let d = if lo == 0.0 { 1.0 } else { 0.05 * lo.abs() };
+                (lo - d, hi + d)
+            }
+        }
+        Scale::Log => {
+            let ratio = hi / lo;
+            if ratio > 1.0 + 1e-9 {
+                let m = ratio.powf(0.04);
+                (lo / m, hi * m)
+            } else {
+                (lo / 2.0, hi * 2.0)
+            }
+        }
+    })
+}
+
+fn draw_figure<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    layout: &Layout,
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let body = match &fig.title {
+        Some(t) => root
+            .titled(t, (fonts::FAMILY, 26).into_font())
+            .map_err(|e| e.to_string())?,
+        None => root.clone(),
+    };
+    let areas = body.split_evenly((fig.panels.len(), 1));
+    for ((panel, area), &(xr, yr)) in fig.panels.iter().zip(&areas).zip(&layout.ranges) {
+        let (x0, x1) = xr;
+        let (y0, y1) = yr;
+        match (panel.x.scale, panel.y.scale) {
+            (Scale::Linear, Scale::Linear) => draw_panel(area, panel, xr, yr, x0..x1, y0..y1),
+            (Scale::Log, Scale::Linear) => {
+                draw_panel(area, panel, xr, yr, LogAxis { lo: x0, hi: x1 }, y0..y1)
+            }
+            (Scale::Linear, Scale::Log) => {
+                draw_panel(area, panel, xr, yr, x0..x1, LogAxis { lo: y0, hi: y1 })
+            }
+            (Scale::Log, Scale::Log) => draw_panel(
+                area,
+                panel,
+                xr,
+                yr,
+                LogAxis { lo: x0, hi: x1 },
+                LogAxis { lo: y0, hi: y1 },
+            ),
+        }?;
+    }
+    Ok(())
+}
+
+fn draw_panel<DB, XS, YS>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+    xr: (f64, f64),
+    yr: (f64, f64),
+    xs: XS,
+    ys: YS,
+) -> Result<(), String>
+where
+    DB: DrawingBackend,
+    XS: AsRangedCoord<Value = f64>,
+    YS: AsRangedCoord<Value = f64>,
+    XS::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    YS::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let err = |e: &dyn std::fmt::Display| e.to_string();
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin(12)
+        .x_label_area_size(56)
+        .y_label_area_size(88);
+    if let Some(t) = &panel.title {
+        builder.caption(t, (fonts::FAMILY, 22).into_font());
+    }
+    let mut chart = builder.build_cartesian_2d(xs, ys).map_err(|e| err(&e))?;
+    // A tick that is zero up to rounding (1.39e-17 on a ±0.1 axis) prints as 0.
+    let snap = |v: f64, (lo, hi): (f64, f64)| {
+        if v.abs() < 1e-9 * lo.abs().max(hi.abs()) {
+            0.0
+        } else {
+            v
+        }
+    };
+    let xfmt = move |v: &f64| tick_label(snap(*v, xr));
+    let yfmt = move |v: &f64| tick_label(snap(*v, yr));
+    chart
+        .configure_mesh()
+        .x_desc(panel.x.label.as_str())
+        .y_desc(panel.y.label.as_str())
+        .axis_desc_style((fonts::FAMILY, 20))
+        .label_style((fonts::FAMILY, 16))
+        .x_label_formatter(&xfmt)
+        .y_label_formatter(&yfmt)
+        .max_light_lines(4)
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(210, 210, 210))
+        .draw()
+        .map_err(|e| err(&e))?;
+
+    let mut labelled = false;
+    for (i, s) in panel.series.iter().enumerate() {
+        let c = color(s.color.unwrap_or(i));
+        let pieces = pieces(s, panel.x.scale, panel.y.scale);
+        let mut first = true;
+        for piece in pieces {
+            let anno = match s.mark {
+                Mark::Line => chart.draw_series(LineSeries::new(thin(piece), c.stroke_width(2))),
+                Mark::Dashed => {
+                    chart.draw_series(DashedLineSeries::new(thin(piece), 8, 6, c.stroke_width(2)))
+                }
+                Mark::Points => {
+                    chart.draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                }
+                Mark::LinePoints => {
+                    chart
+                        .draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                        .map_err(|e| err(&e))?;
+                    chart.draw_series(LineSeries::new(thin(piece), c.stroke_width(2)))
+                }
+                Mark::Steps => {
+                    chart
+                        .draw_series(piece.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                        .map_err(|e| err(&e))?;
+                    chart.draw_series(LineSeries::new(staircase(&piece), c.stroke_width(2)))
+                }
+            }
+            .map_err(|e| err(&e))?;
+            if first && !s.name.is_empty() {
+                labelled = true;
+                let dashed = s.mark == Mark::Dashed;
+                anno.label(s.name.as_str()).legend(move |(x, y)| {
+                    if dashed {
+                        PathElement::new(vec![(x, y), (x + 8, y)], c.stroke_width(2))
+                    } else {
+                        PathElement::new(vec![(x, y), (x + 22, y)], c.stroke_width(2))
+                    }
+                });
+            }
+            first = false;
+        }
+    }
+    let position = match panel.legend {
+        Legend::UpperRight => Some(SeriesLabelPosition::UpperRight),
+        Legend::UpperLeft => Some(SeriesLabelPosition::UpperLeft),
+        Legend::LowerRight => Some(SeriesLabelPosition::LowerRight),
+        Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
+        Legend::Hidden => None,
+    };
+    if let (true, Some(position)) = (labelled, position) {
+        chart
+            .configure_series_labels()
+            .position(position)
+            .label_font((fonts::FAMILY, 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(160, 160, 160))
+            .draw()
+            .map_err(|e| err(&e))?;
+    }
+    Ok(())
+}
+
+/// The runs of consecutive drawable points of a series (a non-drawable point ends a run).
+fn pieces(s: &Series, xs: Scale, ys: Scale) -> Vec<Vec<(f64, f64)>> {
+    let mut out = Vec::new();
+    let mut cur = Vec::new();
+    for (&x, &y) in s.x.iter().zip(&s.y) {
+        if usable(x, xs) && usable(y, ys) {
+            cur.push((x, y));
+        } else if !cur.is_empty() {
+            out.push(std::mem::take(&mut cur));
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+/// Keeps at most about [`MAX_LINE_POINTS`] points of a polyline: per bucket of consecutive
+/// points, the first, the minimum and the maximum in y and the last (in their order), so an
+/// oscillation keeps its envelope.
+pub(crate) fn thin(points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    let n = points.len();
+    if n <= MAX_LINE_POINTS {
+        return points;
+    }
+    let buckets = MAX_LINE_POINTS / 4;
+    let size = n.div_ceil(buckets);
+    let mut out = Vec::with_capacity(4 * buckets + 1);
+    for chunk in points.chunks(size) {
+        let (mut imin, mut imax) = (0, 0);
+        for (i, p) in chunk.iter().enumerate() {
+            if p.1 < chunk[imin].1 {
+                imin = i;
+            }
+            if p.1 > chunk[imax].1 {
+                imax = i;
+            }
+        }
+        let mut idx = [0, imin.min(imax), imin.max(imax), chunk.len() - 1];
+        idx.sort_unstable();
+        let mut last = usize::MAX;
+        for i in idx {
+            if i != last {
+                out.push(chunk[i]);
+                last = i;
+            }
+        }
+    }
+    out
+}
+
+/// (x0,y0),(x1,y0),(x1,y1),(x2,y1)…: each value holds until the next sample.
+fn staircase(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(2 * points.len());
+    for w in points.windows(2) {
+        out.push(w[0]);
+        out.push((w[1].0, w[0].1));
+    }
+    if let Some(&last) = points.last() {
+        out.push(last);
+    }
+    out
+}
+
+/// Compact tick text: `0`, `0.25`, `150`, `1e-5`, `2.5e6`.
+pub(crate) fn tick_label(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { format!("{v}") };
+    }
+    let a = v.abs();
+    if !(1e-3..1e5).contains(&a) {
+        let s = format!("{v:.2e}");
+        let (mant, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        let mant = mant.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mant}e{exp}");
+    }
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}

@@ -1,0 +1,211 @@
+//! Reading a `series.csv` (one row per output sample) back for plotting.
+//!
+//! Column names are matched loosely so the reader survives small changes of the writer:
+//! a name is split into a base and a unit, `R [m]`, `R (m)`, `R_m` → (`R`, m); the bases
+//! recognised are `t`/`time`, `R`/`radius`, `a2`/`a_2`, `b4`/`b_4`, and for shape velocities
+//! `adot2`/`adot_2`/`a2dot`/`da2`. Values are converted to SI from the unit (s, ms, us/µs, ns;
+//! m, mm, um/µm, nm); a column without a unit is taken as SI.
+
+use super::kinds::{time_series, TimeSeries};
+use super::{PlotError, Saved};
+use std::path::{Path, PathBuf};
+
+/// A CSV table, column-major, with its header.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeriesTable {
+    pub path: PathBuf,
+    pub columns: Vec<String>,
+    pub data: Vec<Vec<f64>>,
+}
+
+/// Splits `R [um]`, `R (um)`, `R_um` into (`R`, Some(scale to SI)).
+fn split_unit(name: &str) -> (String, f64) {
+    let name = name.trim();
+    let scale_of = |u: &str| -> Option<f64> {
+        Some(match u.trim() {
+            "s" | "m" => 1.0,
+            "ms" | "mm" => 1e-3,
+            "us" | "µs" | "μs" | "um" | "µm" | "μm" => 1e-6,
+            "ns" | "nm" => 1e-9,
+            _ => return None,
+        })
+    };
+    for (open, close) in [('[', ']'), ('(', ')')] {
+        if let (Some(i), true) = (name.find(open), name.ends_with(close)) {
+            let unit = &name[i + open.len_utf8()..name.len() - close.len_utf8()];
+            return (name[..i].trim().to_string(), scale_of(unit).unwrap_or(1.0));
+        }
+    }
+    if let Some((base, unit)) = name.rsplit_once('_') {
+        if let Some(s) = scale_of(unit) {
+            return (base.to_string(), s);
+        }
+    }
+    (name.to_string(), 1.0)
+}
+
+/// `a2`, `a_2` → Some(('a', 2)); the velocity spellings → Some(('A', k)) for ȧ, ('B', k) for ḃ.
+fn shape_key(base: &str) -> Option<(char, usize)> {
+    let b = base.replace('_', "");
+    let parse = |s: &str| s.parse::<usize>().ok();
+    for (prefix, kind) in [("adot", 'A'), ("bdot", 'B'), ("da", 'A'), ("db", 'B')] {
+        if let Some(k) = b.strip_prefix(prefix).and_then(parse) {
+            return Some((kind, k));
+        }
+    }
+    for (kind, vel) in [('a', 'A'), ('b', 'B')] {
+        if let Some(rest) = b.strip_prefix(kind) {
+            if let Some(k) = rest.strip_suffix("dot").and_then(parse) {
+                return Some((vel, k));
+            }
+            if let Some(k) = parse(rest) {
+                return Some((kind, k));
+            }
+        }
+    }
+    None
+}
+
+impl SeriesTable {
+    /// Reads a CSV with a header line; lines starting with `#` are skipped; empty cells are NaN.
+    pub fn read(path: &Path) -> Result<Self, PlotError> {
+        let text = std::fs::read_to_string(path).map_err(|source| PlotError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let err = |line: usize, reason: String| PlotError::Csv {
+            path: path.to_path_buf(),
+            line,
+            reason,
+        };
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
+        let Some((_, header)) = lines.next() else {
+            return Err(err(1, "the file has no header line".into()));
+        };
+        let columns: Vec<String> = header.split(',').map(|c| c.trim().to_string()).collect();
+        let mut data = vec![Vec::new(); columns.len()];
+        for (i, line) in lines {
+            let cells: Vec<&str> = line.split(',').collect();
+            if cells.len() != columns.len() {
+                return Err(err(
+                    i + 1,
+                    format!("{} fields, the header has {}", cells.len(), columns.len()),
+                ));
+            }
+            for (col, cell) in data.iter_mut().zip(cells) {
+                let cell = cell.trim();
+                let v = if cell.is_empty() {
+                    f64::NAN
+                } else {
+                    cell.parse::<f64>()
+                        .map_err(|_| err(i + 1, format!("`{cell}` is not a number")))?
+                };
+                col.push(v);
+            }
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            columns,
+            data,
+        })
+    }
+
+    /// The column whose name (unit stripped) satisfies `pred`, converted to SI.
+    fn find(&self, pred: impl Fn(&str) -> bool) -> Option<Vec<f64>> {
+        self.columns.iter().zip(&self.data).find_map(|(name, col)| {
+            let (base, scale) = split_unit(name);
+            pred(&base).then(|| col.iter().map(|v| v * scale).collect())
+        })
+    }
+
+    /// Time [s].
+    pub fn time_s(&self) -> Option<Vec<f64>> {
+        self.find(|b| matches!(b, "t" | "time" | "T"))
+    }
+
+    /// R [m].
+    pub fn radius_m(&self) -> Option<Vec<f64>> {
+        self.find(|b| matches!(b, "R" | "radius" | "r"))
+    }
+
+    /// a_k (`kind = 'a'`), b_k (`'b'`) [m], ȧ_k (`'A'`), ḃ_k (`'B'`) [m/s].
+    pub fn shape(&self, kind: char, k: usize) -> Option<Vec<f64>> {
+        self.find(|b| shape_key(b) == Some((kind, k)))
+    }
+
+    /// The orders k present for a kind, ascending.
+    pub fn orders(&self, kind: char) -> Vec<usize> {
+        let mut ks: Vec<usize> = self
+            .columns
+            .iter()
+            .filter_map(|c| shape_key(&split_unit(c).0))
+            .filter(|&(c, _)| c == kind)
+            .map(|(_, k)| k)
+            .collect();
+        ks.sort_unstable();
+        ks.dedup();
+        ks
+    }
+
+    /// The run as plain vectors: t, R and every a_k (and b_k when `with_b`).
+    pub fn to_time_series(&self, label: &str, with_b: bool) -> Result<TimeSeries, PlotError> {
+        let missing = |what: &str| PlotError::Csv {
+            path: self.path.clone(),
+            line: 1,
+            reason: format!("no {what} column (columns: {})", self.columns.join(", ")),
+        };
+        let t_s = self.time_s().ok_or_else(|| missing("time (t)"))?;
+        let radius_m = self.radius_m().ok_or_else(|| missing("radius (R)"))?;
+        let mut shapes = Vec::new();
+        let kinds: &[char] = if with_b { &['a', 'b'] } else { &['a'] };
+        for &kind in kinds {
+            for k in self.orders(kind) {
+                if let Some(v) = self.shape(kind, k) {
+                    shapes.push((format!("{kind}_{k}"), v));
+                }
+            }
+        }
+        Ok(TimeSeries {
+            label: label.to_string(),
+            t_s,
+            radius_m,
+            shapes,
+        })
+    }
+}
+
+/// Reads `csv_path` (a `series.csv` of `magbubble run`) and writes `out_dir/series.svg` and
+/// `out_dir/series.png`: R(t) above a_k(t) for every mode in the file.
+pub fn series_plot(csv_path: &Path, out_dir: &Path) -> Result<Saved, PlotError> {
+    let table = SeriesTable::read(csv_path)?;
+    let run = table.to_time_series("", false)?;
+    let title = csv_path
+        .parent()
+        .and_then(|p| p.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "run".into());
+    time_series(&title, std::slice::from_ref(&run)).save(out_dir, "series")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn units_and_shape_names_are_recognised() {
+        assert_eq!(split_unit("R [um]"), ("R".into(), 1e-6));
+        assert_eq!(split_unit("t_s"), ("t".into(), 1.0));
+        assert_eq!(split_unit("a_2"), ("a_2".into(), 1.0));
+        assert_eq!(split_unit("t (ns)"), ("t".into(), 1e-9));
+        assert_eq!(shape_key("a_2"), Some(('a', 2)));
+        assert_eq!(shape_key("b12"), Some(('b', 12)));
+        assert_eq!(shape_key("adot_4"), Some(('A', 4)));
+        assert_eq!(shape_key("a4dot"), Some(('A', 4)));
+        assert_eq!(shape_key("da2"), Some(('A', 2)));
+        assert_eq!(shape_key("Rdot"), None);
+        assert_eq!(shape_key("alpha"), None);
+    }
+}
