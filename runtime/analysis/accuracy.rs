@@ -353,10 +353,17 @@ pub fn accuracy_study(scene: &Scene, opts: &AccuracyOptions) -> Result<AccuracyR
     }
 
     // size ladders with the scene's own integrator settings
-    let size_ladder_method = format!(
-        "{:?} rtol {:e} atol {:e} (dt {:e} s for fixed-step)",
-        base.run.integrator.method, base.run.integrator.rtol, base.run.integrator.atol, base.run.integrator.dt
-    );
+    let size_ladder_method = if full {
+        format!(
+            "full model, {:?} scheme, rtol {:e} atol {:e} (dt {:e} s for staggered)",
+            base.vorticity.scheme, base.run.integrator.rtol, base.run.integrator.atol, base.run.integrator.dt
+        )
+    } else {
+        format!(
+            "{:?} rtol {:e} atol {:e} (dt {:e} s for fixed-step)",
+            base.run.integrator.method, base.run.integrator.rtol, base.run.integrator.atol, base.run.integrator.dt
+        )
+    };
     let size = |configure: &dyn Fn(&mut Scene, usize), sizes: &[usize]| -> Result<Vec<SizeRung>, ModelError> {
         let mut runs = vec![];
         for &n in sizes {
