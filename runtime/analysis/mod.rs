@@ -13,6 +13,7 @@ pub mod periodic;
 pub mod stability;
 pub mod sweep;
 
+pub mod accuracy;
 pub mod compare;
 pub mod convergence;
 pub mod dispersion;

@@ -1,9 +1,137 @@
-//! `magbubble accuracy` (scaffold: replaced by its owner).
+//! `magbubble accuracy SCENE [--out DIR] [--set k=v]… [--quick] [--repeats N] [--plot]`:
+//! work–precision of every integrator on a scene (issue 6, part 1; method in
+//! [`crate::analysis::accuracy`]). Prints the ladders, writes `DIR/accuracy.csv` (one row per
+//! rung), `DIR/sizes.csv` (mode and grid ladders), `DIR/accuracy.json` (everything) and with
+//! `--plot` `DIR/work_precision.{svg,png}` (error against wall time, log–log).
+
+use crate::analysis::accuracy::{accuracy_study, AccuracyOptions};
+use crate::output::{write_json, CsvWriter, OutputDir};
+use crate::plot::kinds::{work_precision, Curve};
+use crate::scene;
+use anyhow::Context;
+use std::path::PathBuf;
 
 /// Arguments of `magbubble accuracy`.
 #[derive(Debug, clap::Args)]
-pub struct AccuracyArgs {}
+pub struct AccuracyArgs {
+    /// The scene file (TOML).
+    pub scene: PathBuf,
+    /// Output directory (default: out/<scene file stem>-accuracy).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Override a scene key, e.g. --set modes.max_order=8 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Short study (5 µs, three rungs per ladder, one repeat): for tests and a first look.
+    #[arg(long)]
+    pub quick: bool,
+    /// Repeats per setting; the wall time is their median (default 3, 1 with --quick).
+    #[arg(long)]
+    pub repeats: Option<usize>,
+    /// Simulated time [s] (default: the scene's run.duration, 5 µs with --quick).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Write the work–precision plot (error against wall time).
+    #[arg(long)]
+    pub plot: bool,
+}
 
-pub fn run(_args: &AccuracyArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`magbubble accuracy` is not built yet")
+pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
+    let scene = scene::load(&args.scene, &args.set).with_context(|| format!("loading {}", args.scene.display()))?;
+    let mut opts = if args.quick { AccuracyOptions::quick() } else { AccuracyOptions::full() };
+    if let Some(r) = args.repeats {
+        if r == 0 {
+            anyhow::bail!("--repeats = 0: need at least one run per setting");
+        }
+        opts.repeats = r;
+    }
+    if let Some(d) = args.duration {
+        if !(d.is_finite() && d > 0.0) {
+            anyhow::bail!("--duration = {d}: must be a positive time in seconds");
+        }
+        opts.duration = Some(d);
+    }
+    let report = accuracy_study(&scene, &opts).context("accuracy study")?;
+    println!(
+        "reference: {} (estimated error {:.2e}, {:.2} s); compared over {:.3e} s, {} samples; t* = {:.4e} s",
+        report.reference,
+        report.reference_error,
+        report.reference_wall_seconds,
+        report.duration,
+        opts.samples,
+        report.t_star
+    );
+    println!("error = max(max_t |R - R_ref|/R0, max_t max_k |a_k - a_k,ref|/R0)");
+    println!(
+        "{:>10} {:>11} {:>11} {:>11} {:>11} {:>10} {:>9} {:>8}  status",
+        "method", "setting", "e_R", "e_a", "error", "wall s", "rhs", "rejected"
+    );
+    let out = args.out.clone().unwrap_or_else(|| {
+        let stem = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from("out").join(format!("{stem}-accuracy"))
+    });
+    let dir = OutputDir::create(&out)?;
+    let header = ["method_id", "setting", "e_r", "e_a", "error", "wall_seconds", "rhs_evals", "steps", "rejected"];
+    let mut csv = CsvWriter::create(&dir.join("accuracy.csv"), &header)?;
+    let mut curves = vec![];
+    for (id, l) in report.ladders.iter().enumerate() {
+        for r in &l.rungs {
+            println!(
+                "{:>10} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>10.4} {:>9} {:>8}  {}",
+                l.method, r.setting, r.e_r, r.e_a, r.error, r.wall_seconds, r.stats.rhs_evals, r.stats.rejected, r.status
+            );
+            csv.row(&[
+                id as f64,
+                r.setting,
+                r.e_r,
+                r.e_a,
+                r.error,
+                r.wall_seconds,
+                r.stats.rhs_evals as f64,
+                r.stats.steps as f64,
+                r.stats.rejected as f64,
+            ]);
+        }
+        let fmt = |o: Option<f64>| o.map_or("n/a".to_string(), |v| format!("{v:.2}"));
+        println!("{:>10} observed order: vs dt {}, vs work {}", l.method, fmt(l.order_dt), fmt(l.order_work));
+        let (x, y) = l.rungs.iter().map(|r| (r.wall_seconds, r.error)).unzip();
+        curves.push(Curve::new(l.method.clone(), x, y));
+    }
+    csv.commit()?;
+    println!("method_id: {}", report.ladders.iter().enumerate().map(|(i, l)| format!("{i} = {}", l.method)).collect::<Vec<_>>().join(", "));
+    let mut sizes = CsvWriter::create(&dir.join("sizes.csv"), &["ladder", "size", "wall_seconds", "rhs_evals", "steps", "delta_r", "delta_a2"])?;
+    for (lid, (name, rows)) in [("modes N", &report.modes), ("grid points", &report.grid)].iter().enumerate() {
+        if rows.is_empty() {
+            continue;
+        }
+        println!("{name} ladder ({}); delta = max |x - x_largest| / R0:", report.size_ladder_method);
+        println!("{:>8} {:>10} {:>10} {:>11} {:>11}  status", "size", "wall s", "rhs", "delta R", "delta a2");
+        for r in rows.iter() {
+            println!(
+                "{:>8} {:>10.4} {:>10} {:>11.3e} {:>11.3e}  {}",
+                r.size, r.wall_seconds, r.stats.rhs_evals, r.delta_r, r.delta_a2, r.status
+            );
+            sizes.row(&[
+                lid as f64,
+                r.size as f64,
+                r.wall_seconds,
+                r.stats.rhs_evals as f64,
+                r.stats.steps as f64,
+                r.delta_r,
+                r.delta_a2,
+            ]);
+        }
+    }
+    sizes.commit()?;
+    write_json(&dir.join("accuracy.json"), &report)?;
+    if args.plot {
+        let fig = work_precision(
+            &format!("work–precision: {}", args.scene.display()),
+            "max error / R0",
+            &curves,
+        );
+        fig.save(dir.path(), "work_precision").context("writing the work–precision plot")?;
+    }
+    println!("wrote {}", out.display());
+    Ok(())
 }

@@ -1,0 +1,445 @@
+//! Work–precision: what accuracy costs in time (issue 6, part 1).
+//!
+//! Every run goes through [`crate::model::simulate`] on a copy of the scene with changed run
+//! settings, so the numbers are those a user gets from `magbubble run`.
+//!
+//! * **Samples.** All runs are sampled every Δ = duration / `samples` (dense output between
+//!   steps for the adaptive methods — the error measured is the error of the output a user gets).
+//!   RK4 steps are Δ/m for integer m, so its samples are grid values (no interpolation error).
+//! * **Reference.** RK4 with Δt = Δ/m ≤ `reference_dt_star`·t* (default 1e-4 t*, ten times
+//!   finer than the finest rung). Its own error is estimated by Richardson extrapolation:
+//!   ‖y_Δt − y_2Δt‖ / (2⁴ − 1), using a second reference run at twice the step. For the full
+//!   vorticity model (`modes.viscous = "vorticity"`) the reference is the monolithic scheme at
+//!   rtol 1e-10, and its error estimate the difference to rtol 1e-9.
+//! * **Error metric.** e_R = maxᵢ |R(tᵢ) − R_ref(tᵢ)| / R0, e_a = maxᵢ max_k |a_k(tᵢ) − a_k,ref(tᵢ)| / R0,
+//!   e = max(e_R, e_a). A run that ends before the reference (blow-up, failure) has e = ∞ and
+//!   is left out of the fits.
+//! * **Blow-up scenes.** If the reference blows up at t_b, the study is re-run over
+//!   [0, 0.9 t_b] (the duration is shortened; every rung then must reproduce a finite run).
+//! * **Observed order.** `order_dt` = slope of log e against log Δt (fixed-step rungs);
+//!   `order_work` = −slope of log e against log (rhs evaluations) for every ladder.
+//! * **Wall time.** Median over `repeats` runs of the same settings.
+
+use crate::integrate::Stats;
+use crate::model::{params::Scales, simulate, ModelError, RunStatus};
+use crate::scene::{Method, Scene, Viscous, VorticityScheme};
+use serde::Serialize;
+
+/// Errors of an accuracy study.
+#[derive(Debug, thiserror::Error)]
+pub enum AccuracyError {
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    #[error("the reference run ({what}) did not complete: {status}")]
+    Reference { what: String, status: String },
+    #[error("{what} = {value}: {reason}")]
+    Setting { what: &'static str, value: String, reason: &'static str },
+}
+
+/// What to run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AccuracyOptions {
+    /// Simulated time [s] (`None`: the scene's `run.duration`).
+    pub duration: Option<f64>,
+    /// Number of output samples compared.
+    pub samples: usize,
+    /// RK4 (and staggered) steps in units of t*.
+    pub dt_star: Vec<f64>,
+    /// Relative tolerances of the adaptive methods (atol = 1e-3 · rtol on the nondimensional state).
+    pub rtols: Vec<f64>,
+    /// Reference RK4 step in units of t*.
+    pub reference_dt_star: f64,
+    /// Largest shape orders N of the mode ladder (empty: none).
+    pub mode_ladder: Vec<usize>,
+    /// Vorticity grid points of the grid ladder (full model only).
+    pub grid_ladder: Vec<usize>,
+    /// Repeats per setting; the wall time reported is their median.
+    pub repeats: usize,
+}
+
+impl AccuracyOptions {
+    /// The full study (minutes per scene).
+    pub fn full() -> Self {
+        Self {
+            duration: None,
+            samples: 1000,
+            dt_star: vec![16e-3, 8e-3, 4e-3, 2e-3, 1e-3],
+            rtols: vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9],
+            reference_dt_star: 1e-4,
+            mode_ladder: vec![4, 8, 16, 32],
+            grid_ladder: vec![51, 101, 201, 401],
+            repeats: 3,
+        }
+    }
+    /// The quick study used by tests: 5 µs, three rungs per ladder.
+    pub fn quick() -> Self {
+        Self {
+            duration: Some(5e-6),
+            samples: 200,
+            dt_star: vec![8e-3, 4e-3, 2e-3],
+            rtols: vec![1e-4, 1e-6, 1e-8],
+            reference_dt_star: 2e-4,
+            mode_ladder: vec![4, 8],
+            grid_ladder: vec![51, 101],
+            repeats: 1,
+        }
+    }
+}
+
+/// One rung of a ladder.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Rung {
+    /// Δt [s] for fixed-step methods, rtol for adaptive ones.
+    pub setting: f64,
+    pub e_r: f64,
+    pub e_a: f64,
+    /// max(e_R, e_a).
+    pub error: f64,
+    /// Median wall time [s].
+    pub wall_seconds: f64,
+    pub stats: Stats,
+    /// "completed", "blow_up at … s (mode)", "failed: …".
+    pub status: String,
+}
+
+/// One integrator (or scheme) over its ladder.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Ladder {
+    /// "rk4", "dopri5", "dop853", "radau5", "staggered", "monolithic".
+    pub method: String,
+    /// "dt_s" or "rtol".
+    pub setting_name: String,
+    pub rungs: Vec<Rung>,
+    pub order_dt: Option<f64>,
+    pub order_work: Option<f64>,
+}
+
+/// One rung of the mode ladder (or the grid ladder): cost and change against the largest.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SizeRung {
+    /// N (largest shape order) or the number of grid points.
+    pub size: usize,
+    pub wall_seconds: f64,
+    pub stats: Stats,
+    /// max |R − R_largest| / R0.
+    pub delta_r: f64,
+    /// max |a2 − a2,largest| / R0.
+    pub delta_a2: f64,
+    pub status: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AccuracyReport {
+    /// How the reference was made.
+    pub reference: String,
+    /// Estimated error of the reference (same metric as the rungs).
+    pub reference_error: f64,
+    pub reference_wall_seconds: f64,
+    /// Compared time span [s] (shortened when the reference blows up).
+    pub duration: f64,
+    pub sample_interval: f64,
+    pub t_star: f64,
+    pub ladders: Vec<Ladder>,
+    /// Settings used for the mode and grid ladders.
+    pub size_ladder_method: String,
+    pub modes: Vec<SizeRung>,
+    pub grid: Vec<SizeRung>,
+}
+
+/// A sampled run: t [s] and rows (R, a2, b2, …) [m].
+struct Trajectory {
+    rows: Vec<Vec<f64>>,
+    status: RunStatus,
+    stats: Stats,
+    wall: f64,
+}
+
+fn run_once(scene: &Scene) -> Result<Trajectory, ModelError> {
+    let mut rows = vec![];
+    let rep = simulate(scene, &mut |_, row| rows.push(row.to_vec()))?;
+    Ok(Trajectory { rows, status: rep.status, stats: rep.stats, wall: rep.wall_seconds })
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    let n = v.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Runs `repeats` times; the first trajectory with the median wall time.
+fn run_timed(scene: &Scene, repeats: usize) -> Result<Trajectory, ModelError> {
+    let mut first = run_once(scene)?;
+    let mut walls = vec![first.wall];
+    for _ in 1..repeats.max(1) {
+        walls.push(run_once(scene)?.wall);
+    }
+    first.wall = median(&mut walls);
+    Ok(first)
+}
+
+fn status_text(s: &RunStatus) -> String {
+    match s {
+        RunStatus::Completed => "completed".into(),
+        RunStatus::BlowUp { t, mode } => format!("blow_up at {t:.4e} s ({mode})"),
+        RunStatus::Failed { reason } => format!("failed: {reason}"),
+    }
+}
+
+/// (e_R, e_a) of `run` against `reference` (rows R, a2, b2, a4, …); ∞ if `run` has fewer samples.
+fn errors(run: &[Vec<f64>], reference: &[Vec<f64>], r0: f64) -> (f64, f64) {
+    if run.len() < reference.len() {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    let (mut e_r, mut e_a) = (0.0f64, 0.0f64);
+    for (x, r) in run.iter().zip(reference) {
+        let d = |i: usize| {
+            let v = (x[i] - r[i]).abs() / r0;
+            if v.is_nan() { f64::INFINITY } else { v }
+        };
+        e_r = e_r.max(d(0));
+        for i in (1..r.len().min(x.len())).step_by(2) {
+            e_a = e_a.max(d(i));
+        }
+    }
+    (e_r, e_a)
+}
+
+/// Least-squares slope of log y against log x over finite positive points (`None` with < 2).
+pub fn log_slope(x: &[f64], y: &[f64]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = x
+        .iter()
+        .zip(y)
+        .filter(|(x, y)| x.is_finite() && y.is_finite() && **x > 0.0 && **y > 0.0)
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+/// Fixed step Δ/m with m the smallest integer such that Δ/m ≤ target (samples land on steps).
+fn aligned_dt(sample: f64, target: f64) -> f64 {
+    sample / (sample / target).ceil().max(1.0)
+}
+
+/// Builds the scene copies for each rung and measures them.
+fn ladder(
+    base: &Scene,
+    method: &str,
+    settings: &[f64],
+    fixed_step: bool,
+    reference: &[Vec<f64>],
+    repeats: usize,
+    configure: &dyn Fn(&mut Scene, f64),
+) -> Result<Ladder, ModelError> {
+    let r0 = base.bubble.radius;
+    let mut rungs = vec![];
+    for &s in settings {
+        let mut sc = base.clone();
+        configure(&mut sc, s);
+        let tr = run_timed(&sc, repeats)?;
+        let (e_r, mut e_a) = errors(&tr.rows, reference, r0);
+        if base.modes.max_order == 0 {
+            e_a = 0.0;
+        }
+        let mut error = e_r.max(e_a);
+        if matches!(tr.status, RunStatus::Failed { .. }) {
+            error = f64::INFINITY;
+        }
+        rungs.push(Rung { setting: s, e_r, e_a, error, wall_seconds: tr.wall, stats: tr.stats, status: status_text(&tr.status) });
+    }
+    let err: Vec<f64> = rungs.iter().map(|r| r.error).collect();
+    let work: Vec<f64> = rungs.iter().map(|r| r.stats.rhs_evals as f64).collect();
+    let set: Vec<f64> = rungs.iter().map(|r| r.setting).collect();
+    Ok(Ladder {
+        method: method.into(),
+        setting_name: if fixed_step { "dt_s".into() } else { "rtol".into() },
+        order_dt: if fixed_step { log_slope(&set, &err) } else { None },
+        order_work: log_slope(&work, &err).map(|s| -s),
+        rungs,
+    })
+}
+
+fn set_adaptive(sc: &mut Scene, m: Method, rtol: f64) {
+    sc.run.integrator.method = m;
+    sc.run.integrator.rtol = rtol;
+    sc.run.integrator.atol = 1e-3 * rtol;
+}
+
+/// Runs the whole study on `scene` (see the module docs).
+pub fn accuracy_study(scene: &Scene, opts: &AccuracyOptions) -> Result<AccuracyReport, AccuracyError> {
+    if opts.samples < 2 {
+        return Err(AccuracyError::Setting { what: "samples", value: opts.samples.to_string(), reason: "need at least 2" });
+    }
+    let t_star = Scales::from_scene(scene).time;
+    let mut duration = opts.duration.unwrap_or(scene.run.duration);
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(AccuracyError::Setting { what: "duration", value: duration.to_string(), reason: "must be a positive time [s]" });
+    }
+    let full = scene.modes.viscous == Viscous::Vorticity && scene.modes.max_order > 0;
+    let mut base = scene.clone();
+    let configure_reference = |sc: &mut Scene, sample: f64, factor: f64| {
+        if full {
+            sc.vorticity.scheme = VorticityScheme::Monolithic;
+            set_adaptive(sc, Method::Radau5, 1e-10 * factor.powi(3));
+        } else {
+            sc.run.integrator.method = Method::Rk4;
+            sc.run.integrator.dt = aligned_dt(sample, opts.reference_dt_star * t_star) * factor;
+        }
+    };
+    let reference_what = if full {
+        "full model, monolithic scheme, rtol 1e-10".to_string()
+    } else {
+        format!("RK4, dt <= {:e} t* on the sample grid", opts.reference_dt_star)
+    };
+    // the reference, shortened to 0.9 t_b if it blows up
+    let mut reference;
+    loop {
+        base.run.duration = duration;
+        base.run.sample_interval = duration / opts.samples as f64;
+        base.run.integrator.max_steps = base.run.integrator.max_steps.max(200_000_000);
+        let mut sc = base.clone();
+        configure_reference(&mut sc, base.run.sample_interval, 1.0);
+        reference = run_timed(&sc, 1)?;
+        match &reference.status {
+            RunStatus::Completed => break,
+            RunStatus::BlowUp { t, .. } if *t > 10.0 * base.run.sample_interval => duration = 0.9 * t,
+            other => {
+                return Err(AccuracyError::Reference { what: reference_what, status: status_text(other) });
+            }
+        }
+    }
+    let sample = base.run.sample_interval;
+    let r0 = scene.bubble.radius;
+    // the reference's own error
+    let mut sc = base.clone();
+    configure_reference(&mut sc, sample, 2.0);
+    let coarse = run_once(&sc)?;
+    let (er, ea) = errors(&coarse.rows, &reference.rows, r0);
+    let reference_error = if full { er.max(ea) } else { er.max(ea) / 15.0 };
+
+    let mut ladders = vec![];
+    let dts: Vec<f64> = opts.dt_star.iter().map(|d| aligned_dt(sample, d * t_star)).collect();
+    let rep = opts.repeats;
+    if full {
+        ladders.push(ladder(&base, "staggered", &dts, true, &reference.rows, rep, &|sc, dt| {
+            sc.vorticity.scheme = VorticityScheme::Staggered;
+            sc.run.integrator.dt = dt;
+        })?);
+        ladders.push(ladder(&base, "monolithic", &opts.rtols, false, &reference.rows, rep, &|sc, r| {
+            sc.vorticity.scheme = VorticityScheme::Monolithic;
+            set_adaptive(sc, Method::Radau5, r);
+        })?);
+    } else {
+        ladders.push(ladder(&base, "rk4", &dts, true, &reference.rows, rep, &|sc, dt| {
+            sc.run.integrator.method = Method::Rk4;
+            sc.run.integrator.dt = dt;
+        })?);
+        for (name, m) in [("dopri5", Method::Dopri5), ("dop853", Method::Dop853), ("radau5", Method::Radau5)] {
+            ladders.push(ladder(&base, name, &opts.rtols, false, &reference.rows, rep, &|sc, r| set_adaptive(sc, m, r))?);
+        }
+    }
+
+    // size ladders with the scene's own integrator settings
+    let size_ladder_method = if full {
+        format!(
+            "full model, {:?} scheme, rtol {:e} atol {:e} (dt {:e} s for staggered)",
+            base.vorticity.scheme, base.run.integrator.rtol, base.run.integrator.atol, base.run.integrator.dt
+        )
+    } else {
+        format!(
+            "{:?} rtol {:e} atol {:e} (dt {:e} s for fixed-step)",
+            base.run.integrator.method, base.run.integrator.rtol, base.run.integrator.atol, base.run.integrator.dt
+        )
+    };
+    let size = |configure: &dyn Fn(&mut Scene, usize), sizes: &[usize]| -> Result<Vec<SizeRung>, ModelError> {
+        let mut runs = vec![];
+        for &n in sizes {
+            let mut sc = base.clone();
+            configure(&mut sc, n);
+            runs.push((n, run_timed(&sc, rep)?));
+        }
+        let Some((_, last)) = runs.last() else { return Ok(vec![]) };
+        let last_rows = last.rows.clone();
+        Ok(runs
+            .into_iter()
+            .map(|(n, tr)| {
+                let (mut dr, mut da) = (0.0f64, 0.0f64);
+                if tr.rows.len() < last_rows.len() {
+                    (dr, da) = (f64::INFINITY, f64::INFINITY);
+                }
+                for (x, r) in tr.rows.iter().zip(&last_rows) {
+                    dr = dr.max((x[0] - r[0]).abs() / r0);
+                    if x.len() > 1 && r.len() > 1 {
+                        da = da.max((x[1] - r[1]).abs() / r0);
+                    }
+                }
+                SizeRung { size: n, wall_seconds: tr.wall, stats: tr.stats, delta_r: dr, delta_a2: da, status: status_text(&tr.status) }
+            })
+            .collect())
+    };
+    let modes = if scene.modes.max_order > 0 {
+        let sizes: Vec<usize> =
+            opts.mode_ladder.iter().copied().filter(|&n| n >= 2 && n % 2 == 0 && n <= crate::coefficients::KMAX).collect();
+        size(&|sc, n| sc.modes.max_order = n, &sizes)?
+    } else {
+        vec![]
+    };
+    let grid = if full { size(&|sc, n| sc.vorticity.points = n, &opts.grid_ladder)? } else { vec![] };
+
+    Ok(AccuracyReport {
+        reference: reference_what,
+        reference_error,
+        reference_wall_seconds: reference.wall,
+        duration,
+        sample_interval: sample,
+        t_star,
+        ladders,
+        size_ladder_method,
+        modes,
+        grid,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slope_of_a_power_law_is_its_exponent() {
+        let x = [1.0, 0.5, 0.25, f64::INFINITY];
+        let y: Vec<f64> = x.iter().map(|d: &f64| 3.0 * d.powf(4.0)).collect();
+        assert!((log_slope(&x, &y).unwrap() - 4.0).abs() < 1e-12);
+        assert_eq!(log_slope(&[1.0], &[1.0]), None);
+    }
+
+    #[test]
+    fn aligned_steps_divide_the_sample_interval() {
+        let dt = aligned_dt(1.0, 0.3);
+        assert!((1.0 / dt - 4.0).abs() < 1e-12);
+        assert_eq!(aligned_dt(1.0, 5.0), 1.0);
+    }
+
+    #[test]
+    fn a_shorter_run_has_infinite_error() {
+        let r = vec![vec![1.0, 0.1, 0.0]; 3];
+        assert_eq!(errors(&r[..2], &r, 1.0).0, f64::INFINITY);
+        let mut x = r.clone();
+        x[1][1] = 0.3;
+        let (er, ea) = errors(&x, &r, 2.0);
+        assert_eq!(er, 0.0);
+        assert!((ea - 0.1).abs() < 1e-15);
+    }
+}

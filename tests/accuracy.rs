@@ -1,0 +1,60 @@
+//! `magbubble accuracy --quick` on radial_only and no_field (issue 6, part 1): the CSV exists,
+//! the error decreases along every ladder and RK4's observed order is near 4.
+
+use std::path::Path;
+use std::process::Command;
+
+fn run_quick(scene: &str) -> (String, Vec<Vec<f64>>) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("acc");
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(scene);
+    let o = Command::new(env!("CARGO_BIN_EXE_magbubble"))
+        .args(["accuracy", scene_path.to_str().unwrap(), "--quick", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(o.status.success(), "accuracy failed: {}\n{}", stdout, String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("accuracy.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "method_id,setting,e_r,e_a,error,wall_seconds,rhs_evals,steps,rejected");
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert!(out.join("accuracy.json").exists() && out.join("sizes.csv").exists());
+    (stdout, rows)
+}
+
+fn check(scene: &str) {
+    let (stdout, rows) = run_quick(scene);
+    // four ladders: rk4 (0), dopri5 (1), dop853 (2), radau5 (3), three rungs each
+    for id in 0..4 {
+        let ladder: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == id as f64).collect();
+        assert_eq!(ladder.len(), 3, "{scene}: ladder {id}");
+        let e: Vec<f64> = ladder.iter().map(|r| r[4]).collect();
+        assert!(e.iter().all(|e| e.is_finite() && *e > 0.0), "{scene}: ladder {id}: errors {e:?}");
+        // rungs go from loose to tight: the error must drop, and overall by a clear factor
+        for w in e.windows(2) {
+            assert!(w[1] < w[0], "{scene}: ladder {id}: error does not decrease: {e:?}");
+        }
+        assert!(e[2] < 0.2 * e[0], "{scene}: ladder {id}: {e:?}");
+        // tighter settings cost more rhs evaluations
+        assert!(ladder[2][6] > ladder[0][6], "{scene}: ladder {id}: work does not grow");
+    }
+    // RK4's observed order against dt, from the CSV
+    let rk: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == 0.0).collect();
+    let x: Vec<f64> = rk.iter().map(|r| r[1].ln()).collect();
+    let y: Vec<f64> = rk.iter().map(|r| r[4].ln()).collect();
+    let (mx, my) = (x.iter().sum::<f64>() / 3.0, y.iter().sum::<f64>() / 3.0);
+    let slope = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum::<f64>()
+        / x.iter().map(|a| (a - mx) * (a - mx)).sum::<f64>();
+    assert!((slope - 4.0).abs() < 0.3, "{scene}: RK4 observed order {slope}");
+    assert!(stdout.contains("rk4 observed order: vs dt"), "{stdout}");
+}
+
+#[test]
+fn quick_study_on_radial_only() {
+    check("radial_only.toml");
+}
+
+#[test]
+fn quick_study_on_no_field() {
+    check("no_field.toml");
+}
