@@ -97,6 +97,7 @@ fn drive_just_below_critical_is_bounded_and_just_above_blows_up() {
     };
     let point = critical_point(&scene_at, &opts).expect("stability analysis runs");
     let Outcome::Critical { value: crit, .. } = point.outcome else { panic!("{:?}", point.outcome) };
+    eprintln!("critical eps_p = {crit}, mode {}, mu at unstable end {}", point.mode, point.max_multiplier_unstable);
     assert_eq!(point.mode, "a8");
     // The shipped scene drives just below it.
     let eps = base.drive.as_ref().unwrap().amplitude;
@@ -112,6 +113,7 @@ fn drive_just_below_critical_is_bounded_and_just_above_blows_up() {
     match &above.status {
         RunStatus::BlowUp { t, mode } => {
             assert_eq!(mode, "a8");
+            eprintln!("above critical (eps_p = {}): blow-up of {mode} at {t}", 1.04 * crit);
             // Growth 1e-6 → 0.5 at |μ| ≈ 1.05 per period takes ~270 periods.
             assert!(*t > 100e-6 && *t < 500e-6, "blow-up at {t}");
         }
@@ -131,9 +133,10 @@ fn tiny_amplitudes_scale_linearly() {
     };
     let reference = curve(1e-9);
     let peak = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    for (rel, tol) in [(1e-3, 1e-2), (1e-6, 1e-5), (1e-12, 1e-8), (1e-20, 1e-8), (1e-30, 1e-8)] {
+    for (rel, tol) in [(1e-3, 1e-4), (1e-6, 1e-5), (1e-12, 1e-9), (1e-20, 1e-9), (1e-30, 1e-9)] {
         let c = curve(rel);
         let err = c.iter().zip(&reference).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / peak;
+        eprintln!("tiny amplitude {rel:e}: max rel deviation {err:e}");
         assert!(err < tol, "a2(0) = {rel} R0: max |Δ(a2/a2(0))| / peak = {err:e} ≥ {tol:e}");
         // No underflow: the last sample is still of the reference's size.
         let (l, r) = (c.last().unwrap(), reference.last().unwrap());
@@ -198,7 +201,8 @@ fn long_static_coil_run_stays_at_its_equilibrium() {
     assert!(first[1].abs() > 1e-6 * r0, "a2 = {}", first[1]);
     for c in 0..5 {
         let drift = (hi[c] - lo[c]) / r0;
-        assert!(drift < 1e-9, "column {c}: range over [1000, 2000] µs = {drift:e} R0");
+        eprintln!("static column {c}: value {:e} m, range over 2nd half {drift:e} R0", first[c]);
+        assert!(drift < 1e-12, "column {c}: range over [1000, 2000] µs = {drift:e} R0");
     }
 }
 
