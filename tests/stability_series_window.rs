@@ -1,6 +1,6 @@
 //! The Floquet / time-series discrepancy at 1.2 MHz (docs/stability.md, "Floquet vs series"):
 //! at ε_p = 0.531, N = 8, Floquet gives |μ| ≈ 1.022 per period but the 200-period series
-//! criterion calls the run bounded. A long run shows why: the seed first decays by ~7 decades
+//! criterion of the time (windows [50,100) vs [150,200) periods) called the run bounded. A long run shows why: the seed first decays by ~7 decades
 //! while the radial start-up transient dies out (~300 periods), and only then does a_8 grow at
 //! the Floquet rate. This test checks that late growth rate against the multiplier.
 mod common;
