@@ -143,7 +143,7 @@ fn the_scene_runs_with_h4_and_differs_from_the_h2_coil_only_by_the_h4_terms() {
     let (x, y) = (a2(&with), a2(&without));
     eprintln!("a2(10 µs): with H4 {x:.15e}, without {y:.15e}, rel. diff {:.2e}", rel_err(x, y));
     // The H4 loads are ~(R/a)² ≈ 1e-8 of the H2 ones (a = 0.1 m): a real but tiny change.
-    // measured 1.7e-8; at the root of P¹_4 the same comparison gives ≤ 1e-10 (next test)
+    // measured 1.6e-8; at the root of P¹_4 the same comparison gives ≤ 1e-12 (next test)
     assert!(rel_err(x, y) > 1e-9, "include_h4 changed nothing: {}", rel_err(x, y));
     assert!(rel_err(x, y) < 1e-5, "H4 effect {} larger than its (R/a)² scale", rel_err(x, y));
 }
@@ -162,7 +162,7 @@ fn at_the_root_of_p14_include_h4_is_the_plain_coil() {
     for ((n, u), (m, v)) in x.iter().zip(&y) {
         assert_eq!(n, m);
         // H4/H2 ~ 1e-16 here: equal up to round-off (the component sums differ in order), far
-        // below the 1.7e-8 of the H4 terms at θc = π/4 (previous test).
+        // below the 1.6e-8 of the H4 terms at θc = π/4 (previous test).
         assert!((u - v).abs() <= 1e-12 * u.abs().max(1e-20), "{n}: {u} vs {v}");
     }
 }

@@ -1,13 +1,14 @@
-//! Every example command of docs/user-guide.md runs. The commands are read from the guide itself
-//! (lines in ```sh blocks starting with `magbubble `), so the guide and this test cannot drift.
+//! Every example command of docs/user-guide.md and docs/adding-a-field.md runs. The commands are
+//! read from the docs themselves (lines in ```sh blocks starting with `magbubble `), so the docs
+//! and this test cannot drift.
 //! They run in a temporary directory with the shipped scenes copied to ./scenes; each must exit 0
 //! and the files the guide says it writes must exist.
 
 use std::path::Path;
 use std::process::Command;
 
-fn guide_commands() -> Vec<String> {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/user-guide.md")).unwrap();
+fn guide_commands(doc: &str) -> Vec<String> {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs").join(doc)).unwrap();
     let mut in_sh = false;
     let mut out = Vec::new();
     for line in text.lines() {
@@ -38,8 +39,10 @@ fn copy_dir(from: &Path, to: &Path) {
 
 #[test]
 fn every_guide_example_runs() {
-    let cmds = guide_commands();
-    assert!(cmds.len() >= 12, "found only {} example commands", cmds.len());
+    let (guide, field) = (guide_commands("user-guide.md"), guide_commands("adding-a-field.md"));
+    assert!(guide.len() >= 12, "found only {} example commands in the guide", guide.len());
+    assert!(field.len() >= 2, "found only {} example commands in adding-a-field", field.len());
+    let cmds = [guide, field].concat();
     let dir = tempfile::tempdir().unwrap();
     copy_dir(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes")), &dir.path().join("scenes"));
     for cmd in &cmds {
@@ -67,6 +70,8 @@ fn every_guide_example_runs() {
     for f in [
         "out/coil/series.csv",
         "out/coil/summary.json",
+        "out/coil_h4/series.png",
+        "out/coil_h4/summary.json",
         "out/stab/stability.csv",
         "out/s0/stability.shard-0-of-2.csv",
         "out/all.csv",
@@ -79,4 +84,8 @@ fn every_guide_example_runs() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/coil/summary.json")).unwrap()).unwrap();
     assert_eq!(summary["status"], "completed", "{summary}");
+    // the full-length run of scenes/coil_h4.toml (adding-a-field.md) completes 100 µs
+    let h4: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/coil_h4/summary.json")).unwrap()).unwrap();
+    assert_eq!(h4["status"], "completed", "{h4}");
 }
