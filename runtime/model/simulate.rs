@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use super::{Groups, Model, ModelError};
 use crate::scene::{Run, Scene};
-use crate::integrate::{solve, Control, Method, Output, Stats};
+use crate::integrate::{solve, Control, IntegrateError, Method, Output, Stats};
 
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -49,6 +49,18 @@ pub fn simulate(scene: &Scene, observer: &mut dyn FnMut(f64, &[f64])) -> Result<
 }
 
 impl Model {
+    /// The mode a component of the integrated state belongs to: "R" (R, Ṙ), "a{k}" (a_k, ȧ_k)
+    /// or "b{k}".
+    fn component_mode(&self, component: usize) -> String {
+        match component {
+            0 | 1 => "R".into(),
+            c => {
+                let k = self.orders.get((c - 2) / 3).copied().unwrap_or(0);
+                if (c - 2) % 3 == 2 { format!("b{k}") } else { format!("a{k}") }
+            }
+        }
+    }
+
     /// Runs this model with the run settings `run` (see [`simulate`]).
     pub fn run(&self, run: &Run, observer: &mut dyn FnMut(f64, &[f64])) -> RunReport {
         let start = Instant::now();
@@ -92,6 +104,13 @@ impl Model {
                 },
                 sol.stats,
             ),
+            // A state that turns non-finite between two output samples is, by the definition of
+            // `blow_up::classify`, a blow-up: report it as one (with the mode of the offending
+            // component and the time it went non-finite, an upper bound of the threshold crossing)
+            // rather than as an integrator failure (docs/hard-cases.md).
+            Err(IntegrateError::NonFinite { t, component }) => {
+                (RunStatus::BlowUp { t: t * ts, mode: self.component_mode(component) }, Stats::default())
+            }
             Err(e) => (RunStatus::Failed { reason: e.to_string() }, Stats::default()),
         };
         RunReport {
