@@ -49,8 +49,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     println!("{:>6} {:>14} {:>14} {:>14} {:>10} {:>10}", "column", "max |diff| m", "mean |diff| m", "max |full| m", "max rel", "mean rel");
     for d in &diffs {
         println!(
-            "{:>6} {:>14.4e} {:>14.4e} {:>14.4e} {:>10.3e} {:>10.3e}",
-            d.name, d.max_abs_diff, d.mean_abs_diff, d.max_abs_full, d.max_rel_diff, d.mean_rel_diff
+            "{:>6} {:>14.4e} {:>14.4e} {:>14.4e} {:>10} {:>10}",
+            d.name,
+            d.max_abs_diff,
+            d.mean_abs_diff,
+            d.max_abs_full,
+            rel_cell(d.max_rel_diff, d.max_abs_diff),
+            rel_cell(d.mean_rel_diff, d.mean_abs_diff)
         );
     }
     let out = args.out.clone().unwrap_or_else(|| {
@@ -83,4 +88,29 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     write_json(&dir.join("compare.json"), &Summary { differences: &diffs, boundary_layer: &rep_bl, vorticity: &rep_full })?;
     println!("wrote {}", out.display());
     Ok(())
+}
+
+/// A relative difference for the table: `0` when both runs are identical in that column (a mode
+/// identically zero in both, where diff/max|full| is 0/0), `—` when the full run is identically
+/// zero but the boundary-layer run is not (no scale to be relative to).
+fn rel_cell(rel: f64, abs_diff: f64) -> String {
+    if rel.is_finite() {
+        format!("{rel:.3e}")
+    } else if abs_diff == 0.0 {
+        "0".to_string()
+    } else {
+        "—".to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rel_cell;
+
+    #[test]
+    fn zero_columns_print_zero_not_nan() {
+        assert_eq!(rel_cell(f64::NAN, 0.0), "0");
+        assert_eq!(rel_cell(f64::NAN, 1e-9), "—");
+        assert_eq!(rel_cell(0.25, 1.0), "2.500e-1");
+    }
 }

@@ -1,8 +1,11 @@
 //! `magbubble modes SCENE [--kmax N] [--json]`: natural frequencies (corrected eq 3.10,
-//! FORMULATION §4.4) and the radial frequency. `--damped` (damped spectrum) is wired in when
-//! the dispersion analysis (issue 6) lands.
+//! FORMULATION §4.4) and the radial frequency. `--damped`: the damped linear spectrum
+//! s = −γ ± iω at R0 with the scene's viscous closure (issue 4 part 6,
+//! `model::vorticity::scene::damped_spectrum`). `--plot DIR`: ω_k against k (SVG + PNG).
 
 use crate::analysis::frequencies::natural_frequencies;
+use crate::model::vorticity::scene::damped_spectrum;
+use crate::plot::kinds::{omega_vs_k, Curve};
 use anyhow::Context;
 use std::path::PathBuf;
 
@@ -20,16 +23,19 @@ pub struct ModesArgs {
     /// Damped linear spectrum (decay rates) instead of the undamped frequencies.
     #[arg(long)]
     pub damped: bool,
+    /// Also write the ω_k–k plot (modes.svg/png; with --damped also the decay rates) into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
     /// Override a scene key, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
 }
 
 pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
-    if args.damped {
-        anyhow::bail!("--damped: the damped spectrum (issue 6, analysis::dispersion) is not merged yet");
-    }
     let scene = super::floquet::load_scene(&args.scene, &args.set)?;
+    if args.damped {
+        return damped(args, &scene);
+    }
     let kmax = args.kmax.unwrap_or(scene.modes.max_order.max(2));
     let f = natural_frequencies(&scene, kmax).with_context(|| format!("natural frequencies of {}", args.scene.display()))?;
     if args.json {
@@ -49,6 +55,55 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
             let note = if m.field_couplings { "" } else { "  (field couplings not included)" };
             println!("{:>4} {:>14.6e} {:>14.6e} {:>10.5}{note}", m.k, m.omega_rad_s, m.f_hz, m.omega_nondim);
         }
+    }
+    if let Some(dir) = &args.plot {
+        let k: Vec<f64> = f.shape.iter().map(|m| m.k as f64).collect();
+        let w: Vec<f64> = f.shape.iter().map(|m| m.omega_rad_s).collect();
+        let fig = omega_vs_k("natural frequencies (corrected eq 3.10)", "ω_k [rad/s]", &[Curve::new("ω_k", k, w)], true);
+        save(&fig, dir, "modes")?;
+    }
+    Ok(())
+}
+
+fn save(fig: &crate::plot::Figure, dir: &std::path::Path, stem: &str) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let s = fig.save(dir, stem).with_context(|| format!("plotting {stem} into {}", dir.display()))?;
+    eprintln!("wrote {} and {}", s.svg.display(), s.png.display());
+    Ok(())
+}
+
+/// The damped spectrum of the scene's closure, modes k = 2, 4, …, max_order (`--kmax` is not
+/// used: the spectrum is per simulated mode). NaN (JSON null) where a root was not found.
+fn damped(args: &ModesArgs, scene: &crate::scene::Scene) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        scene.modes.max_order >= 2,
+        "--damped: the scene has no shape modes (modes.max_order = {}); set modes.max_order ≥ 2",
+        scene.modes.max_order
+    );
+    let d = damped_spectrum(scene).with_context(|| format!("damped spectrum of {}", args.scene.display()))?;
+    if args.json {
+        let v = serde_json::json!({
+            "closure": d.closure,
+            "shape": d.shape.iter().map(|m| serde_json::json!({
+                "k": m.k, "decay_per_s": m.decay_per_s, "omega_rad_s": m.omega_rad_s,
+            })).collect::<Vec<_>>(),
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        println!("closure: {}   (s = −γ ± iω, linearisation at R0)", d.closure);
+        println!("{:>4} {:>14} {:>14} {:>10}", "k", "decay_per_s", "omega_rad_s", "Q = ω/2γ");
+        for m in &d.shape {
+            println!("{:>4} {:>14.6e} {:>14.6e} {:>10.3}", m.k, m.decay_per_s, m.omega_rad_s, m.omega_rad_s / (2.0 * m.decay_per_s));
+        }
+    }
+    if let Some(dir) = &args.plot {
+        let k: Vec<f64> = d.shape.iter().map(|m| m.k as f64).collect();
+        let curves = [
+            Curve::new("ω_k [rad/s]", k.clone(), d.shape.iter().map(|m| m.omega_rad_s).collect()),
+            Curve::new("γ_k [1/s]", k, d.shape.iter().map(|m| m.decay_per_s).collect()),
+        ];
+        let fig = omega_vs_k(&format!("damped spectrum ({})", d.closure), "ω_k, γ_k", &curves, true);
+        save(&fig, dir, "modes_damped")?;
     }
     Ok(())
 }

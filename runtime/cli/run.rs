@@ -5,6 +5,7 @@
 //! Nothing is created when the scene is invalid; when the model cannot be assembled or a write
 //! fails, the temp files are removed and so is the output directory if this run created it.
 
+use anyhow::Context as _;
 use crate::output::{write_json, CsvWriter, OrderedMap, OutputDir, Progress};
 use crate::scene::{self, Scene};
 use serde::Serialize;
@@ -23,6 +24,9 @@ pub struct RunArgs {
     /// Override a scene key, e.g. --set drive.amplitude=0.3 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Also draw the time series (R and the shape modes) as series.svg and series.png.
+    #[arg(long)]
+    pub plot: bool,
 }
 
 /// The simulation entry point (`crate::model::simulate`).
@@ -161,6 +165,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
     }
 
     print_summary(&report, &scene, &out, rows);
+    if args.plot {
+        crate::plot::series_plot(&series_path, &out)
+            .with_context(|| format!("plotting {}", series_path.display()))?;
+        println!("plotted:    {}", out.join("series.svg").display());
+    }
     if let RunStatus::Failed { reason } = &report.status {
         anyhow::bail!(
             "the integration failed: {reason} (outputs up to t = {:e} s written to {})",

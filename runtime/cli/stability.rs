@@ -38,12 +38,26 @@ pub struct StabilityArgs {
     pub scan: usize,
     #[arg(long, default_value = "stability-out")]
     pub out: PathBuf,
+    /// Also draw the diagram (stability.svg/png: critical value against frequency, one curve
+    /// per family) and the first-unstable-mode staircase (stability_mode.svg/png) into --out.
+    /// Ignored for a shard (plot the merged CSV).
+    #[arg(long)]
+    pub plot: bool,
     /// Shard i/n of the frequency points (default from SLURM_ARRAY_TASK_ID/COUNT).
     #[arg(long)]
     pub shard: Option<String>,
     /// Override a scene key, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+}
+
+impl StabilityArgs {
+    fn method_label(&self) -> String {
+        match self.method {
+            Criterion::Floquet => "Floquet".into(),
+            Criterion::Series => "time series".into(),
+        }
+    }
 }
 
 #[derive(Debug, clap::Args)]
@@ -135,6 +149,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         }
     };
     let scene_text = std::fs::read_to_string(&args.scene).with_context(|| format!("reading {}", args.scene.display()))?;
+    let mut plotted: Vec<(String, PathBuf)> = Vec::new();
     for (fkey, fval) in family {
         let mut set = args.set.clone();
         if !fkey.is_empty() {
@@ -180,7 +195,20 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             row
         })?;
         eprintln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
-        // Plot hook: the figures helper renders this CSV (crate::plot).
+        let label = if fkey.is_empty() { args.method_label() } else { format!("{fkey} = {fval}") };
+        plotted.push((label, csv));
+    }
+    if args.plot {
+        if shard != Shard::ALL {
+            eprintln!("--plot: skipped for a shard; plot the merged CSV");
+        } else {
+            let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
+            let saved = crate::plot::stability_plot(&plotted, &args.out, "stability", &y_label, false)
+                .with_context(|| format!("plotting the stability diagram into {}", args.out.display()))?;
+            for s in saved {
+                eprintln!("wrote {} and {}", s.svg.display(), s.png.display());
+            }
+        }
     }
     Ok(())
 }

@@ -84,6 +84,10 @@ pub fn time_series_select(title: &str, runs: &[TimeSeries], shapes: &[&str]) -> 
     if !several {
         top.legend = Legend::Hidden;
     }
+    if bottom.series.is_empty() {
+        // A radial-only run (modes.max_order = 0) has no shape panel.
+        return Figure::single(top).title(title);
+    }
     Figure::stacked(vec![top, bottom]).title(title)
 }
 

@@ -66,7 +66,7 @@ fn run_writes_series_and_summary_and_no_temp_files() {
     let args = RunArgs {
         scene,
         out: Some(out.clone()),
-        set: vec!["shell.c1=0.2".into()],
+        set: vec!["shell.c1=0.2".into()], plot: false,
     };
     execute(&args, decay).unwrap();
 
@@ -123,7 +123,7 @@ fn failed_model_leaves_no_directory_and_no_files() {
         &RunArgs {
             scene,
             out: Some(out.clone()),
-            set: vec![],
+            set: vec![], plot: false,
         },
         failing,
     )
@@ -142,7 +142,7 @@ fn failed_model_in_an_existing_directory_keeps_it_but_leaves_no_files() {
         &RunArgs {
             scene,
             out: Some(out.clone()),
-            set: vec![],
+            set: vec![], plot: false,
         },
         failing,
     )
@@ -160,7 +160,7 @@ fn invalid_scene_creates_nothing() {
         &RunArgs {
             scene,
             out: Some(out.clone()),
-            set: vec![],
+            set: vec![], plot: false,
         },
         decay,
     )
