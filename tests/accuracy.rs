@@ -58,3 +58,27 @@ fn quick_study_on_radial_only() {
 fn quick_study_on_no_field() {
     check("no_field.toml");
 }
+
+#[test]
+fn quick_study_on_the_full_vorticity_model() {
+    // staggered (0) over dt, monolithic (1) over rtol; the monolithic error must fall with rtol
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("acc");
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/no_field.toml");
+    let o = Command::new(env!("CARGO_BIN_EXE_magbubble"))
+        .args(["accuracy", scene_path.to_str().unwrap(), "--quick", "--out", out.to_str().unwrap()])
+        .args(["--set", "modes.viscous=vorticity", "--set", "modes.max_order=4", "--set", "vorticity.points=51"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("accuracy.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.iter().filter(|r| r[0] == 0.0).count(), 3);
+    let mono: Vec<f64> = rows.iter().filter(|r| r[0] == 1.0).map(|r| r[4]).collect();
+    assert_eq!(mono.len(), 3);
+    assert!(mono.iter().all(|e| e.is_finite()) && mono[2] < 0.1 * mono[0], "monolithic errors {mono:?}");
+    let stag: Vec<f64> = rows.iter().filter(|r| r[0] == 0.0).map(|r| r[4]).collect();
+    assert!(stag[2] < stag[0], "staggered errors {stag:?}");
+    let sizes = std::fs::read_to_string(out.join("sizes.csv")).unwrap();
+    assert!(sizes.lines().any(|l| l.starts_with("1e0,5.1e1")), "grid ladder missing:\n{sizes}");
+}
