@@ -17,8 +17,10 @@ use std::time::Instant;
 /// Δt′ = 1.7·10⁻⁴. Full: the scene's 8 modes over `CONV_DURATION`; quick: 4 modes, 2 µs, Δt′ = 5·10⁻⁴.
 const CONV_REFERENCE: f64 = 1.7e-4;
 const CONV_MULTIPLES: &[u64] = &[2, 4, 8, 16];
-/// Simulated time of the full convergence study [s], as the paper (100 µs).
-const CONV_DURATION: f64 = 100e-6;
+/// Simulated time of the full convergence study [s]. The paper runs 100 µs; in the corrected
+/// model the reference run of this scene blows up at t′ ≈ 25.5 (≈ 57 µs, measured; FORMULATION
+/// §5), so the study stops at 10 µs, before the growth.
+const CONV_DURATION: f64 = 10e-6;
 const QUICK_CONV: &[&str] = &["modes.max_order=4", "vorticity.points=101"];
 /// Quick runs of fig 4: 4 modes, 5 µs.
 const QUICK_COMPARE: &[&str] = &[
