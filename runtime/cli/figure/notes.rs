@@ -24,6 +24,9 @@ pub fn differences(number: u32) -> &'static str {
 pub fn append(fig: &PaperFigure, report: &FigureReport, out: &Path) -> Result<(), FigureError> {
     let md = out.join(format!("{}.md", fig.stem()));
     let mut text = std::fs::read_to_string(&md).unwrap_or_default();
+    if report.quick && matches!(fig.recipe, crate::plot::paper::Recipe::Stability(_)) {
+        text.push_str("\n`--quick` for a stability figure: the first two families, the coarse frequency grid, modes up to 8 (unless the family sets `modes.max_order`), bisection to 2 % of the search range, 100 Magnus steps per period (the \"20 µs, modes up to 4\" above is the time-series setting).\n");
+    }
     text.push_str("\n## magbubble against the paper\n\n");
     text.push_str(differences(fig.number));
     text.push('\n');
