@@ -7,6 +7,10 @@ use crate::plot::paper::{
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 
+mod backend;
+mod extra;
+mod notes;
+
 /// Arguments of `magbubble figure`.
 #[derive(Debug, clap::Args)]
 pub struct FigureArgs {
@@ -122,33 +126,30 @@ fn make(
                 needs: fig.recipe.needs(),
             }),
         },
-        Recipe::Stability(spec) => match analyzer() {
+        Recipe::Stability(spec) => match analyzer(quick) {
             Some(a) => paper::make_stability(fig, spec, scenes, out, quick, a.as_ref(), &tick),
             None => Err(FigureError::NotAvailable {
                 figure: fig.number,
                 needs: fig.recipe.needs(),
             }),
         },
-        // TODO(H6 merge): convergence / compare recipes.
-        other => Err(FigureError::NotAvailable {
-            figure: fig.number,
-            needs: other.needs(),
-        }),
+        Recipe::Convergence => extra::make_convergence(fig, scenes, out, quick),
+        Recipe::Compare => extra::make_compare(fig, scenes, out, quick),
     };
     progress.finish_and_clear();
-    result
+    let report = result?;
+    notes::append(fig, &report, out)?;
+    Ok(report)
 }
 
-/// The model-backed simulator, once `model::simulate` is merged.
+/// The model-backed simulator (`scene::load` + `model::simulate`).
 fn simulator() -> Option<Box<dyn Simulator>> {
-    // TODO(model merge): `scene::load` + `model::simulate`.
-    None
+    Some(Box::new(backend::ModelSimulator))
 }
 
-/// The analysis-backed analyzer, once `analysis::{frequencies, stability}` are merged.
-fn analyzer() -> Option<Box<dyn Analyzer>> {
-    // TODO(analysis merge): natural_frequencies + critical_point + floquet.
-    None
+/// The analysis-backed analyzer (natural_frequencies + critical_point + floquet).
+fn analyzer(quick: bool) -> Option<Box<dyn Analyzer>> {
+    Some(Box::new(backend::ModelAnalyzer { quick }))
 }
 
 /// `DIR/figures.md`: one line per figure, its time and its files (the README gallery's source).

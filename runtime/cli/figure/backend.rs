@@ -1,0 +1,230 @@
+//! The model and analysis behind the figure recipes of [`crate::plot::paper`]: a [`Simulator`]
+//! on `scene::load` + `model::simulate`, and an [`Analyzer`] on
+//! `analysis::{frequencies, stability}` (critical values by bracketing + bisection of the
+//! Floquet criterion, FORMULATION §4.6; paper §4 uses eigenvalues "< 1", we use |μ| < 1).
+
+use crate::analysis::frequencies::natural_frequencies;
+use crate::analysis::stability::{
+    critical_point, floquet, Criterion, CriticalOptions, FloquetOptions, StabilityError,
+};
+use crate::model::{simulate, RunStatus};
+use crate::plot::paper::{Analyzer, CriticalRow, ModeRow, RunOutput, Simulator, Sweep};
+use crate::scene::{self, Current, Drive, Field, Scene};
+use rayon::prelude::*;
+use std::path::Path;
+use std::time::Instant;
+
+/// Extra overrides of the stability figures with `--quick`: modes up to 8 (a family that sets
+/// `modes.max_order` itself keeps its value, see [`ModelAnalyzer::load`]).
+pub const QUICK_STABILITY: &[&str] = &["modes.max_order=8"];
+
+/// `scene::load` + `model::simulate`, keeping every sample.
+pub struct ModelSimulator;
+
+impl Simulator for ModelSimulator {
+    fn simulate(&self, path: &Path, overrides: &[String]) -> Result<RunOutput, String> {
+        let scene = scene::load(path, overrides).map_err(|e| e.to_string())?;
+        let start = Instant::now();
+        let (mut t_s, mut rows) = (Vec::new(), Vec::new());
+        let report = simulate(&scene, &mut |t, row| {
+            t_s.push(t);
+            rows.push(row.to_vec());
+        })
+        .map_err(|e| e.to_string())?;
+        let columns = report.max_abs.iter().map(|(n, _)| n.clone()).collect();
+        let (status, blow_up) = match &report.status {
+            RunStatus::Completed => (format!("completed ({:.1} µs)", report.t_end * 1e6), None),
+            RunStatus::BlowUp { t, mode } => (
+                format!("blow_up of {mode} at t = {:.2} µs", t * 1e6),
+                Some((mode.clone(), *t)),
+            ),
+            RunStatus::Failed { reason } => (
+                format!("integrator failed at t = {:.2} µs: {reason}", report.t_end * 1e6),
+                None,
+            ),
+        };
+        Ok(RunOutput {
+            columns,
+            t_s,
+            rows,
+            status,
+            blow_up,
+            wall_seconds: start.elapsed().as_secs_f64(),
+        })
+    }
+}
+
+/// Floquet-based stability analyses; `quick` caps the modes at 8, coarsens the bisection
+/// and the Magnus/shooting resolution.
+pub struct ModelAnalyzer {
+    pub quick: bool,
+}
+
+impl ModelAnalyzer {
+    /// The scene with the quick overrides first and the family's after (so a family's own
+    /// `modes.max_order`, fig 5, wins).
+    fn load(&self, path: &Path, overrides: &[String]) -> Result<Scene, String> {
+        let mut all: Vec<String> = Vec::new();
+        if self.quick && !overrides.iter().any(|o| o.starts_with("modes.max_order")) {
+            all.extend(QUICK_STABILITY.iter().map(|s| s.to_string()));
+        }
+        all.extend(overrides.iter().cloned());
+        scene::load(path, &all).map_err(|e| e.to_string())
+    }
+
+    fn floquet_options(&self) -> FloquetOptions {
+        let mut o = FloquetOptions::default();
+        if self.quick {
+            o.magnus_steps = 100;
+            o.shooting.steps_per_period = 100;
+        }
+        o
+    }
+}
+
+/// Sets a numeric key the sweeps vary; `false` for a key that needs the scene loader.
+fn set_fast(scene: &mut Scene, key: &str, value: f64) -> bool {
+    match key {
+        "drive.amplitude" | "drive.frequency_hz" => {
+            let d = scene.drive.get_or_insert(Drive {
+                amplitude: 0.0,
+                frequency_hz: 1e6,
+            });
+            if key == "drive.amplitude" {
+                d.amplitude = value
+            } else {
+                d.frequency_hz = value
+            }
+            true
+        }
+        "field.coil.current.amplitude" | "field.coil.current.frequency_hz" => match &mut scene.field {
+            Some(Field::Coil(c)) => {
+                let (amp, f) = match c.current {
+                    Current::Cosine {
+                        amplitude,
+                        frequency_hz,
+                    } => (amplitude, frequency_hz),
+                    Current::Static { value } => (value, 1e6),
+                };
+                c.current = if key.ends_with("amplitude") {
+                    Current::Cosine {
+                        amplitude: value,
+                        frequency_hz: f,
+                    }
+                } else {
+                    Current::Cosine {
+                        amplitude: amp,
+                        frequency_hz: value,
+                    }
+                };
+                true
+            }
+            _ => false,
+        },
+        _ => false,
+    }
+}
+
+/// `a12` → 12.
+fn mode_number(mode: &str) -> Option<usize> {
+    mode.trim_start_matches(|c: char| !c.is_ascii_digit()).parse().ok()
+}
+
+impl Analyzer for ModelAnalyzer {
+    fn modes(
+        &self,
+        path: &Path,
+        overrides: &[String],
+        kmax: usize,
+    ) -> Result<(Vec<ModeRow>, f64), String> {
+        let scene = self.load(path, overrides)?;
+        let f = natural_frequencies(&scene, kmax).map_err(|e| e.to_string())?;
+        let rows = f
+            .shape
+            .iter()
+            .map(|s| ModeRow {
+                k: s.k,
+                omega_rad_s: s.omega_rad_s,
+                omega_nondim: s.omega_nondim,
+            })
+            .collect();
+        Ok((rows, f.t_star))
+    }
+
+    fn critical(
+        &self,
+        path: &Path,
+        overrides: &[String],
+        sweep: &Sweep,
+    ) -> Result<Vec<CriticalRow>, String> {
+        let base = self.load(path, overrides)?;
+        let (lo, hi) = sweep.range;
+        let opts = CriticalOptions {
+            criterion: Criterion::Floquet,
+            lo,
+            hi,
+            scan: if self.quick { 4 } else { 8 },
+            tol: (hi - lo) * if self.quick { 2e-2 } else { 2e-3 },
+            floquet: self.floquet_options(),
+            series: Default::default(),
+        };
+        let one = |&f: &f64| -> Result<CriticalRow, String> {
+            let at = |p: f64| -> Result<Scene, StabilityError> {
+                let mut s = base.clone();
+                if set_fast(&mut s, sweep.freq_key, f) && set_fast(&mut s, sweep.vary, p) {
+                    return Ok(s);
+                }
+                let mut all = overrides.to_vec();
+                all.push(format!("{}={f:e}", sweep.freq_key));
+                all.push(format!("{}={p:e}", sweep.vary));
+                self.load(path, &all).map_err(StabilityError::Scene)
+            };
+            let c = critical_point(&at, &opts)
+                .map_err(|e| format!("at {} = {f:e} Hz: {e}", sweep.freq_key))?;
+            let fields = c.fields();
+            Ok(CriticalRow {
+                frequency_hz: f,
+                critical: c.outcome.value().unwrap_or(f64::NAN),
+                outcome: fields[1].clone(),
+                mode: mode_number(&c.mode),
+            })
+        };
+        sweep.freqs_hz.par_iter().map(one).collect()
+    }
+
+    fn max_multiplier(
+        &self,
+        path: &Path,
+        overrides: &[String],
+        freq_key: &str,
+        freqs_hz: &[f64],
+    ) -> Result<Vec<f64>, String> {
+        let base = self.load(path, overrides)?;
+        let opts = self.floquet_options();
+        freqs_hz
+            .par_iter()
+            .map(|&f| {
+                let mut s = base.clone();
+                if !set_fast(&mut s, freq_key, f) {
+                    let mut all = overrides.to_vec();
+                    all.push(format!("{freq_key}={f:e}"));
+                    s = self.load(path, &all)?;
+                }
+                // No periodic orbit (collapse, blow-up) is drawn as a gap, not an error.
+                Ok(floquet(&s, &opts).map_or(f64::NAN, |r| r.max_multiplier))
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mode_numbers_parse() {
+        assert_eq!(mode_number("a12"), Some(12));
+        assert_eq!(mode_number("a2"), Some(2));
+        assert_eq!(mode_number(""), None);
+    }
+}

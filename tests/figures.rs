@@ -1,0 +1,70 @@
+//! `magbubble figure all --quick`: every figure 3–16 writes its CSV, SVG, PNG and note, with
+//! real content (data rows, a PNG signature, the paper comparison), within the time budget.
+
+use std::path::Path;
+use std::process::Command;
+use std::time::Instant;
+
+fn magbubble() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_magbubble"))
+}
+
+#[test]
+fn figure_all_quick_writes_every_figure() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("figs");
+    let start = Instant::now();
+    let o = magbubble()
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(["figure", "all", "--quick", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let secs = start.elapsed().as_secs_f64();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "figure all --quick failed:\n{err}");
+    assert!(secs < 120.0, "figure all --quick took {secs:.1} s");
+    for n in 3..=16 {
+        let stem = format!("fig{n:02}");
+        for ext in ["csv", "svg", "png", "md"] {
+            let p = out.join(format!("{stem}.{ext}"));
+            assert!(p.is_file(), "{} missing", p.display());
+        }
+        let csv = std::fs::read_to_string(out.join(format!("{stem}.csv"))).unwrap();
+        assert!(csv.lines().count() >= 3, "{stem}.csv has no data rows:\n{csv}");
+        let png = std::fs::read(out.join(format!("{stem}.png"))).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n", "{stem}.png is not a PNG");
+        let svg = std::fs::read_to_string(out.join(format!("{stem}.svg"))).unwrap();
+        assert!(svg.contains("<svg"), "{stem}.svg is not an SVG");
+        let md = std::fs::read_to_string(out.join(format!("{stem}.md"))).unwrap();
+        assert!(md.contains(&format!("# Figure {n}")), "{stem}.md: no title");
+        assert!(md.contains("wall time"), "{stem}.md: no timing");
+        assert!(md.contains("## magbubble against the paper"), "{stem}.md: no comparison");
+    }
+    let index = std::fs::read_to_string(out.join("figures.md")).unwrap();
+    assert!(!index.contains("not produced"), "{index}");
+    // The time-series CSVs hold finite samples of every curve (fig 13: three radii).
+    let csv = std::fs::read_to_string(out.join("fig13.csv")).unwrap();
+    for label in ["R0 = 10 µm", "R0 = 15 µm", "R0 = 20 µm"] {
+        assert!(csv.contains(label), "fig13.csv lacks {label}");
+    }
+    let radius_ok = csv.lines().skip(1).take(50).all(|l| {
+        let r: f64 = l.split(',').nth(2).unwrap().parse().unwrap();
+        r > 1e-6 && r < 1e-4
+    });
+    assert!(radius_ok, "fig13.csv: R outside (1, 100) µm");
+}
+
+#[test]
+fn figure_rejects_unknown_number() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = magbubble()
+        .args(["figure", "2", "--out"])
+        .arg(tmp.path())
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("no figure 2"), "{err}");
+    assert!(!Path::new(&tmp.path().join("fig02.csv")).exists());
+}
