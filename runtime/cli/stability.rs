@@ -89,7 +89,7 @@ pub fn parse_freq(s: &str) -> anyhow::Result<Vec<f64>> {
 
 /// Sets a numeric scene key directly when it is one of the swept keys with a fast path;
 /// `false` when the key needs the scene loader's `--set` mechanism.
-fn set_fast(scene: &mut Scene, key: &str, value: f64) -> bool {
+pub(crate) fn set_fast(scene: &mut Scene, key: &str, value: f64) -> bool {
     match key {
         "drive.amplitude" | "drive.frequency_hz" => {
             let d = scene.drive.get_or_insert(crate::scene::Drive { amplitude: 0.0, frequency_hz: 1e6 });

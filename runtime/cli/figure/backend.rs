@@ -9,7 +9,7 @@ use crate::analysis::stability::{
 };
 use crate::model::{simulate, RunStatus};
 use crate::plot::paper::{Analyzer, CriticalRow, ModeRow, RunOutput, Simulator, Sweep};
-use crate::scene::{self, Current, Drive, Field, Scene};
+use crate::scene::{self, Scene};
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::Instant;
@@ -82,48 +82,7 @@ impl ModelAnalyzer {
     }
 }
 
-/// Sets a numeric key the sweeps vary; `false` for a key that needs the scene loader.
-fn set_fast(scene: &mut Scene, key: &str, value: f64) -> bool {
-    match key {
-        "drive.amplitude" | "drive.frequency_hz" => {
-            let d = scene.drive.get_or_insert(Drive {
-                amplitude: 0.0,
-                frequency_hz: 1e6,
-            });
-            if key == "drive.amplitude" {
-                d.amplitude = value
-            } else {
-                d.frequency_hz = value
-            }
-            true
-        }
-        "field.coil.current.amplitude" | "field.coil.current.frequency_hz" => match &mut scene.field {
-            Some(Field::Coil(c)) => {
-                let (amp, f) = match c.current {
-                    Current::Cosine {
-                        amplitude,
-                        frequency_hz,
-                    } => (amplitude, frequency_hz),
-                    Current::Static { value } => (value, 1e6),
-                };
-                c.current = if key.ends_with("amplitude") {
-                    Current::Cosine {
-                        amplitude: value,
-                        frequency_hz: f,
-                    }
-                } else {
-                    Current::Cosine {
-                        amplitude: amp,
-                        frequency_hz: value,
-                    }
-                };
-                true
-            }
-            _ => false,
-        },
-        _ => false,
-    }
-}
+use crate::cli::stability::set_fast;
 
 /// `a12` → 12.
 fn mode_number(mode: &str) -> Option<usize> {
