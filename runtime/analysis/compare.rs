@@ -66,3 +66,79 @@ mod tests {
         assert!((d[1].max_rel_diff - 0.75).abs() < 1e-15);
     }
 }
+
+/// Errors assembling the two models of a comparison.
+#[derive(Debug, thiserror::Error)]
+pub enum CompareError {
+    #[error("assembling the boundary-layer model: {0}")]
+    BoundaryLayer(#[from] crate::model::ModelError),
+    #[error("assembling the full (vorticity) model: {0}")]
+    Full(#[from] crate::model::vorticity::scene::FullModelError),
+    #[error("the two runs sampled different times ({bl} s vs {full} s at sample {index})")]
+    TimeMismatch { index: usize, bl: f64, full: f64 },
+}
+
+/// One scene run with both closures, sampled at the same times (the shorter run sets `t`).
+#[derive(Debug)]
+pub struct ClosureRuns {
+    /// Output columns: R, a2, b2, …
+    pub names: Vec<String>,
+    /// Sample times [s] common to both runs.
+    pub t: Vec<f64>,
+    pub bl: Vec<Vec<f64>>,
+    pub full: Vec<Vec<f64>>,
+    pub report_bl: crate::model::RunReport,
+    pub report_full: crate::model::RunReport,
+    pub scheme: crate::scene::VorticityScheme,
+    pub diffs: Vec<ColumnDiff>,
+}
+
+/// Runs `scene` with the boundary-layer closure and with the full vorticity model
+/// (`modes.viscous` of the scene is ignored) and compares the common samples.
+pub fn run_both(scene: &crate::scene::Scene) -> Result<ClosureRuns, CompareError> {
+    let mut scene = scene.clone();
+    scene.modes.viscous = crate::scene::Viscous::BoundaryLayer;
+    let bl = crate::model::Model::from_scene(&scene)?;
+    let full = crate::model::vorticity::scene::FullModel::from_scene(&scene)?;
+    let record = |t: &mut Vec<f64>, rows: &mut Vec<Vec<f64>>, ti: f64, row: &[f64]| {
+        t.push(ti);
+        rows.push(row.to_vec());
+    };
+    let (mut t, mut rows_bl) = (vec![], vec![]);
+    let report_bl = bl.run(&scene.run, &mut |ti, row| record(&mut t, &mut rows_bl, ti, row));
+    let (mut t_full, mut rows_full) = (vec![], vec![]);
+    let report_full = full.run(&scene.run, &mut |ti, row| record(&mut t_full, &mut rows_full, ti, row));
+    let n = rows_bl.len().min(rows_full.len());
+    let tol = |ti: f64| 1e-9 * scene.run.sample_interval.max(ti.abs());
+    if let Some(i) = (0..n).find(|&i| (t[i] - t_full[i]).abs() > tol(t[i])) {
+        return Err(CompareError::TimeMismatch { index: i, bl: t[i], full: t_full[i] });
+    }
+    t.truncate(n);
+    rows_bl.truncate(n);
+    rows_full.truncate(n);
+    let names = bl.state_names();
+    let diffs = compare_rows(&names, &rows_bl, &rows_full);
+    Ok(ClosureRuns { names, t, bl: rows_bl, full: rows_full, report_bl, report_full, scheme: full.scheme, diffs })
+}
+
+impl ClosureRuns {
+    /// Writes `t, R_bl, R_full, a2_bl, a2_full, …` (SI) atomically.
+    pub fn write_csv(&self, path: &std::path::Path) -> Result<(), crate::output::OutputError> {
+        let mut header = vec!["t".to_string()];
+        for name in &self.names {
+            header.push(format!("{name}_bl"));
+            header.push(format!("{name}_full"));
+        }
+        let mut csv = crate::output::CsvWriter::create(path, &header)?;
+        let mut line = vec![0.0; header.len()];
+        for (i, &t) in self.t.iter().enumerate() {
+            line[0] = t;
+            for c in 0..self.names.len() {
+                line[1 + 2 * c] = self.bl[i][c];
+                line[2 + 2 * c] = self.full[i][c];
+            }
+            csv.row(&line);
+        }
+        csv.commit()
+    }
+}

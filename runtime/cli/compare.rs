@@ -3,11 +3,9 @@
 //! differences of R and every a_k, b_k; writes `DIR/compare.csv` (t and both series of every
 //! column) and `DIR/compare.json` (the differences and both run reports), atomically.
 
-use crate::analysis::compare::compare_rows;
-use crate::model::vorticity::scene::FullModel;
-use crate::model::Model;
-use crate::output::{write_json, CsvWriter, OutputDir};
-use crate::scene::{self, Viscous};
+use crate::analysis::compare::run_both;
+use crate::output::{write_json, OutputDir};
+use crate::scene;
 use anyhow::Context;
 use std::path::PathBuf;
 
@@ -25,29 +23,12 @@ pub struct CompareArgs {
 }
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let mut scene = scene::load(&args.scene, &args.set).with_context(|| format!("loading {}", args.scene.display()))?;
-    scene.modes.viscous = Viscous::BoundaryLayer;
-    let bl = Model::from_scene(&scene).context("assembling the boundary-layer model")?;
-    let full = FullModel::from_scene(&scene).context("assembling the full (vorticity) model")?;
-    let names = bl.state_names();
-    let (mut t_bl, mut rows_bl) = (vec![], vec![]);
-    let rep_bl = bl.run(&scene.run, &mut |t, row| {
-        t_bl.push(t);
-        rows_bl.push(row.to_vec());
-    });
-    let (mut t_full, mut rows_full) = (vec![], vec![]);
-    let rep_full = full.run(&scene.run, &mut |t, row| {
-        t_full.push(t);
-        rows_full.push(row.to_vec());
-    });
-    let n = rows_bl.len().min(rows_full.len());
-    if let Some(i) = (0..n).find(|&i| (t_bl[i] - t_full[i]).abs() > 1e-9 * scene.run.sample_interval.max(t_bl[i].abs())) {
-        anyhow::bail!("the two runs sampled different times ({} s vs {} s at sample {i})", t_bl[i], t_full[i]);
-    }
-    let diffs = compare_rows(&names, &rows_bl[..n], &rows_full[..n]);
-    println!("boundary layer: {:?}; full ({:?}): {:?}", rep_bl.status, full.scheme, rep_full.status);
+    let scene = scene::load(&args.scene, &args.set).with_context(|| format!("loading {}", args.scene.display()))?;
+    let runs = run_both(&scene)?;
+    let (rep_bl, rep_full, diffs) = (&runs.report_bl, &runs.report_full, &runs.diffs);
+    println!("boundary layer: {:?}; full ({:?}): {:?}", rep_bl.status, runs.scheme, rep_full.status);
     println!("{:>6} {:>14} {:>14} {:>14} {:>10} {:>10}", "column", "max |diff| m", "mean |diff| m", "max |full| m", "max rel", "mean rel");
-    for d in &diffs {
+    for d in diffs {
         println!(
             "{:>6} {:>14.4e} {:>14.4e} {:>14.4e} {:>10} {:>10}",
             d.name,
@@ -63,29 +44,14 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         PathBuf::from("out").join(format!("{stem}-compare"))
     });
     let dir = OutputDir::create(&out)?;
-    let mut header = vec!["t".to_string()];
-    for name in &names {
-        header.push(format!("{name}_bl"));
-        header.push(format!("{name}_full"));
-    }
-    let mut csv = CsvWriter::create(&dir.join("compare.csv"), &header)?;
-    let mut line = vec![0.0; header.len()];
-    for i in 0..n {
-        line[0] = t_bl[i];
-        for c in 0..names.len() {
-            line[1 + 2 * c] = rows_bl[i][c];
-            line[2 + 2 * c] = rows_full[i][c];
-        }
-        csv.row(&line);
-    }
-    csv.commit()?;
+    runs.write_csv(&dir.join("compare.csv"))?;
     #[derive(serde::Serialize)]
     struct Summary<'a> {
         differences: &'a [crate::analysis::compare::ColumnDiff],
         boundary_layer: &'a crate::model::RunReport,
         vorticity: &'a crate::model::RunReport,
     }
-    write_json(&dir.join("compare.json"), &Summary { differences: &diffs, boundary_layer: &rep_bl, vorticity: &rep_full })?;
+    write_json(&dir.join("compare.json"), &Summary { differences: diffs, boundary_layer: rep_bl, vorticity: rep_full })?;
     println!("wrote {}", out.display());
     Ok(())
 }

@@ -1,14 +1,13 @@
 //! The two recipes of the full vorticity model: fig 3 (time-step convergence of the staggered
 //! scheme, paper §5.1 eq 5.4) and fig 4 (full model against the boundary-layer closure).
 
-use crate::analysis::compare::compare_rows;
+use crate::analysis::compare::run_both;
 use crate::analysis::convergence::convergence_study;
 use crate::model::vorticity::scene::FullModel;
-use crate::model::Model;
 use crate::output::CsvWriter;
 use crate::plot::kinds::{convergence, time_series_panels, Curve, TimeSeries};
 use crate::plot::paper::{FigureError, FigureReport, PaperFigure};
-use crate::scene::{self, Viscous};
+use crate::scene;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -157,52 +156,24 @@ pub fn make_compare(
     let start = Instant::now();
     let path = scene_path(fig, scenes)?;
     let over: &[&str] = if quick { QUICK_COMPARE } else { &[] };
-    let mut sc = scene::load(&path, over).map_err(|e| err(fig, "scene", e))?;
-    sc.modes.viscous = Viscous::BoundaryLayer;
-    let bl = Model::from_scene(&sc).map_err(|e| err(fig, "boundary layer", e))?;
-    let full = FullModel::from_scene(&sc).map_err(|e| err(fig, "full model", e))?;
-    let names = bl.state_names();
-    let (mut t_bl, mut rows_bl) = (vec![], vec![]);
-    let rep_bl = bl.run(&sc.run, &mut |t, row| {
-        t_bl.push(t);
-        rows_bl.push(row.to_vec());
-    });
-    let (mut t_full, mut rows_full) = (vec![], vec![]);
-    let rep_full = full.run(&sc.run, &mut |t, row| {
-        t_full.push(t);
-        rows_full.push(row.to_vec());
-    });
-    let n = rows_bl.len().min(rows_full.len());
-    let diffs = compare_rows(&names, &rows_bl[..n], &rows_full[..n]);
+    let sc = scene::load(&path, over).map_err(|e| err(fig, "scene", e))?;
+    let both = run_both(&sc).map_err(|e| err(fig, "boundary layer vs full model", e))?;
+    let (names, t) = (&both.names, &both.t);
+    let (rep_bl, rep_full) = (&both.report_bl, &both.report_full);
     let stem = fig.stem();
     std::fs::create_dir_all(out).map_err(|source| crate::plot::PlotError::Io {
         path: out.to_path_buf(),
         source,
     })?;
     let csv_path = out.join(format!("{stem}.csv"));
-    let mut header = vec!["t_s".to_string()];
-    for name in &names {
-        header.push(format!("{name}_bl_m"));
-        header.push(format!("{name}_full_m"));
-    }
-    let mut csv = CsvWriter::create(&csv_path, &header).map_err(|e| err(fig, "csv", e))?;
-    let mut line = vec![0.0; header.len()];
-    for i in 0..n {
-        line[0] = t_bl[i];
-        for c in 0..names.len() {
-            line[1 + 2 * c] = rows_bl[i][c];
-            line[2 + 2 * c] = rows_full[i][c];
-        }
-        csv.row(&line);
-    }
-    csv.commit().map_err(|e| err(fig, "csv", e))?;
+    both.write_csv(&csv_path).map_err(|e| err(fig, "csv", e))?;
     let shapes: Vec<&str> = ["a_2", "a_4"]
         .into_iter()
         .filter(|s| names.iter().any(|n| *n == s.replace('_', "")))
         .collect();
     let runs = [
-        to_series("boundary layer", &names, &t_bl[..n], &rows_bl[..n], &shapes),
-        to_series("full vorticity", &names, &t_full[..n], &rows_full[..n], &shapes),
+        to_series("boundary layer", names, t, &both.bl, &shapes),
+        to_series("full vorticity", names, t, &both.full, &shapes),
     ];
     let title = format!("Figure 4{}: full model vs boundary layer", if quick { " (quick)" } else { "" });
     let saved = time_series_panels(&title, &runs, true, &shapes).save(out, &stem)?;
@@ -216,11 +187,11 @@ pub fn make_compare(
         if quick { format!(" with `--quick` ({})", QUICK_COMPARE.join(", ")) } else { String::new() },
         status(&rep_bl.status),
         rep_bl.wall_seconds,
-        full.scheme,
+        both.scheme,
         status(&rep_full.status),
         rep_full.wall_seconds
     );
-    for d in &diffs {
+    for d in &both.diffs {
         let _ = writeln!(
             text,
             "| {} | {:.3e} | {:.3e} | {:.3e} | {:.3e} |",
