@@ -5,37 +5,19 @@
 //! - vorticity: the exact (continuous) dispersion relation (Prosperetti 1977,
 //!   `analysis::dispersion`) of the same linear coefficients, on a converged grid.
 mod common;
-use magbubble::analysis::dispersion::C64;
 use magbubble::model::vorticity::linear::{initial_guess, linear_modes};
 use magbubble::model::vorticity::scene::{damped_spectrum, FullModel};
 use magbubble::scene::Viscous;
 use std::collections::BTreeMap;
 
+#[path = "support/prony.rs"]
+mod prony;
+use prony::prony;
+
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
-/// Prony / linear-prediction exponents s_j = ln(z_j)/Δ of uniformly sampled data.
-fn prony(x: &[f64], dt: f64, p: usize) -> Vec<C64> {
-    let rows = x.len() - p;
-    let mut a = nalgebra::DMatrix::<f64>::zeros(rows, p);
-    let mut rhs = nalgebra::DVector::<f64>::zeros(rows);
-    for n in p..x.len() {
-        for j in 1..=p {
-            a[(n - p, j - 1)] = x[n - j];
-        }
-        rhs[n - p] = x[n];
-    }
-    let c = a.svd(true, true).solve(&rhs, 1e-14).unwrap();
-    let mut comp = nalgebra::DMatrix::<f64>::zeros(p, p);
-    for j in 0..p {
-        comp[(0, j)] = c[j];
-    }
-    for i in 1..p {
-        comp[(i, i - 1)] = 1.0;
-    }
-    comp.complex_eigenvalues().iter().map(|z| C64::new(z.norm().ln(), z.arg()) / dt).collect()
-}
 
 #[test]
 fn boundary_layer_spectrum_matches_the_free_decay_of_a2() {
