@@ -23,6 +23,15 @@ pub struct Monolithic<'c> {
     pub grid: Grid,
     ops: Vec<ModeOperator>,
     scratch: RefCell<Scratch>,
+    /// The reduced state and its rates, reused by every `rhs` call (no allocation per call).
+    reduced_buf: RefCell<ReducedBuf>,
+}
+
+struct ReducedBuf {
+    z: Vec<f64>,
+    p: Vec<f64>,
+    fz: Vec<f64>,
+    tw: Vec<f64>,
 }
 
 #[derive(Default)]
@@ -52,7 +61,8 @@ impl<'c> Monolithic<'c> {
             tw: z(),
             rows: Rows::default(),
         };
-        Self { coupling, grid, ops, scratch: RefCell::new(scratch) }
+        let reduced_buf = ReducedBuf { z: vec![0.0; 2 + 3 * m], p: vec![0.0; 2 * m], fz: vec![0.0; 2 + 3 * m], tw: z() };
+        Self { coupling, grid, ops, scratch: RefCell::new(scratch), reduced_buf: RefCell::new(reduced_buf) }
     }
 
     /// Length of one mode block, 3 + n − 2.
@@ -180,19 +190,16 @@ impl OdeSystem for Monolithic<'_> {
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let m = self.ops.len();
         let nb = self.block();
-        let mut z = vec![0.0; 2 + 3 * m];
-        let mut p = vec![0.0; 2 * m];
-        let mut fz = vec![0.0; 2 + 3 * m];
-        let mut tw = vec![0.0; m];
-        self.split(y, &mut z, &mut p);
-        self.reduced(t, &z, &p, &mut fz, &mut tw);
+        let mut buf = self.reduced_buf.borrow_mut();
+        let ReducedBuf { z, p, fz, tw } = &mut *buf;
+        self.split(y, z, p);
+        self.reduced(t, z, p, fz, tw);
         dy[0] = fz[0];
         dy[1] = fz[1];
         let mut guard = self.scratch.borrow_mut();
         let sc = &mut *guard;
-        sc.tw.copy_from_slice(&tw);
+        sc.tw.copy_from_slice(tw);
         let (r, rdot) = (y[0], y[1]);
         let nu = self.coupling.viscosity() / self.coupling.density();
         for (mi, op) in self.ops.iter().enumerate() {
