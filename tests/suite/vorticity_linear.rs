@@ -4,8 +4,7 @@
 
 use magbubble::analysis::dispersion::{LinearMode, C64};
 
-#[path = "support/prony.rs"]
-mod prony;
+use crate::support::prony;
 use prony::prony;
 use magbubble::integrate::OdeSystem;
 use magbubble::model::vorticity::linear::{full_root, initial_guess, LinearCoupling};

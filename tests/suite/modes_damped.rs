@@ -4,14 +4,13 @@
 //!   `model::simulate` from a small seed, no drive), fitted by Prony's method;
 //! - vorticity: the exact (continuous) dispersion relation (Prosperetti 1977,
 //!   `analysis::dispersion`) of the same linear coefficients, on a converged grid.
-mod common;
+use crate::common;
 use magbubble::model::vorticity::linear::{initial_guess, linear_modes};
 use magbubble::model::vorticity::scene::{damped_spectrum, FullModel};
 use magbubble::scene::Viscous;
 use std::collections::BTreeMap;
 
-#[path = "support/prony.rs"]
-mod prony;
+use crate::support::prony;
 use prony::prony;
 
 fn rel(a: f64, b: f64) -> f64 {

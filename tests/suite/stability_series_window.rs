@@ -3,7 +3,7 @@
 //! criterion of the time (windows [50,100) vs [150,200) periods) called the run bounded. A long run shows why: the seed first decays by ~7 decades
 //! while the radial start-up transient dies out (~300 periods), and only then does a_8 grow at
 //! the Floquet rate. This test checks that late growth rate against the multiplier.
-mod common;
+use crate::common;
 use magbubble::analysis::stability::{floquet, FloquetOptions};
 use std::collections::BTreeMap;
 

@@ -1,5 +1,5 @@
 //! Floquet and time-series criteria agree on the critical ε_p (docs/stability.md).
-mod common;
+use crate::common;
 use magbubble::analysis::stability::*;
 
 fn opts(criterion: Criterion, tol: f64) -> CriticalOptions {

@@ -1,5 +1,5 @@
 //! Natural frequencies (corrected eq 3.10, FORMULATION §4.4).
-mod common;
+use crate::common;
 use magbubble::analysis::frequencies::natural_frequencies;
 
 fn closed_form_nondim(k: f64, alpha: f64) -> f64 {

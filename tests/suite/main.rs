@@ -1,0 +1,36 @@
+//! The integration tests, one binary (one link for a clean build): each module is one former
+//! test file. Shared helpers: `common` (hand-built scenes), `support` (Prony fit).
+
+mod common;
+mod support;
+
+mod accuracy;
+mod cli_run;
+mod cli_run_real;
+mod codegen_algebra;
+mod codegen_errors;
+mod codegen_golden;
+mod codegen_tables;
+mod coefficients_crosscheck;
+mod coil_h4;
+mod docs_examples;
+mod figures;
+mod floquet_mathieu;
+mod floquet_periodic;
+mod hard_cases;
+mod integrators;
+mod modes_damped;
+mod modes_frequencies;
+mod physics_bl;
+mod plot;
+mod plot_figures;
+mod scene_errors;
+mod scene_files;
+mod scene_load;
+mod stability_criteria;
+mod stability_series_window;
+mod stability_sweep;
+mod vorticity_linear;
+mod vorticity_scene;
+mod vorticity_structured;
+mod vorticity_study;
