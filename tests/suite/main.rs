@@ -6,6 +6,7 @@ mod support;
 
 mod accuracy;
 mod cli_run;
+mod equations_jacobian;
 mod cli_run_real;
 mod codegen_algebra;
 mod codegen_errors;

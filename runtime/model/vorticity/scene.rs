@@ -67,6 +67,19 @@ impl ModeCoupling for SceneCoupling<'_> {
         let y = self.fill(r, 0.0, a, b);
         self.bl.equations().loads(t, &y, gn, gt);
     }
+    fn mode_stiffness(&self, t: f64, r: f64) -> Vec<[f64; 4]> {
+        let m = self.orders.len();
+        let y = self.fill(r, 0.0, &vec![0.0; m], &vec![0.0; m]);
+        let mut lj = crate::model::effects::LoadJacobian::new(m);
+        self.bl.equations().load_jacobian(t, &y, &mut lj);
+        (0..m)
+            .map(|i| {
+                let ia = crate::model::effects::a_index(i);
+                let (gn, gt) = (lj.gn_row(i), lj.gt_row(i));
+                [gn[ia], gn[ia + 2], gt[ia], gt[ia + 2]]
+            })
+            .collect()
+    }
     fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
         let y = self.fill(r, rdot, a, b);
         let eq = self.bl.equations();
