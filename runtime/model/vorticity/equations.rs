@@ -103,8 +103,9 @@ impl LoadScratch {
     pub fn new(m: usize) -> Self {
         Self { gn: vec![0.0; m], gt: vec![0.0; m] }
     }
-    /// R̈ and the loads at (t, R, Ṙ, a, b) (one evaluation of the terms).
-    pub fn eval(&mut self, c: &dyn ModeCoupling, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64 {
-        c.loads(t, r, rdot, a, b, &mut self.gn, &mut self.gt)
+    /// R̈ and the loads at (t, R, Ṙ, a, ȧ, b) (one evaluation of the terms).
+    #[allow(clippy::too_many_arguments)]
+    pub fn eval(&mut self, c: &dyn ModeCoupling, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> f64 {
+        c.loads(t, r, rdot, a, adot, b, &mut self.gn, &mut self.gt)
     }
 }

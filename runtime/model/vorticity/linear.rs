@@ -138,13 +138,13 @@ impl ModeCoupling for LinearCoupling {
     fn viscosity(&self) -> f64 {
         self.modes.first().map_or(1.0, |m| m.eta)
     }
-    fn radial_acceleration(&self, _t: f64, _r: f64, _rdot: f64, _a: &[f64], _b: &[f64]) -> f64 {
+    fn radial_acceleration(&self, _t: f64, _r: f64, _rdot: f64, _a: &[f64], _adot: &[f64], _b: &[f64]) -> f64 {
         0.0
     }
     fn mode_stiffness(&self, _t: f64, _r: f64) -> Vec<[f64; 4]> {
         self.modes.iter().map(|m| [m.s1, m.s2, m.s11, m.s12]).collect()
     }
-    fn shape_loads(&self, _t: f64, _r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
+    fn shape_loads(&self, _t: f64, _r: f64, _rdot: f64, a: &[f64], _adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
         for (m, md) in self.modes.iter().enumerate() {
             gn[m] = md.s1 * a[m] + md.s2 * b[m];
             gt[m] = md.s11 * a[m] + md.s12 * b[m];

@@ -34,14 +34,14 @@ pub struct SceneCoupling<'m> {
 }
 
 impl SceneCoupling<'_> {
-    /// Fills the boundary-layer state layout [R, Ṙ, (a, ȧ, b)_k] the load code reads.
-    fn fill(&self, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> std::cell::RefMut<'_, Vec<f64>> {
+    /// Fills the boundary-layer state layout z = [R, Ṙ, (a, ȧ, b)_k] the terms read.
+    fn fill(&self, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> std::cell::RefMut<'_, Vec<f64>> {
         let mut y = self.y.borrow_mut();
         y[0] = r;
         y[1] = rdot;
         for m in 0..a.len() {
             y[2 + 3 * m] = a[m];
-            y[3 + 3 * m] = 0.0;
+            y[3 + 3 * m] = adot[m];
             y[4 + 3 * m] = b[m];
         }
         y
@@ -58,18 +58,19 @@ impl ModeCoupling for SceneCoupling<'_> {
     fn viscosity(&self) -> f64 {
         self.bl.params().eta
     }
-    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64 {
-        let y = self.fill(r, rdot, a, b);
+    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> f64 {
+        let y = self.fill(r, rdot, a, adot, b);
         self.bl.radial_acceleration(t, &y)
     }
     /// G_n,k, G_t,k from the scene's terms (FORMULATION §4.1; [`crate::model::effects`]).
-    fn shape_loads(&self, t: f64, r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
-        let y = self.fill(r, 0.0, a, b);
+    fn shape_loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
+        let y = self.fill(r, rdot, a, adot, b);
         self.bl.equations().loads(t, &y, gn, gt);
     }
     fn mode_stiffness(&self, t: f64, r: f64) -> Vec<[f64; 4]> {
         let m = self.orders.len();
-        let y = self.fill(r, 0.0, &vec![0.0; m], &vec![0.0; m]);
+        let zero = vec![0.0; m];
+        let y = self.fill(r, 0.0, &zero, &zero, &zero);
         let mut lj = crate::model::effects::LoadJacobian::new(m);
         self.bl.equations().load_jacobian(t, &y, &mut lj);
         (0..m)
@@ -80,8 +81,8 @@ impl ModeCoupling for SceneCoupling<'_> {
             })
             .collect()
     }
-    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
-        let y = self.fill(r, rdot, a, b);
+    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        let y = self.fill(r, rdot, a, adot, b);
         let eq = self.bl.equations();
         let p = eq.loads(t, &y, gn, gt);
         eq.acceleration(r, rdot, p)
