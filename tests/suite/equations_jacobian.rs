@@ -3,11 +3,17 @@
 //! tests/suite/proptest-regressions/equations_jacobian.txt, committed):
 //! the boundary-layer Jacobian (every shipped field, both membrane forms, both δ_k branches),
 //! the radial-only Jacobian, the linear mode system A(t), g(t) of Floquet, the sparsity pattern,
-//! and the vorticity closure's wall partials.
+//! the vorticity closure's wall partials, the monolithic system's reduced Jacobian and the
+//! vorticity operator's R, Ṙ derivatives.
 
 use magbubble::integrate::OdeSystem;
 use magbubble::model::equations::{var, wall_source, wall_source_partials};
-use magbubble::model::vorticity::equations::{wall, wall_linear};
+use magbubble::model::vorticity::equations::{reduced_jacobian, wall, wall_linear};
+use magbubble::model::vorticity::monolithic::Monolithic;
+use magbubble::model::vorticity::operator::{ModeOperator, Rows};
+use magbubble::model::vorticity::scene::FullModel;
+use magbubble::model::vorticity::Grid;
+use nalgebra::DMatrix;
 use magbubble::model::{BoundaryLayerSystem, Model};
 use magbubble::scene::{load, Scene};
 use proptest::prelude::*;
@@ -173,6 +179,88 @@ proptest! {
             for (c, an) in [lin.d_tw[x], lin.d_itil[x], lin.d_j[x]].into_iter().enumerate() {
                 let fd = (vp[c] - vm[c]) / (2.0 * h);
                 prop_assert!((an - fd).abs() <= 1e-6 * (an.abs() + fd.abs()) + 1e-8, "var {x} comp {c}: {an} vs {fd}");
+            }
+        }
+    }
+}
+
+/// Central differences of the monolithic system's reduced function (f_z, T_w)(z, p).
+fn fd_reduced(sys: &Monolithic<'_>, t: f64, z: &[f64], p: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
+    let (nz, m) = (z.len(), p.len() / 2);
+    let eval = |z: &[f64], p: &[f64]| {
+        let (mut fz, mut tw) = (vec![0.0; nz], vec![0.0; m]);
+        sys.reduced(t, z, p, &mut fz, &mut tw);
+        fz.extend(tw);
+        fz
+    };
+    let (mut gz, mut gp) = (DMatrix::zeros(nz + m, nz), DMatrix::zeros(nz + m, 2 * m));
+    for (x, out) in [(z, &mut gz), (p, &mut gp)] {
+        for j in 0..x.len() {
+            let h = 1e-6 * x[j].abs().max(1e-2);
+            let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+            xp[j] += h;
+            xm[j] -= h;
+            let (fp, fm) = if x.len() == nz { (eval(&xp, p), eval(&xm, p)) } else { (eval(z, &xp), eval(z, &xm)) };
+            for i in 0..nz + m {
+                out[(i, j)] = (fp[i] - fm[i]) / (2.0 * h);
+            }
+        }
+    }
+    (gz, gp)
+}
+
+proptest! {
+    #![proptest_config(config(16))]
+
+    /// The structured Jacobian's pieces of the monolithic vorticity system, exact.
+    #[test]
+    fn monolithic_reduced_jacobian_matches_differences(
+        which in 0usize..7, (t, z) in state(2 + 3 * 3), p in prop::collection::vec(-1e-2..1e-2f64, 6),
+    ) {
+        let mut scene = scenes()[which].clone();
+        scene.modes.max_order = 6;
+        scene.vorticity.points = 40;
+        let fm = FullModel::from_scene(&scene).unwrap();
+        let c = fm.coupling();
+        let sys = Monolithic::new(&c, fm.grid.clone());
+        let w0 = sys.operators()[0].w0();
+        let (nz, m) = (z.len(), 3);
+        let (mut gz, mut gp) = (DMatrix::zeros(nz + m, nz), DMatrix::zeros(nz + m, 2 * m));
+        reduced_jacobian(&c, t, &z, &p, w0, &mut gz, &mut gp);
+        let (fz, fp) = fd_reduced(&sys, t, &z, &p);
+        for (an, fd, x, what) in [(&gz, &fz, &z[..], "z"), (&gp, &fp, &p[..], "p")] {
+            for i in 0..nz + m {
+                let scale = |j: usize| x[j].abs().max(1e-2);
+                let row_max = (0..x.len()).map(|j| (an[(i, j)] * scale(j)).abs()).fold(0.0, f64::max)
+                    .max((0..nz).map(|j| (gz[(i, j)] * z[j].abs().max(1e-2)).abs()).fold(0.0, f64::max));
+                for j in 0..x.len() {
+                    let err = (an[(i, j)] - fd[(i, j)]).abs() * scale(j);
+                    prop_assert!(err <= 1e-6 * row_max + 1e-9, "∂/∂{what}: ({i},{j}) analytic {} vs fd {}", an[(i, j)], fd[(i, j)]);
+                }
+            }
+        }
+    }
+
+    /// ∂/∂R and ∂/∂Ṙ of the vorticity operator rows.
+    #[test]
+    fn operator_row_derivatives_match_differences(k in 2usize..=32, r in 0.6..1.6f64, rd in -0.5..0.5f64) {
+        prop_assume!(rd.abs() > 1e-3);
+        let grid = Grid::new(2.0, 60, 10.0).unwrap();
+        let op = ModeOperator::new(&grid, k);
+        let nu = 0.02;
+        let (mut d_r, mut d_rd) = (Rows::default(), Rows::default());
+        op.rows_derivatives(r, rd, nu, &mut d_r, &mut d_rd);
+        for (v, an) in [(0usize, &d_r), (1, &d_rd)] {
+            let h = 1e-6;
+            let (mut p, mut m) = (Rows::default(), Rows::default());
+            let (rp, rdp, rm, rdm) = if v == 0 { (r + h, rd, r - h, rd) } else { (r, rd + h, r, rd - h) };
+            op.rows(rp, rdp, nu, &mut p);
+            op.rows(rm, rdm, nu, &mut m);
+            for (a, (pp, mm)) in [(&an.lower, (&p.lower, &m.lower)), (&an.diag, (&p.diag, &m.diag)), (&an.upper, (&p.upper, &m.upper))] {
+                for i in 0..a.len() {
+                    let fd = (pp[i] - mm[i]) / (2.0 * h);
+                    prop_assert!((a[i] - fd).abs() <= 1e-6 * (a[i].abs() + fd.abs()) + 1e-6, "var {v} node {i}: {} vs {fd}", a[i]);
+                }
             }
         }
     }

@@ -141,6 +141,18 @@ impl ModeCoupling for LinearCoupling {
     fn radial_acceleration(&self, _t: f64, _r: f64, _rdot: f64, _a: &[f64], _adot: &[f64], _b: &[f64]) -> f64 {
         0.0
     }
+    fn linearize(&self, _t: f64, _z: &[f64], drdd: &mut [f64], jac: &mut crate::model::effects::LoadJacobian) {
+        drdd.fill(0.0);
+        jac.clear();
+        let n = jac.n;
+        for (m, md) in self.modes.iter().enumerate() {
+            let ia = crate::model::effects::a_index(m);
+            jac.gn[m * n + ia] = md.s1;
+            jac.gn[m * n + ia + 2] = md.s2;
+            jac.gt[m * n + ia] = md.s11;
+            jac.gt[m * n + ia + 2] = md.s12;
+        }
+    }
     fn mode_stiffness(&self, _t: f64, _r: f64) -> Vec<[f64; 4]> {
         self.modes.iter().map(|m| [m.s1, m.s2, m.s11, m.s12]).collect()
     }

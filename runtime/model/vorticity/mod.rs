@@ -50,6 +50,9 @@ pub trait ModeCoupling {
     /// ∂G_n,k/∂a_k, ∂G_n,k/∂b_k, ∂G_t,k/∂a_k, ∂G_t,k/∂b_k of every mode at (t, R) — the diagonal
     /// of the loads' exact linear structure (membrane and magnetic diagonal), for the per-k spectra.
     fn mode_stiffness(&self, t: f64, r: f64) -> Vec<[f64; 4]>;
+    /// Exact gradients over z = [R, Ṙ, (a, ȧ, b)_k]: ∂R̈/∂z into `drdd` (length 2 + 3M) and
+    /// ∂G_n, ∂G_t/∂z into `jac` (the structured Jacobian of the monolithic system).
+    fn linearize(&self, t: f64, z: &[f64], drdd: &mut [f64], jac: &mut crate::model::effects::LoadJacobian);
     /// Both at once: writes the loads and returns R̈ (a coupling built on the model's terms
     /// evaluates them once).
     #[allow(clippy::too_many_arguments)]

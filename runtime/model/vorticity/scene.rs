@@ -81,6 +81,12 @@ impl ModeCoupling for SceneCoupling<'_> {
             })
             .collect()
     }
+    fn linearize(&self, t: f64, z: &[f64], drdd: &mut [f64], jac: &mut crate::model::effects::LoadJacobian) {
+        let eq = self.bl.equations();
+        eq.load_jacobian(t, z, jac);
+        let p = eq.loads(t, z, &mut [], &mut []);
+        eq.acceleration_gradient(z[0], z[1], p, &jac.pressure, drdd);
+    }
     fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
         let y = self.fill(r, rdot, a, adot, b);
         let eq = self.bl.equations();
