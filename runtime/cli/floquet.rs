@@ -36,9 +36,9 @@ pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
     opts.magnus_steps = args.steps.max(1);
     let r = floquet(&scene, &opts).with_context(|| format!("Floquet analysis of {}", args.scene.display()))?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
+        outln!("{}", serde_json::to_string_pretty(&r)?);
     } else {
-        println!(
+        outln!(
             "period {:.6e} s ({} × drive period {:.6e} s), max |μ| = {:.6}, {} (mode k = {})",
             r.period_s,
             r.orbit_multiple,

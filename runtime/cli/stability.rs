@@ -194,19 +194,19 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             }
             row
         })?;
-        eprintln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
+        noteln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
         let label = if fkey.is_empty() { args.method_label() } else { format!("{fkey} = {fval}") };
         plotted.push((label, csv));
     }
     if args.plot {
         if shard != Shard::ALL {
-            eprintln!("--plot: skipped for a shard; plot the merged CSV");
+            noteln!("--plot: skipped for a shard; plot the merged CSV");
         } else {
             let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
             let saved = crate::plot::stability_plot(&plotted, &args.out, "stability", &y_label, false)
                 .with_context(|| format!("plotting the stability diagram into {}", args.out.display()))?;
             for s in saved {
-                eprintln!("wrote {} and {}", s.svg.display(), s.png.display());
+                noteln!("wrote {} and {}", s.svg.display(), s.png.display());
             }
         }
     }
@@ -215,6 +215,6 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
 
 pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
     let meta = sweep::merge(&args.inputs, &args.out)?;
-    eprintln!("{}: {} points merged from {} files", args.out.display(), meta.total, args.inputs.len());
+    noteln!("{}: {} points merged from {} files", args.out.display(), meta.total, args.inputs.len());
     Ok(())
 }
