@@ -201,7 +201,13 @@ fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) -> an
         report.state_dimension
     );
     if let Ok(serde_json::Value::Object(groups)) = serde_json::to_value(&report.groups) {
-        let list: Vec<String> = groups.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+        let list: Vec<String> = groups
+            .iter()
+            .map(|(k, v)| match v.as_f64() {
+                Some(x) => format!("{k} = {}", crate::scene::schema::fmt_sig(x)),
+                None => format!("{k} = {v}"),
+            })
+            .collect();
         outln!("groups:     {}", list.join(", "));
     }
     let largest = report

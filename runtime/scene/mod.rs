@@ -9,6 +9,7 @@
 //! Entry point: [`load`]`(path, overrides)`; variants of one scene (sweeps, figures):
 //! [`SceneTemplate`].
 
+mod derived;
 pub mod doc;
 mod error;
 mod parse;
@@ -20,5 +21,6 @@ mod validate;
 
 pub use error::{Issue, Issues, SceneError};
 pub use parse::{apply_override, load, load_str, parse_toml, path_exists};
+pub use derived::{human_bytes, output_estimate};
 pub use template::{numeric_param, SceneTemplate};
 pub use types::*;

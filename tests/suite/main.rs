@@ -25,6 +25,7 @@ mod modes_frequencies;
 mod physics_bl;
 mod plot;
 mod plot_figures;
+mod scene_derived;
 mod scene_errors;
 mod scene_files;
 mod scene_load;
