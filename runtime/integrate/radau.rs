@@ -15,8 +15,8 @@
 //! embedded estimate is of order 3.
 
 use super::explicit::{initial_step, step_too_small, MAX_NON_FINITE};
-use super::jacobian::FdJacobian;
-use super::linalg::ShiftedLu;
+use super::control::StepController;
+use super::linear::NewtonMatrix;
 use super::{first_non_finite, IntegrateError, OdeSystem, Stats};
 use nalgebra::{Complex, Matrix3, Vector3};
 
@@ -115,7 +115,7 @@ enum LastFailure {
 }
 
 /// Radau IIA order-5 stepper (see the module documentation).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Radau5 {
     k: RadauConsts,
     rtol: f64,
@@ -137,10 +137,9 @@ pub struct Radau5 {
     f2: Vec<f64>,
     /// Collocation polynomial of the last step (RADAU5's CONT).
     cont: [Vec<f64>; 4],
-    jac: Vec<f64>,
-    fd: FdJacobian,
-    e1: ShiftedLu<f64>,
-    e2: ShiftedLu<Complex<f64>>,
+    /// J and the LU factors of E₁ = γ/h I − J, E₂ = (α + iβ)/h I − J (dense, banded, or the
+    /// system's structured solve; see [`super::linear`]).
+    nm: NewtonMatrix,
     /// h of the current LU factors (NaN: none).
     lu_h: f64,
     jac_current: bool,
@@ -148,9 +147,8 @@ pub struct Radau5 {
     first: bool,
     reject: bool,
     faccon: f64,
-    h_acc: f64,
-    err_acc: f64,
-    accepted: u64,
+    /// Gustafsson's predictive step control of order 4 (the embedded estimate is O(h⁴)).
+    control: StepController,
     /// Fixed step (no error control) when set; see [`Radau5::with_fixed_step`].
     fixed: Option<f64>,
     stats: Stats,
@@ -169,7 +167,6 @@ impl Radau5 {
         let h = initial_step(sys, t0, y0, &f0, 5.0, rtol, atol, (t_end - t0).abs(), &mut w1, &mut w2, &mut stats);
         let rtol_i = 0.1 * rtol.powf(2.0 / 3.0);
         let atol_i = rtol_i * atol / rtol;
-        let band = sys.bandwidth();
         let vecs = || std::array::from_fn(|_| vec![0.0; n]);
         Ok(Radau5 {
             k: RadauConsts::new(),
@@ -190,19 +187,14 @@ impl Radau5 {
             err_v: vec![0.0; n],
             f2: vec![0.0; n],
             cont: std::array::from_fn(|_| y0.to_vec()),
-            jac: vec![0.0; n * n],
-            fd: FdJacobian::new(n),
-            e1: ShiftedLu::new(n, band),
-            e2: ShiftedLu::new(n, band),
+            nm: NewtonMatrix::new(n, true),
             lu_h: f64::NAN,
             jac_current: false,
             need_jac: true,
             first: true,
             reject: false,
             faccon: 1.0,
-            h_acc: 0.0,
-            err_acc: 0.0,
-            accepted: 0,
+            control: StepController::predictive(4.0, (1.0 / FACL, 1.0 / FACR)),
             fixed: None,
             stats,
         })
@@ -287,8 +279,8 @@ impl Radau5 {
                 self.z[0][m] = a(0) - fac1 * w1;
                 self.rc[m] = Complex::new(a(1) - alphn * w2 + betan * w3, a(2) - betan * w2 - alphn * w3);
             }
-            self.e1.solve(&mut self.z[0]);
-            self.e2.solve(&mut self.rc);
+            self.nm.solve(&mut self.z[0]);
+            self.nm.solve_complex(&mut self.rc);
             let mut sum = 0.0;
             for m in 0..n {
                 let s2 = self.scal[m] * self.scal[m];
@@ -339,7 +331,7 @@ impl Radau5 {
             self.f2[m] = hee[0] * self.z[0][m] + hee[1] * self.z[1][m] + hee[2] * self.z[2][m];
             self.err_v[m] = self.f2[m] + self.f0[m];
         }
-        self.e1.solve(&mut self.err_v);
+        self.nm.solve(&mut self.err_v);
         let mut err = self.rms(&self.err_v).max(1e-10);
         if err >= 1.0 && (self.first || self.reject) {
             for m in 0..n {
@@ -350,7 +342,7 @@ impl Radau5 {
             for m in 0..n {
                 self.err_v[m] += self.f2[m];
             }
-            self.e1.solve(&mut self.err_v);
+            self.nm.solve(&mut self.err_v);
             err = self.rms(&self.err_v).max(1e-10);
         }
         err
@@ -404,19 +396,17 @@ impl super::Stepper for Radau5 {
                 return Err(self.fail(last_failure, h));
             }
             if self.need_jac {
-                self.fd.evaluate(sys, self.t, &self.y, &self.f0, &mut self.jac, &mut self.stats);
+                let evaluated = self.nm.evaluate(sys, self.t, &self.y, &self.f0, &mut self.stats);
                 self.need_jac = false;
                 self.jac_current = true;
                 self.lu_h = f64::NAN;
-                if let Some(c) = first_non_finite(&self.jac) {
-                    return Err(IntegrateError::NonFinite { t: self.t, component: c % self.y.len() });
+                if let Err(c) = evaluated {
+                    return Err(IntegrateError::NonFinite { t: self.t, component: c });
                 }
             }
             if self.lu_h != h {
                 let (fac1, alphn, betan) = (self.k.gamma / h, self.k.alpha / h, self.k.beta / h);
-                self.stats.lu_decompositions += 1;
-                let ok = self.e1.factor(fac1, &self.jac, |x| x).is_ok()
-                    && self.e2.factor(Complex::new(alphn, betan), &self.jac, |x| Complex::new(x, 0.0)).is_ok();
+                let ok = self.nm.factor(fac1, Complex::new(alphn, betan), &mut self.stats);
                 if !ok {
                     self.lu_h = f64::NAN;
                     singular += 1;
@@ -465,21 +455,13 @@ impl super::Stepper for Radau5 {
                 self.after_reject();
                 continue;
             }
+            // Safety factor lowered when Newton needed many iterations (RADAU5's FAC).
             let cfac = SAFE * (1 + 2 * NIT) as f64;
             let fac = SAFE.min(cfac / (newt + 2 * NIT) as f64);
-            let mut quot = (err.powf(0.25) / fac).clamp(FACR, FACL);
-            let mut h_new = self.fixed.unwrap_or(h / quot);
             if err < 1.0 {
                 self.first = false;
-                self.accepted += 1;
-                // Gustafsson's predictive controller (HW II, eq. IV.8.25).
-                if self.accepted > 1 && self.fixed.is_none() {
-                    let facgus = ((self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / SAFE).clamp(FACR, FACL);
-                    quot = quot.max(facgus);
-                    h_new = h / quot;
-                }
-                self.h_acc = h;
-                self.err_acc = err.max(1e-2);
+                let proposed = self.control.accept(h, err, fac);
+                let mut h_new = self.fixed.unwrap_or(proposed);
                 let t_new = if last { t_stop } else { self.t + h };
                 let [c1, c2, _] = self.k.c;
                 for m in 0..self.y.len() {
@@ -513,7 +495,7 @@ impl super::Stepper for Radau5 {
                     if theta > THET {
                         self.need_jac = true;
                     }
-                } else if theta <= THET && (1.0..=1.2).contains(&qt) && !last {
+                } else if theta <= THET && StepController::keeps(qt) && !last {
                     self.h = h;
                 } else {
                     self.h = h_new;
@@ -523,7 +505,7 @@ impl super::Stepper for Radau5 {
                 }
                 return Ok(());
             }
-            self.h = if self.first { 0.1 * h } else { h_new };
+            self.h = if self.first { 0.1 * h } else { self.control.reject(h, err, fac) };
             self.after_reject();
         }
     }

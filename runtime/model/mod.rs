@@ -14,13 +14,14 @@ pub mod blow_up;
 pub mod boundary_layer;
 pub mod params;
 pub mod radial;
+mod executor;
 mod simulate;
 pub mod vorticity;
 
 pub use boundary_layer::BoundaryLayerSystem;
 pub use params::{Groups, Params, Scales};
 pub use radial::RadialSystem;
-pub use simulate::{simulate, RunReport, RunStatus};
+pub use simulate::{method_of, simulate, Failure, RunReport, RunStatus};
 
 use crate::coefficients::KMAX;
 use crate::field::{loads::MagneticLoads, FieldError, FieldSource};
@@ -245,5 +246,10 @@ impl Model {
     /// The blow-up classifier ([`blow_up::classify`]) at this scene's threshold.
     pub fn blow_up(&self, y: &[f64]) -> Option<String> {
         blow_up::classify(y, &self.orders, self.blow_up_threshold)
+    }
+
+    /// The blow-up event function ([`blow_up::margin`]) at this scene's threshold.
+    pub fn blow_up_margin(&self, y: &[f64]) -> f64 {
+        blow_up::margin(y, &self.orders, self.blow_up_threshold)
     }
 }
