@@ -63,11 +63,6 @@ impl NewtonMatrix {
         NewtonMatrix { n, complex, kind: Kind::Unset }
     }
 
-    /// `true` once the system's structured Jacobian is in use.
-    pub(crate) fn is_structured(&self) -> bool {
-        matches!(self.kind, Kind::Structured { .. })
-    }
-
     /// Evaluates J at (t, y), f0 = f(t, y); invalidates the factorisations. Counts one Jacobian
     /// evaluation and its rhs cost. `Err(component)` when J has a non-finite entry.
     pub(crate) fn evaluate(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], f0: &[f64], stats: &mut Stats) -> Result<(), usize> {

@@ -10,6 +10,7 @@ mod cli_run_real;
 mod codegen_algebra;
 mod codegen_errors;
 mod codegen_golden;
+mod cost_snapshots;
 mod codegen_tables;
 mod coefficients_crosscheck;
 mod coil_h4;
