@@ -237,7 +237,7 @@ impl Radau5 {
         }
         let c3q = h / self.h_old;
         let q = [c1 * c3q, c2 * c3q, c3q];
-        let ti = &self.k.ti;
+        let ti: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.ti[(i, j)]));
         for m in 0..n {
             let (a1, a2, a3) = (self.cont[1][m], self.cont[2][m], self.cont[3][m]);
             let mut zm = [0.0; 3];
@@ -246,7 +246,7 @@ impl Radau5 {
                 self.z[i][m] = zm[i];
             }
             for i in 0..3 {
-                self.w[i][m] = ti[(i, 0)] * zm[0] + ti[(i, 1)] * zm[1] + ti[(i, 2)] * zm[2];
+                self.w[i][m] = ti[i][0] * zm[0] + ti[i][1] * zm[1] + ti[i][2] * zm[2];
             }
         }
     }
@@ -275,10 +275,10 @@ impl Radau5 {
                 return (Newton::NonFinite(c), newt, theta);
             }
             newt += 1;
-            let ti = &self.k.ti;
+            let ti: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.ti[(i, j)]));
             for m in 0..n {
                 let f = [self.fz[0][m], self.fz[1][m], self.fz[2][m]];
-                let a = |i: usize| ti[(i, 0)] * f[0] + ti[(i, 1)] * f[1] + ti[(i, 2)] * f[2];
+                let a = |i: usize| ti[i][0] * f[0] + ti[i][1] * f[1] + ti[i][2] * f[2];
                 let (w1, w2, w3) = (self.w[0][m], self.w[1][m], self.w[2][m]);
                 self.z[0][m] = a(0) - fac1 * w1;
                 self.rc[m] = Complex::new(a(1) - alphn * w2 + betan * w3, a(2) - betan * w2 - alphn * w3);
@@ -311,14 +311,14 @@ impl Radau5 {
                 }
             }
             dynold = dyno.max(f64::EPSILON);
-            let t = &self.k.t;
+            let t: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.t[(i, j)]));
             for m in 0..n {
                 self.w[0][m] += self.z[0][m];
                 self.w[1][m] += self.rc[m].re;
                 self.w[2][m] += self.rc[m].im;
                 let w = [self.w[0][m], self.w[1][m], self.w[2][m]];
                 for i in 0..3 {
-                    self.z[i][m] = t[(i, 0)] * w[0] + t[(i, 1)] * w[1] + t[(i, 2)] * w[2];
+                    self.z[i][m] = t[i][0] * w[0] + t[i][1] * w[1] + t[i][2] * w[2];
                 }
             }
             if self.faccon * dyno <= fnewt {
