@@ -63,6 +63,10 @@ struct Summary<'a> {
     steps: u64,
     rejected_steps: u64,
     rhs_evaluations: u64,
+    /// Jacobian evaluations (analytic, finite-difference or structured).
+    jacobian_evaluations: u64,
+    /// LU factorisations of the Newton matrix.
+    lu_decompositions: u64,
     wall_seconds: f64,
     rows: u64,
     max_abs: OrderedMap<'a>,
@@ -143,6 +147,8 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
                 steps: report.stats.steps,
                 rejected_steps: report.stats.rejected,
                 rhs_evaluations: report.stats.rhs_evals,
+                jacobian_evaluations: report.stats.jac_evals,
+                lu_decompositions: report.stats.lu_decompositions,
                 wall_seconds: report.wall_seconds,
                 rows,
                 max_abs: OrderedMap(&report.max_abs),

@@ -18,6 +18,7 @@ pub mod equations;
 pub mod linearize;
 pub mod params;
 pub mod radial;
+mod executor;
 mod simulate;
 pub mod vorticity;
 
@@ -26,7 +27,7 @@ pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};
 pub use radial::{RadialForm, RadialSystem};
-pub use simulate::{simulate, RunReport, RunStatus};
+pub use simulate::{method_of, simulate, Failure, RunReport, RunStatus};
 
 use crate::coefficients::KMAX;
 use crate::field::{loads::MagneticLoads, FieldError, FieldSource};
@@ -266,6 +267,11 @@ impl Model {
     /// The blow-up classifier ([`blow_up::classify`]) at this scene's threshold.
     pub fn blow_up(&self, y: &[f64]) -> Option<String> {
         blow_up::classify(y, &self.orders, self.blow_up_threshold)
+    }
+
+    /// The blow-up event function ([`blow_up::margin`]) at this scene's threshold.
+    pub fn blow_up_margin(&self, y: &[f64]) -> f64 {
+        blow_up::margin(y, &self.orders, self.blow_up_threshold)
     }
 }
 

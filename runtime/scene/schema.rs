@@ -297,9 +297,9 @@ pub static SCHEMA: &[Param] = &[
     p("run.blow_up_threshold", K::Float, "", D::Float(0.5), Rg::Positive, "",
       "The run stops as `blow_up` when max_k |a_k|/R0 or |b_k|/R0 exceeds this (or R leaves (0, inf))."),
     section("run.integrator", D::Present, "The time integrator and its settings."),
-    p("run.integrator.method", K::Choice(&["radau5", "rk4", "dopri5", "dop853"]), "", D::Str("radau5"),
+    p("run.integrator.method", K::Choice(&["radau5", "rk4", "dopri5", "dop853", "rosenbrock23"]), "", D::Str("radau5"),
       Rg::None, "", "`radau5` (implicit Radau IIA, stiff), `rk4` (fixed step, the paper's), `dopri5` / \
-       `dop853` (adaptive explicit Dormand-Prince)."),
+       `dop853` (adaptive explicit Dormand-Prince), `rosenbrock23` (linearly implicit ode23s, order 2)."),
     p("run.integrator.rtol", K::Float, "", D::Float(1e-6),
       Rg::Between { lo: 1e-14, hi: 0.1, lo_incl: true, hi_incl: true }, "",
       "Relative tolerance (adaptive methods)."),

@@ -210,6 +210,8 @@ pub enum Method {
     Dop853,
     /// Radau IIA, 3 stages, order 5, implicit (stiff).
     Radau5,
+    /// Rosenbrock ode23s (Shampine & Reichelt), order 2, linearly implicit (stiff).
+    Rosenbrock23,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -404,6 +404,7 @@ fn build_run(
             "dopri5" => Method::Dopri5,
             "dop853" => Method::Dop853,
             "radau5" => Method::Radau5,
+            "rosenbrock23" => Method::Rosenbrock23,
             other => unreachable!("schema choice {other}"),
         },
         rtol: c.float("run.integrator.rtol", ri.rtol),

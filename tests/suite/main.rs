@@ -12,6 +12,7 @@ mod cli_streams;
 mod codegen_algebra;
 mod codegen_errors;
 mod codegen_golden;
+mod cost_snapshots;
 mod codegen_tables;
 mod coefficients_crosscheck;
 mod coil_h4;

@@ -18,7 +18,6 @@
 
 pub mod equations;
 pub mod grid;
-pub mod implicit;
 pub mod linear;
 pub mod monolithic;
 pub mod operator;
@@ -71,6 +70,8 @@ pub enum VorticityError {
     TimeStep(f64),
     #[error("non-finite state at t = {t} ({what}); the scheme is unstable at this time step or the solution blew up")]
     NonFinite { t: f64, what: String },
+    #[error(transparent)]
+    Integrate(#[from] crate::integrate::IntegrateError),
     #[error("singular tridiagonal system in the vorticity update of mode k = {k} at t = {t}")]
     Singular { k: usize, t: f64 },
 }

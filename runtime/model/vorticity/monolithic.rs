@@ -189,6 +189,12 @@ impl OdeSystem for Monolithic<'_> {
         2 + self.ops.len() * self.block()
     }
 
+    /// The bordered-tridiagonal structure of J ([`super::structured`]): implicit steppers solve
+    /// σI − J in O(M·n).
+    fn structured_jacobian(&self, t: f64, y: &[f64]) -> Option<Box<dyn crate::integrate::linear::StructuredJacobian>> {
+        Some(Box::new(super::structured::Hook(super::structured::StructuredJacobian::new(self, t, y))))
+    }
+
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let nb = self.block();
         let mut buf = self.reduced_buf.borrow_mut();

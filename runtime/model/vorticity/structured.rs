@@ -16,8 +16,9 @@
 use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
 use super::operator::Rows;
+use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
-use nalgebra::{ComplexField, DMatrix, DVector};
+use nalgebra::{Complex, ComplexField, DMatrix, DVector};
 use std::rc::Rc;
 
 /// J at one (t, y), in structured form.
@@ -239,6 +240,30 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
                 b[o + i] += uc[i] * sk + ur[i] * x[0] + urd[i] * x[1];
             }
         }
+    }
+}
+
+/// The structured Jacobian as the integrators' linear-solver hook
+/// ([`crate::integrate::linear`]): Radau5 and the Rosenbrock pair factor σI − J through it.
+pub struct Hook(pub Rc<StructuredJacobian>);
+
+impl<T: ComplexField<RealField = f64> + Copy> Factorization<T> for StructuredLu<T> {
+    fn solve(&self, b: &mut [T]) {
+        StructuredLu::solve(self, b);
+    }
+}
+
+impl linear::StructuredJacobian for Hook {
+    /// 1 + (2 + 3M) + 2M evaluations of the reduced function (each O(M), cheaper than one rhs)
+    /// and 2 of the operator rows per mode.
+    fn rhs_equivalents(&self) -> u64 {
+        (3 + 5 * self.0.m) as u64
+    }
+    fn factor(&self, sigma: f64) -> Option<Box<dyn Factorization<f64>>> {
+        self.0.factor(sigma).map(|f| Box::new(f) as Box<dyn Factorization<f64>>)
+    }
+    fn factor_complex(&self, sigma: Complex<f64>) -> Option<Box<dyn Factorization<Complex<f64>>>> {
+        self.0.factor(sigma).map(|f| Box::new(f) as Box<dyn Factorization<Complex<f64>>>)
     }
 }
 
