@@ -7,6 +7,7 @@ mod support;
 mod accuracy;
 mod cli_run;
 mod cli_run_real;
+mod cli_signal;
 mod cli_streams;
 mod codegen_algebra;
 mod codegen_errors;
