@@ -6,6 +6,7 @@ mod support;
 
 mod accuracy;
 mod cli_run;
+mod equations_jacobian;
 mod cli_run_real;
 mod cli_signal;
 mod cli_streams;
