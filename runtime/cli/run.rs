@@ -97,6 +97,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
 
     let dir = OutputDir::create(&out)?;
     let series_path = dir.join("series.csv");
+    #[cfg(unix)]
+    crate::output::clean_up_on_signal(&[
+        &dir.join("series.csv.tmp"),
+        &dir.join("summary.json.tmp"),
+    ]);
     let mut csv = match CsvWriter::create(&series_path, &header) {
         Ok(csv) => csv,
         Err(e) => {

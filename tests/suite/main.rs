@@ -8,6 +8,7 @@ mod accuracy;
 mod cli_run;
 mod equations_jacobian;
 mod cli_run_real;
+mod cli_signal;
 mod cli_streams;
 mod codegen_algebra;
 mod codegen_errors;
