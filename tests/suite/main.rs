@@ -27,6 +27,7 @@ mod plot_figures;
 mod scene_errors;
 mod scene_files;
 mod scene_load;
+mod shell_laws;
 mod stability_criteria;
 mod stability_series_window;
 mod stability_sweep;
