@@ -28,6 +28,7 @@ mod scene_errors;
 mod scene_files;
 mod scene_load;
 mod shell_laws;
+mod shell_runtime;
 mod stability_criteria;
 mod stability_series_window;
 mod stability_sweep;
