@@ -723,15 +723,32 @@ pub mod membrane {
             pub fn s0(r: f64, r0: f64, kb: f64) -> f64 {
                 0.0
             }
+            /// ∂S0/∂R, S0 = 0
+            #[allow(unused_variables)]
+            pub fn s0_dr(r: f64, r0: f64, kb: f64) -> f64 {
+                0.0
+            }
             /// S1 = (n^2 - 2*n)*kb/R^4
             #[allow(unused_variables)]
             pub fn s1(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0) * n + (1.0) * n.powi(2)) * r.powi(-4) * kb.powi(1)
             }
+            /// ∂S1/∂R, S1 = (n^2 - 2*n)*kb/R^4
+            #[allow(unused_variables)]
+            pub fn s1_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((-2.0) * n + (1.0) * n.powi(2)) * (-4.0) * r.powi(-5) * kb.powi(1)
+            }
             /// S2 = 0
             #[allow(unused_variables)]
             pub fn s2(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                0.0
+            }
+            /// ∂S2/∂R, S2 = 0
+            #[allow(unused_variables)]
+            pub fn s2_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
@@ -741,9 +758,21 @@ pub mod membrane {
                 let n = k * (k + 1.0);
                 0.0
             }
+            /// ∂S11/∂R, S11 = 0
+            #[allow(unused_variables)]
+            pub fn s11_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                0.0
+            }
             /// S12 = 0
             #[allow(unused_variables)]
             pub fn s12(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                0.0
+            }
+            /// ∂S12/∂R, S12 = 0
+            #[allow(unused_variables)]
+            pub fn s12_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
@@ -755,15 +784,32 @@ pub mod membrane {
             pub fn s0(r: f64, r0: f64, kb: f64) -> f64 {
                 0.0
             }
+            /// ∂S0/∂R, S0 = 0
+            #[allow(unused_variables)]
+            pub fn s0_dr(r: f64, r0: f64, kb: f64) -> f64 {
+                0.0
+            }
             /// S1 = (n^2 - 2*n)*kb/R^4
             #[allow(unused_variables)]
             pub fn s1(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0) * n + (1.0) * n.powi(2)) * r.powi(-4) * kb.powi(1)
             }
+            /// ∂S1/∂R, S1 = (n^2 - 2*n)*kb/R^4
+            #[allow(unused_variables)]
+            pub fn s1_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((-2.0) * n + (1.0) * n.powi(2)) * (-4.0) * r.powi(-5) * kb.powi(1)
+            }
             /// S2 = 0
             #[allow(unused_variables)]
             pub fn s2(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                0.0
+            }
+            /// ∂S2/∂R, S2 = 0
+            #[allow(unused_variables)]
+            pub fn s2_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
@@ -773,9 +819,21 @@ pub mod membrane {
                 let n = k * (k + 1.0);
                 0.0
             }
+            /// ∂S11/∂R, S11 = 0
+            #[allow(unused_variables)]
+            pub fn s11_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                0.0
+            }
             /// S12 = 0
             #[allow(unused_variables)]
             pub fn s12(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                0.0
+            }
+            /// ∂S12/∂R, S12 = 0
+            #[allow(unused_variables)]
+            pub fn s12_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
@@ -797,6 +855,12 @@ pub mod membrane {
                 ((-4.0)) * c1.powi(1) * r.powi(-7) * r0.powi(6)
                     + ((4.0)) * c1.powi(1) * r.powi(-1)
             }
+            /// ∂S0/∂R, S0 = (-4)*C1*R0^6/R^7 + (4)*C1/R
+            #[allow(unused_variables)]
+            pub fn s0_dr(r: f64, r0: f64, c1: f64) -> f64 {
+                ((-4.0)) * (-7.0) * c1.powi(1) * r.powi(-8) * r0.powi(6)
+                    + ((4.0)) * (-1.0) * c1.powi(1) * r.powi(-2)
+            }
             /// S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
             pub fn s1(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
@@ -804,11 +868,24 @@ pub mod membrane {
                 ((28.0) + (-2.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                     + ((-4.0) + (2.0) * n) * c1.powi(1) * r.powi(-2)
             }
+            /// ∂S1/∂R, S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
+            #[allow(unused_variables)]
+            pub fn s1_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((28.0) + (-2.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                    + ((-4.0) + (2.0) * n) * (-2.0) * c1.powi(1) * r.powi(-3)
+            }
             /// S2 = (-12*n)*C1*R0^6/R^8
             #[allow(unused_variables)]
             pub fn s2(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-12.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
+            }
+            /// ∂S2/∂R, S2 = (-12*n)*C1*R0^6/R^8
+            #[allow(unused_variables)]
+            pub fn s2_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((-12.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
             }
             /// S11 = (-8)*C1*R0^6/R^8 + (-4)*C1/R^2
             #[allow(unused_variables)]
@@ -817,12 +894,26 @@ pub mod membrane {
                 ((-8.0)) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                     + ((-4.0)) * c1.powi(1) * r.powi(-2)
             }
+            /// ∂S11/∂R, S11 = (-8)*C1*R0^6/R^8 + (-4)*C1/R^2
+            #[allow(unused_variables)]
+            pub fn s11_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((-8.0)) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                    + ((-4.0)) * (-2.0) * c1.powi(1) * r.powi(-3)
+            }
             /// S12 = (4*n)*C1*R0^6/R^8 + (4*n - 4)*C1/R^2
             #[allow(unused_variables)]
             pub fn s12(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((4.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                     + ((-4.0) + (4.0) * n) * c1.powi(1) * r.powi(-2)
+            }
+            /// ∂S12/∂R, S12 = (4*n)*C1*R0^6/R^8 + (4*n - 4)*C1/R^2
+            #[allow(unused_variables)]
+            pub fn s12_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((4.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                    + ((-4.0) + (4.0) * n) * (-2.0) * c1.powi(1) * r.powi(-3)
             }
         }
         /// The tension form: F_t from the divergence of εσ/α (FORMULATION §2).
@@ -833,6 +924,12 @@ pub mod membrane {
                 ((-4.0)) * c1.powi(1) * r.powi(-7) * r0.powi(6)
                     + ((4.0)) * c1.powi(1) * r.powi(-1)
             }
+            /// ∂S0/∂R, S0 = (-4)*C1*R0^6/R^7 + (4)*C1/R
+            #[allow(unused_variables)]
+            pub fn s0_dr(r: f64, r0: f64, c1: f64) -> f64 {
+                ((-4.0)) * (-7.0) * c1.powi(1) * r.powi(-8) * r0.powi(6)
+                    + ((4.0)) * (-1.0) * c1.powi(1) * r.powi(-2)
+            }
             /// S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
             pub fn s1(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
@@ -840,11 +937,24 @@ pub mod membrane {
                 ((28.0) + (-2.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                     + ((-4.0) + (2.0) * n) * c1.powi(1) * r.powi(-2)
             }
+            /// ∂S1/∂R, S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
+            #[allow(unused_variables)]
+            pub fn s1_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((28.0) + (-2.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                    + ((-4.0) + (2.0) * n) * (-2.0) * c1.powi(1) * r.powi(-3)
+            }
             /// S2 = (-12*n)*C1*R0^6/R^8
             #[allow(unused_variables)]
             pub fn s2(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-12.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
+            }
+            /// ∂S2/∂R, S2 = (-12*n)*C1*R0^6/R^8
+            #[allow(unused_variables)]
+            pub fn s2_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((-12.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
             }
             /// S11 = (-12)*C1*R0^6/R^8
             #[allow(unused_variables)]
@@ -852,12 +962,25 @@ pub mod membrane {
                 let n = k * (k + 1.0);
                 ((-12.0)) * c1.powi(1) * r.powi(-8) * r0.powi(6)
             }
+            /// ∂S11/∂R, S11 = (-12)*C1*R0^6/R^8
+            #[allow(unused_variables)]
+            pub fn s11_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((-12.0)) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+            }
             /// S12 = (6*n)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
             pub fn s12(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((6.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                     + ((-4.0) + (2.0) * n) * c1.powi(1) * r.powi(-2)
+            }
+            /// ∂S12/∂R, S12 = (6*n)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
+            #[allow(unused_variables)]
+            pub fn s12_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+                let n = k * (k + 1.0);
+                ((6.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                    + ((-4.0) + (2.0) * n) * (-2.0) * c1.powi(1) * r.powi(-3)
             }
         }
     }
@@ -876,17 +999,48 @@ pub mod membrane {
             pub fn s0(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64) -> f64 {
                 ((4.0)) * r.powi(-2) * rd.powi(1) * kappa_s.powi(1)
             }
+            /// ∂S0/∂R, S0 = (4)*Rd*kappa_s/R^2
+            #[allow(unused_variables)]
+            pub fn s0_dr(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64) -> f64 {
+                ((4.0)) * (-2.0) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
+            }
             /// S1 = (2*n - 8)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
             pub fn s1(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-8.0) + (2.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
             }
+            /// ∂S1/∂R, S1 = (2*n - 8)*Rd*kappa_s/R^3
+            #[allow(unused_variables)]
+            pub fn s1_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((-8.0) + (2.0) * n) * (-3.0) * r.powi(-4) * rd.powi(1) * kappa_s.powi(1)
+            }
             /// S2 = (2*n)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
             pub fn s2(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((2.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
+            }
+            /// ∂S2/∂R, S2 = (2*n)*Rd*kappa_s/R^3
+            #[allow(unused_variables)]
+            pub fn s2_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((2.0) * n) * (-3.0) * r.powi(-4) * rd.powi(1) * kappa_s.powi(1)
             }
             /// S11 = (-2)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
@@ -900,6 +1054,19 @@ pub mod membrane {
             ) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0)) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
+            }
+            /// ∂S11/∂R, S11 = (-2)*Rd*kappa_s/R^3
+            #[allow(unused_variables)]
+            pub fn s11_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((-2.0)) * (-3.0) * r.powi(-4) * rd.powi(1) * kappa_s.powi(1)
             }
             /// S12 = (n)*Rd*kappa_s/R^3 + (-n + 2)*Rd*mu_s/R^3
             #[allow(unused_variables)]
@@ -915,6 +1082,21 @@ pub mod membrane {
                 ((1.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
                     + ((2.0) + (-1.0) * n) * r.powi(-3) * rd.powi(1) * mu_s.powi(1)
             }
+            /// ∂S12/∂R, S12 = (n)*Rd*kappa_s/R^3 + (-n + 2)*Rd*mu_s/R^3
+            #[allow(unused_variables)]
+            pub fn s12_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((1.0) * n) * (-3.0) * r.powi(-4) * rd.powi(1) * kappa_s.powi(1)
+                    + ((2.0) + (-1.0) * n) * (-3.0) * r.powi(-4) * rd.powi(1)
+                        * mu_s.powi(1)
+            }
             /// S1D = (4)*kappa_s/R^2
             #[allow(unused_variables)]
             pub fn s1d(
@@ -927,6 +1109,19 @@ pub mod membrane {
             ) -> f64 {
                 let n = k * (k + 1.0);
                 ((4.0)) * r.powi(-2) * kappa_s.powi(1)
+            }
+            /// ∂S1D/∂R, S1D = (4)*kappa_s/R^2
+            #[allow(unused_variables)]
+            pub fn s1d_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((4.0)) * (-2.0) * r.powi(-3) * kappa_s.powi(1)
             }
             /// S2D = (-2*n)*kappa_s/R^2
             #[allow(unused_variables)]
@@ -941,6 +1136,19 @@ pub mod membrane {
                 let n = k * (k + 1.0);
                 ((-2.0) * n) * r.powi(-2) * kappa_s.powi(1)
             }
+            /// ∂S2D/∂R, S2D = (-2*n)*kappa_s/R^2
+            #[allow(unused_variables)]
+            pub fn s2d_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((-2.0) * n) * (-2.0) * r.powi(-3) * kappa_s.powi(1)
+            }
             /// S11D = (-2)*kappa_s/R^2
             #[allow(unused_variables)]
             pub fn s11d(
@@ -953,6 +1161,19 @@ pub mod membrane {
             ) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0)) * r.powi(-2) * kappa_s.powi(1)
+            }
+            /// ∂S11D/∂R, S11D = (-2)*kappa_s/R^2
+            #[allow(unused_variables)]
+            pub fn s11d_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((-2.0)) * (-2.0) * r.powi(-3) * kappa_s.powi(1)
             }
             /// S12D = (n)*kappa_s/R^2 + (n - 2)*mu_s/R^2
             #[allow(unused_variables)]
@@ -968,6 +1189,20 @@ pub mod membrane {
                 ((1.0) * n) * r.powi(-2) * kappa_s.powi(1)
                     + ((-2.0) + (1.0) * n) * r.powi(-2) * mu_s.powi(1)
             }
+            /// ∂S12D/∂R, S12D = (n)*kappa_s/R^2 + (n - 2)*mu_s/R^2
+            #[allow(unused_variables)]
+            pub fn s12d_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((1.0) * n) * (-2.0) * r.powi(-3) * kappa_s.powi(1)
+                    + ((-2.0) + (1.0) * n) * (-2.0) * r.powi(-3) * mu_s.powi(1)
+            }
         }
         /// The tension form: F_t from the divergence of εσ/α (FORMULATION §2).
         pub mod tension {
@@ -976,17 +1211,48 @@ pub mod membrane {
             pub fn s0(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64) -> f64 {
                 ((4.0)) * r.powi(-2) * rd.powi(1) * kappa_s.powi(1)
             }
+            /// ∂S0/∂R, S0 = (4)*Rd*kappa_s/R^2
+            #[allow(unused_variables)]
+            pub fn s0_dr(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64) -> f64 {
+                ((4.0)) * (-2.0) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
+            }
             /// S1 = (2*n - 8)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
             pub fn s1(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-8.0) + (2.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
             }
+            /// ∂S1/∂R, S1 = (2*n - 8)*Rd*kappa_s/R^3
+            #[allow(unused_variables)]
+            pub fn s1_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((-8.0) + (2.0) * n) * (-3.0) * r.powi(-4) * rd.powi(1) * kappa_s.powi(1)
+            }
             /// S2 = (2*n)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
             pub fn s2(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((2.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
+            }
+            /// ∂S2/∂R, S2 = (2*n)*Rd*kappa_s/R^3
+            #[allow(unused_variables)]
+            pub fn s2_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((2.0) * n) * (-3.0) * r.powi(-4) * rd.powi(1) * kappa_s.powi(1)
             }
             /// S11 = (2)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
@@ -1000,6 +1266,19 @@ pub mod membrane {
             ) -> f64 {
                 let n = k * (k + 1.0);
                 ((2.0)) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
+            }
+            /// ∂S11/∂R, S11 = (2)*Rd*kappa_s/R^3
+            #[allow(unused_variables)]
+            pub fn s11_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((2.0)) * (-3.0) * r.powi(-4) * rd.powi(1) * kappa_s.powi(1)
             }
             /// S12 = (-n)*Rd*kappa_s/R^3 + (-n + 2)*Rd*mu_s/R^3
             #[allow(unused_variables)]
@@ -1015,6 +1294,21 @@ pub mod membrane {
                 ((-1.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
                     + ((2.0) + (-1.0) * n) * r.powi(-3) * rd.powi(1) * mu_s.powi(1)
             }
+            /// ∂S12/∂R, S12 = (-n)*Rd*kappa_s/R^3 + (-n + 2)*Rd*mu_s/R^3
+            #[allow(unused_variables)]
+            pub fn s12_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((-1.0) * n) * (-3.0) * r.powi(-4) * rd.powi(1) * kappa_s.powi(1)
+                    + ((2.0) + (-1.0) * n) * (-3.0) * r.powi(-4) * rd.powi(1)
+                        * mu_s.powi(1)
+            }
             /// S1D = (4)*kappa_s/R^2
             #[allow(unused_variables)]
             pub fn s1d(
@@ -1027,6 +1321,19 @@ pub mod membrane {
             ) -> f64 {
                 let n = k * (k + 1.0);
                 ((4.0)) * r.powi(-2) * kappa_s.powi(1)
+            }
+            /// ∂S1D/∂R, S1D = (4)*kappa_s/R^2
+            #[allow(unused_variables)]
+            pub fn s1d_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((4.0)) * (-2.0) * r.powi(-3) * kappa_s.powi(1)
             }
             /// S2D = (-2*n)*kappa_s/R^2
             #[allow(unused_variables)]
@@ -1041,6 +1348,19 @@ pub mod membrane {
                 let n = k * (k + 1.0);
                 ((-2.0) * n) * r.powi(-2) * kappa_s.powi(1)
             }
+            /// ∂S2D/∂R, S2D = (-2*n)*kappa_s/R^2
+            #[allow(unused_variables)]
+            pub fn s2d_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((-2.0) * n) * (-2.0) * r.powi(-3) * kappa_s.powi(1)
+            }
             /// S11D = (-2)*kappa_s/R^2
             #[allow(unused_variables)]
             pub fn s11d(
@@ -1053,6 +1373,19 @@ pub mod membrane {
             ) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0)) * r.powi(-2) * kappa_s.powi(1)
+            }
+            /// ∂S11D/∂R, S11D = (-2)*kappa_s/R^2
+            #[allow(unused_variables)]
+            pub fn s11d_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((-2.0)) * (-2.0) * r.powi(-3) * kappa_s.powi(1)
             }
             /// S12D = (n)*kappa_s/R^2 + (n - 2)*mu_s/R^2
             #[allow(unused_variables)]
@@ -1067,6 +1400,20 @@ pub mod membrane {
                 let n = k * (k + 1.0);
                 ((1.0) * n) * r.powi(-2) * kappa_s.powi(1)
                     + ((-2.0) + (1.0) * n) * r.powi(-2) * mu_s.powi(1)
+            }
+            /// ∂S12D/∂R, S12D = (n)*kappa_s/R^2 + (n - 2)*mu_s/R^2
+            #[allow(unused_variables)]
+            pub fn s12d_dr(
+                r: f64,
+                r0: f64,
+                rd: f64,
+                mu_s: f64,
+                kappa_s: f64,
+                k: f64,
+            ) -> f64 {
+                let n = k * (k + 1.0);
+                ((1.0) * n) * (-2.0) * r.powi(-3) * kappa_s.powi(1)
+                    + ((-2.0) + (1.0) * n) * (-2.0) * r.powi(-3) * mu_s.powi(1)
             }
         }
     }
