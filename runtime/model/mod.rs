@@ -102,11 +102,13 @@ impl Model {
             Box::new(effects::membrane::MembraneTerm {
                 law: params.membrane,
                 r0: params.r0,
-                c1: params.c1,
-                c2: params.c2,
+                c1: params.membrane_args.0,
+                c2: params.membrane_args.1,
                 orders: kf.clone(),
             }),
         ];
+        // issue 11 / issue 10 part 2: only the shell effects the scene switches on
+        terms.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
         }

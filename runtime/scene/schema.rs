@@ -220,6 +220,26 @@ pub static SCHEMA: &[Param] = &[
     p("shell.form", K::Choice(&["paper", "tension"]), "", D::Str("paper"), Rg::None, "eqs 2.26-2.29",
       "Membrane load: `paper` = divergence of the Cauchy stress (the paper's); `tension` = divergence of \
        the tension eps sigma/alpha (FORMULATION sec 2, audit 9)."),
+    p("shell.law", K::Choice(&["mooney-rivlin", "skalak"]), "", D::Str("mooney-rivlin"), Rg::None, "eq 2.24 / Skalak 1973",
+      "Elastic law of the membrane (derivations/shell/): `mooney-rivlin` with c1, c2, or `skalak` with \
+       shear_modulus and area_dilatation (c1 still sets the time scale t*)."),
+    p("shell.shear_modulus", K::Float, "N/m", D::Derived("2 (c1 + c2), the small-strain shear modulus of the Mooney-Rivlin membrane"),
+      Rg::Positive, "G_s", "Skalak shear modulus (shell.law = \"skalak\" only)."),
+    p("shell.area_dilatation", K::Float, "", D::Float(1.0), Rg::NonNegative, "C",
+      "Skalak area-dilatation parameter: small-strain area modulus K = G_s (1 + 2C); C = 1 gives the \
+       Mooney-Rivlin K = 6 (c1 + c2) when G_s = 2 (c1 + c2) (shell.law = \"skalak\" only)."),
+    p("shell.bending_modulus", K::Float, "J", D::Float(0.0), Rg::NonNegative, "k_b",
+      "Helfrich bending stiffness (zero spontaneous curvature): normal load (k-1)k(k+1)(k+2) k_b a_k/R^4 \
+       on each mode, no radial load. 0 = off."),
+    p("shell.shear_viscosity", K::Float, "Pa s m", D::Float(0.0), Rg::NonNegative, "mu_s",
+      "Surface shear viscosity of a Kelvin-Voigt shell. Its loads act on the shape modes only; they are \
+       derived (membrane::viscous) but not wired into the mode equations yet, so a value > 0 is rejected. 0 = off."),
+    p("shell.dilatational_viscosity", K::Float, "kg/s", D::Float(0.0), Rg::NonNegative, "kappa_s",
+      "Surface dilatational viscosity (Marmottant-type): radial load 4 kappa_s (dR/dt)/R^2. Radial runs \
+       only (modes.max_order = 0): its shape-mode loads are derived but not wired yet. 0 = off."),
+    p("shell.surface_tension", K::Float, "N/m", D::Float(0.0), Rg::NonNegative, "gamma",
+      "Isotropic surface tension: 2 gamma/R in the radial balance, Lamb's (k-1)(k+2) gamma/R^2 a_k on \
+       each mode (tension form, derivations/shell/surface_tension.rs). 0 = off."),
     section("gas", D::Present, "Polytropic gas: p_in = p_g0 (R0/R)^(3 kappa); no vapour pressure."),
     p("gas.polytropic_exponent", K::Float, "", D::Float(1.4), Rg::Positive, "kappa",
       "Polytropic exponent (1 = isothermal, 1.4 = adiabatic air)."),

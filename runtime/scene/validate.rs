@@ -204,9 +204,22 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     };
 
     let rs = raw.shell.unwrap_or_default();
+    let (c1, c2) = (c.float("shell.c1", rs.c1), c.float("shell.c2", rs.c2));
+    let law = match c.choice("shell.law", rs.law.as_deref()) {
+        "skalak" => ShellLaw::Skalak {
+            shear_modulus: c.float_or("shell.shear_modulus", rs.shear_modulus, 2.0 * (c1 + c2)),
+            area_dilatation: c.float("shell.area_dilatation", rs.area_dilatation),
+        },
+        _ => {
+            // range-checked, but unused by the Mooney–Rivlin law (`scene new` writes every key)
+            c.float_or("shell.shear_modulus", rs.shear_modulus, 0.0);
+            c.float("shell.area_dilatation", rs.area_dilatation);
+            ShellLaw::MooneyRivlin
+        }
+    };
     let shell = Shell {
-        c1: c.float("shell.c1", rs.c1),
-        c2: c.float("shell.c2", rs.c2),
+        c1,
+        c2,
         thickness: c.float("shell.thickness", rs.thickness),
         susceptibility: c.float("shell.susceptibility", rs.susceptibility),
         form: match c.choice("shell.form", rs.form.as_deref()) {
@@ -214,6 +227,11 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             "paper" => MembraneForm::Paper,
             other => unreachable!("schema choice {other}"),
         },
+        law,
+        bending_modulus: c.float("shell.bending_modulus", rs.bending_modulus),
+        shear_viscosity: c.float("shell.shear_viscosity", rs.shear_viscosity),
+        dilatational_viscosity: c.float("shell.dilatational_viscosity", rs.dilatational_viscosity),
+        surface_tension: c.float("shell.surface_tension", rs.surface_tension),
     };
 
     let rl = raw.liquid.unwrap_or_default();
@@ -244,6 +262,23 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     let field = build_field(c, raw.field, r0);
     let vorticity = build_vorticity(c, raw.vorticity);
     let run = build_run(c, raw.run, &bubble, &shell, &liquid);
+
+    // Shell viscosity (issue 11 part 3): the shape-mode viscous loads multiply ḃ_k, an output of
+    // the tangential balance, and are derived (membrane::viscous) but not wired yet.
+    for (key, v) in [("shell.shear_viscosity", shell.shear_viscosity), ("shell.dilatational_viscosity", shell.dilatational_viscosity)] {
+        let radial_only = key == "shell.dilatational_viscosity";
+        if v > 0.0 && (!radial_only || modes.max_order > 0) {
+            c.push(
+                key,
+                Some(fmt_num(v)),
+                if radial_only {
+                    "with shape modes (modes.max_order > 0): the shell-viscous shape-mode loads are derived but not wired yet; use it with modes.max_order = 0 (radial: 4 kappa_s (dR/dt)/R^2)"
+                } else {
+                    "the surface shear viscosity acts on the shape modes only, whose viscous loads are derived but not wired yet"
+                },
+            );
+        }
+    }
 
     // Cross-key rules on the initial state.
     for (name, map) in [("a", &bubble.initial.a), ("b", &bubble.initial.b)] {

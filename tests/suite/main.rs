@@ -32,6 +32,8 @@ mod scene_derived;
 mod scene_errors;
 mod scene_files;
 mod scene_load;
+mod shell_laws;
+mod shell_runtime;
 mod stability_args;
 mod stability_criteria;
 mod stability_series_window;

@@ -24,7 +24,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
             radius: R0,
             initial: Initial { radius: R0, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new() },
         },
-        shell: Shell { c1: C1, c2: C2, thickness: 20e-9, susceptibility: 1.0, form: MembraneForm::Paper },
+        shell: Shell::mooney_rivlin(C1, C2, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: KAPPA, reference_pressure: P0 },
         liquid: Liquid { density: RHO, viscosity: ETA, ambient_pressure: P0 },
         drive: None,

@@ -22,6 +22,7 @@ pub mod drive;
 pub mod gas;
 pub mod magnetic;
 pub mod membrane;
+pub mod shell;
 pub mod viscosity;
 
 /// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.
