@@ -10,6 +10,7 @@ pub mod bisect;
 pub mod floquet;
 pub mod frequencies;
 pub mod periodic;
+pub mod shooting;
 pub mod stability;
 pub mod sweep;
 
