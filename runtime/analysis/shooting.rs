@@ -308,3 +308,37 @@ fn newton(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// Forced Duffing x'' + 0.3x' − x + x³ = γ cos 1.2t: period 2 at γ = 0.28.
+    struct Duffing(f64);
+    impl OdeSystem for Duffing {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+            dy[0] = y[1];
+            dy[1] = -0.3 * y[1] + y[0] - y[0].powi(3) + self.0 * (1.2 * t).cos();
+        }
+    }
+
+    #[test]
+    fn flip_restart_from_the_unstable_orbit() {
+        let period = 2.0 * PI / 1.2;
+        let opts = ShootingOptions { transient_periods: 0, ..ShootingOptions::default() };
+        let flow = RkFlow { sys: &Duffing(0.28), period, steps_per_period: opts.steps_per_period };
+        // The unstable period-1 orbit (a multiplier < −1) …
+        let one = newton(&flow, 0.0, &[1.0, 0.0], 1, &opts, &[]).unwrap();
+        let (mu, v) = flip_direction(&one.jac).expect("a flip multiplier");
+        assert!(mu < -1.0 && v.len() == 2);
+        // … as the start point: plain Newton on P_2 stays there; the flip restart must leave.
+        let orbit = find_orbit(&Duffing(0.28), 0.0, &one.orbit.y0, period, &opts).unwrap();
+        assert_eq!(orbit.multiple, 2);
+        assert!(orbit.found_by.starts_with("flip restart from the period-1 orbit"), "{}", orbit.found_by);
+        assert!(orbit.max_multiplier() < 1.0);
+    }
+}

@@ -16,6 +16,7 @@ mod coil_h4;
 mod docs_examples;
 mod figures;
 mod floquet_mathieu;
+mod floquet_orbits;
 mod floquet_periodic;
 mod hard_cases;
 mod integrators;
