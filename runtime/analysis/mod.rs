@@ -7,6 +7,7 @@
 //! [`stability`] apply them to the model.
 
 pub mod bisect;
+pub mod critical;
 pub mod floquet;
 pub mod frequencies;
 pub mod periodic;
