@@ -81,7 +81,8 @@ impl Default for FloquetOptions {
     }
 }
 
-/// Tolerance of the convergence estimate: |max|μ|(2n) − max|μ|(n)| above it is a warning.
+/// Tolerance of the convergence estimate: |max|μ|(2n) − max|μ|(n)| above it times
+/// max(1, max|μ|) is a warning.
 pub const CONVERGENCE_TOLERANCE: f64 = 1e-6;
 
 /// max|μ| with n and 2n Magnus steps per drive period.
@@ -404,7 +405,7 @@ pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, St
             steps: opts.magnus_steps,
             max_multiplier_2x_steps: fine.max_modulus,
             difference,
-            converged: difference <= CONVERGENCE_TOLERANCE,
+            converged: difference <= CONVERGENCE_TOLERANCE * spec.max_modulus.max(1.0),
         })
     } else {
         None

@@ -94,7 +94,7 @@ fn compute(args: &FloquetArgs) -> Result<serde_json::Value, Failure> {
     let mut warnings = Vec::new();
     if let Some(c) = r.convergence.as_ref().filter(|c| !c.converged) {
         warnings.push(format!(
-            "max|μ| not converged to {CONVERGENCE_TOLERANCE:e}: {} with {} steps, {} with {} (difference {:.2e}); raise --steps",
+            "max|μ| not converged to {CONVERGENCE_TOLERANCE:e} (relative above 1): {} with {} steps, {} with {} (difference {:.2e}); raise --steps",
             r.max_multiplier,
             c.steps,
             c.max_multiplier_2x_steps,

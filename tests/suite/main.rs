@@ -15,6 +15,7 @@ mod coefficients_crosscheck;
 mod coil_h4;
 mod docs_examples;
 mod figures;
+mod floquet_cli;
 mod floquet_mathieu;
 mod floquet_orbits;
 mod floquet_periodic;
