@@ -121,9 +121,15 @@ fn arg_name(sym: &str) -> String {
     sym.to_lowercase()
 }
 
-fn membrane_fn(c: &MembraneCoeff, args: &[String]) -> Result<TokenStream, CodegenError> {
+/// `pub fn s1(r, r0, c1, c2, k)`, or with `d_r` its exact derivative ∂/∂R `pub fn s1_dr(…)` (for
+/// the model's analytic Jacobian: each monomial R^p becomes p R^(p−1)).
+fn membrane_fn(c: &MembraneCoeff, args: &[String], d_r: bool) -> Result<TokenStream, CodegenError> {
     let mut body: Vec<String> = Vec::new();
     for (mono, p) in &c.terms {
+        let r_power = mono.0.iter().find(|(s, _)| s == "R").map_or(0, |(_, pw)| *pw);
+        if d_r && r_power == 0 {
+            continue;
+        }
         let poly: Vec<String> = p
             .iter()
             .enumerate()
@@ -138,19 +144,27 @@ fn membrane_fn(c: &MembraneCoeff, args: &[String]) -> Result<TokenStream, Codege
             })
             .collect();
         let mut factors = vec![format!("({})", poly.join(" + "))];
+        if d_r {
+            factors.push(format!("({:?})", r_power as f64));
+        }
         for (s, pw) in &mono.0 {
+            let pw = if d_r && s == "R" { pw - 1 } else { *pw };
             factors.push(format!("{}.powi({pw})", arg_name(s)));
         }
         body.push(factors.join(" * "));
     }
     let expr_text = if body.is_empty() { "0.0".to_string() } else { body.join(" + ") };
     let expr: syn::Expr = syn::parse_str(&expr_text).map_err(|e| CodegenError::Emit(format!("{e}: {expr_text}")))?;
-    let name = format_ident!("{}", c.name);
+    let name = if d_r { format_ident!("{}_dr", c.name) } else { format_ident!("{}", c.name) };
     let params = args.iter().map(|a| {
         let a = format_ident!("{a}");
         quote!(#a: f64)
     });
-    let doc = format!(" {} = {}", c.name.to_uppercase(), membrane_text(c));
+    let doc = if d_r {
+        format!(" ∂{}/∂R, {} = {}", c.name.to_uppercase(), c.name.to_uppercase(), membrane_text(c))
+    } else {
+        format!(" {} = {}", c.name.to_uppercase(), membrane_text(c))
+    };
     if c.uses_k {
         Ok(quote!(#[doc = #doc] #[allow(unused_variables)] pub fn #name(#(#params,)* k: f64) -> f64 { let n = k * (k + 1.0); #expr }))
     } else {
@@ -183,7 +197,11 @@ fn membrane(m: &Membrane) -> Result<TokenStream, CodegenError> {
     args.extend(m.symbols.iter().map(|s| arg_name(s)));
     let mut mods = Vec::new();
     for v in &m.variants {
-        let fns = v.coeffs.iter().map(|c| membrane_fn(c, &args)).collect::<Result<Vec<_>, _>>()?;
+        let fns = v
+            .coeffs
+            .iter()
+            .flat_map(|c| [membrane_fn(c, &args, false), membrane_fn(c, &args, true)])
+            .collect::<Result<Vec<_>, _>>()?;
         let name = format_ident!("{}", v.variant);
         let doc = match v.variant {
             "paper" => " The paper's form: F = −div σ/(λ1λ2) (eqs 2.26–2.29, FORMULATION §1).",

@@ -15,6 +15,7 @@
 //! which simulates even modes only: `field_couplings = false` in the output says so).
 //! Without a field: ω_k² = 12(c1+c2)(k−1)(k+1)(k+2)/[ρR0³(2k²+2k−1)].
 
+use crate::model::effects::{a_index, LoadJacobian};
 use crate::model::{Model, ModelError};
 use crate::scene::Scene;
 use nalgebra::DMatrix;
@@ -70,7 +71,7 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
     let model = Model::from_scene(&s)?;
     let ts = model.time_scale();
     let bl = model.boundary_layer().expect("max_order ≥ 2 assembles the boundary-layer system");
-    let p = bl.params;
+    let p = *bl.params();
     let mem = p.membrane;
     let r = 1.0;
     let wrap = |w2: f64, k: usize, coupled: bool| {
@@ -85,47 +86,33 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
         }
     };
 
+    // The exact linear structure of the loads at (R0, Ṙ = 0, a = b = 0), t = 0.
+    let eq = bl.equations();
+    let n = bl.modes().len();
+    let mut z = vec![0.0; 2 + 3 * n];
+    z[0] = r;
+    let mut lj = LoadJacobian::new(n);
+    eq.load_jacobian(0.0, &z, &mut lj);
+
     // Radial: ω0² = −∂R̈/∂R at (R0, Ṙ = 0), undamped (the 4ηṘ/R term vanishes at Ṙ = 0).
-    let n = bl.modes.len();
-    let mut y = vec![0.0; 2 + 3 * n];
-    let h = 1e-6;
-    y[0] = r + h;
-    let up = bl.radial_acceleration(0.0, &y);
-    y[0] = r - h;
-    let down = bl.radial_acceleration(0.0, &y);
-    let w0 = (-(up - down) / (2.0 * h)).max(0.0).sqrt();
+    let pressure = eq.loads(0.0, &z, &mut [], &mut []);
+    let mut grad = vec![0.0; z.len()];
+    eq.acceleration_gradient(r, 0.0, pressure, &lj.pressure, &mut grad);
+    let w0 = (-grad[0]).max(0.0).sqrt();
     let radial = RadialFrequency { omega_rad_s: w0 / ts, f_hz: w0 / ts / (2.0 * std::f64::consts::PI) };
 
-    // Even modes, coupled by the field.
-    let (mut a, mut b, mut aa, mut bb) =
-        (DMatrix::zeros(n, n), DMatrix::zeros(n, n), DMatrix::zeros(n, n), DMatrix::zeros(n, n));
-    for m in 0..n {
-        let k = bl.modes[m].k;
-        a[(m, m)] = (mem.s1)(r, p.r0, p.c1, p.c2, k);
-        b[(m, m)] = (mem.s2)(r, p.r0, p.c1, p.c2, k);
-        aa[(m, m)] = (mem.s11)(r, p.r0, p.c1, p.c2, k);
-        bb[(m, m)] = (mem.s12)(r, p.r0, p.c1, p.c2, k);
-    }
-    if let Some(loads) = bl.loads.as_ref() {
-        let f = loads.factors(0.0, r);
-        let mut y = vec![0.0; 2 + 3 * n];
-        y[0] = r;
-        let base: Vec<(f64, f64)> = (0..n).map(|m| (loads.normal(&f, m, &y), loads.tangential(&f, m, &y))).collect();
-        for j in 0..n {
-            for (offset, (mn, mt)) in [(0usize, (&mut a, &mut aa)), (2, (&mut b, &mut bb))] {
-                y[2 + 3 * j + offset] = 1.0;
-                for m in 0..n {
-                    mn[(m, j)] -= loads.normal(&f, m, &y) - base[m].0;
-                    mt[(m, j)] -= loads.tangential(&f, m, &y) - base[m].1;
-                }
-                y[2 + 3 * j + offset] = 0.0;
-            }
-        }
-    }
+    // Even modes, coupled by the field: A = ∂G_n/∂a, B = ∂G_n/∂b, A_a = ∂G_t/∂a, B_b = ∂G_t/∂b.
+    let pick = |normal: bool, offset: usize| {
+        DMatrix::from_fn(n, n, |m, j| {
+            let row = if normal { lj.gn_row(m) } else { lj.gt_row(m) };
+            row[a_index(j) + offset]
+        })
+    };
+    let (a, b, aa, bb) = (pick(true, 0), pick(true, 2), pick(false, 0), pick(false, 2));
     let bb_inv = bb.try_inverse().ok_or(FrequencyError::SingularTangential)?;
     let mut w = a - b * bb_inv * aa;
     for m in 0..n {
-        let scale = (bl.modes[m].k + 1.0) / (p.rho * p.r0);
+        let scale = (bl.modes()[m].k + 1.0) / (p.rho * p.r0);
         w.row_mut(m).scale_mut(scale);
     }
     let mut shape = Vec::new();
@@ -135,7 +122,7 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
         shape.push(wrap(mu.re, 2 * (m + 1), true));
     }
     // Odd modes: membrane only (see the module doc).
-    let coupled_field = bl.loads.is_none();
+    let coupled_field = !eq.has("magnetic");
     for k in (3..=kmax).step_by(2) {
         let kf = k as f64;
         let (s1, s2, s11, s12) = (

@@ -220,35 +220,15 @@ impl LinearPeriodic for ShapeSystem<'_> {
     fn dim(&self) -> usize {
         self.n
     }
+    /// A(t), assembled exactly from the model's linear structure
+    /// ([`BoundaryLayerSystem::linear_modes_into`]).
     fn matrix(&self, t: f64, a: &mut DMatrix<f64>) {
         let (r, rd, rdd) = (self.radial)(t);
-        if self.bl.loads.is_some() {
-            a.copy_from(&self.bl.linear_modes(t, r, rd, rdd).0);
-            return;
-        }
-        // No field: the modes decouple, so one unit perturbation per component (a, ȧ, b) of every
-        // mode at once gives all 3×3 blocks (4 evaluations instead of 3M + 1).
-        let mut y = vec![0.0; 2 + self.n];
-        let (mut base, mut dy) = (vec![0.0; 2 + self.n], vec![0.0; 2 + self.n]);
-        y[0] = r;
-        y[1] = rd;
-        self.bl.mode_rates(t, r, rd, rdd, None, &y, &mut base);
-        a.fill(0.0);
-        for c in 0..3 {
-            for m in 0..self.n / 3 {
-                y[2 + 3 * m + c] = 1.0;
-            }
-            self.bl.mode_rates(t, r, rd, rdd, None, &y, &mut dy);
-            for m in 0..self.n / 3 {
-                for i in 0..3 {
-                    a[(3 * m + i, 3 * m + c)] = dy[2 + 3 * m + i] - base[2 + 3 * m + i];
-                }
-                y[2 + 3 * m + c] = 0.0;
-            }
-        }
+        let mut g = nalgebra::DVector::zeros(self.n);
+        self.bl.linear_modes_into(t, r, rd, rdd, a, &mut g);
     }
     fn blocks(&self) -> Vec<Vec<usize>> {
-        if self.bl.loads.is_some() {
+        if self.bl.jacobian_pattern().band > 0 {
             vec![(0..self.n).collect()]
         } else {
             (0..self.n / 3).map(|m| vec![3 * m, 3 * m + 1, 3 * m + 2]).collect()

@@ -169,6 +169,11 @@ impl MagneticLoads {
         self.evaluations.load(Ordering::Relaxed)
     }
 
+    /// Half-bandwidth W in modes of the couplings (1: k couples to k ± 2).
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
     pub fn is_static(&self) -> bool {
         matches!(self.law, TimeLaw::Static)
     }
@@ -218,6 +223,34 @@ impl MagneticLoads {
             total += f.zero[i] * zero[row] + f.coupling[i] * s;
         }
         total
+    }
+
+    /// Adds `scale` × the exact gradient of row `row` (0: M0; m + 1: M_n or M_t of mode index m)
+    /// with respect to the state y = [R, Ṙ, (a_k, ȧ_k, b_k)_k] to `grad` (length of y). The loads
+    /// are affine in (a, b) with coefficients ∝ R^p, so this is exact (model Jacobian, issue 16).
+    pub fn add_row_gradient(&self, f: &Factors, row: usize, y: &[f64], normal: bool, scale: f64, grad: &mut [f64]) {
+        let w = self.width as i64;
+        let stride = 2 * (2 * self.width + 1);
+        let r = y[0];
+        for (i, c) in self.comps.iter().enumerate() {
+            let (zero, band) = if normal { (&c.zero_n, &c.band_n) } else { (&c.zero_t, &c.band_t) };
+            let mut s = 0.0;
+            let base = row * stride;
+            for d in -w..=w {
+                let src = row as i64 + d;
+                if src < 1 || src > self.modes as i64 {
+                    continue;
+                }
+                let j = base + 2 * (d + w) as usize;
+                let at = 2 + 3 * (src as usize - 1);
+                s += band[j] * y[at] + band[j + 1] * y[at + 2];
+                grad[at] += scale * f.coupling[i] * band[j];
+                grad[at + 2] += scale * f.coupling[i] * band[j + 1];
+            }
+            grad[0] += scale
+                * (c.zero_power as f64 * f.zero[i] * zero[row] + c.coupling_power as f64 * f.coupling[i] * s)
+                / r;
+        }
     }
 
     /// M0 (the P_0 projection, radial equation), nondimensional. `y` is the full state

@@ -1,8 +1,8 @@
-//! The boundary-layer model (paper §3, eqs 3.1–3.2; FORMULATION §4.3) as an explicit ODE.
+//! The boundary-layer closure (paper §3, eqs 3.1–3.2; FORMULATION §4.3): the mode equations of
+//! [`super::equations`] with Ĩ_k = δ_k T_w/R, J_k = 0, as an explicit ODE.
 //!
-//! State y = [R, Ṙ, (a_k, ȧ_k, b_k) for k = 2, 4, …, N], dimension 2 + 3M. Per mode, with
-//! δ_k = min(√(ν/ω), R/(2k)) (eq 3.1; ω per FORMULATION audit 13), G_n = Ŝ1 a + Ŝ2 b − M_n,k,
-//! G_t = Ŝ11 a + Ŝ12 b − M_t,k (εF^mem, audit 1):
+//! State y = [R, Ṙ, (a_k, ȧ_k, b_k) for k = 2, 4, …, N], dimension 2 + 3M, with
+//! δ_k = min(√(ν/ω), R/(2k)) (eq 3.1; ω per FORMULATION audit 13). Eliminating T_w from (TS):
 //!
 //! ```text
 //! T_w = [2(k+2)ȧ/(k+1) + 2(1−k)Ṙa/((k+1)R) − R G_t/η] / (1 + 2δ/R)     (corrected 2.65, audit 3–4)
@@ -10,14 +10,12 @@
 //! ä   = −[3Ṙȧ − (k−1)R̈a]/R − (k+1)/(ρR)[2η(k+2)ȧ/R + 4η(k−1)Ṙa/R²
 //!        + (kηT_w/R)(1 − 2(k+1)δ/R) + G_n]                                 (2.64 × (k+1)/(ρR), audit 2, 5)
 //! ```
-//! R̈ enters ä_k, so the radial equation (§4.1) is evaluated first.
+//! R̈ enters ä_k, so the radial equation (§4.1) is evaluated first. The exact Jacobian and the
+//! linear mode system A(t) are in [`super::linearize`].
 
-use nalgebra::{DMatrix, DVector};
-
+use super::effects::MAX_MODES;
+use super::equations::{mode_rates, wall_source, Equations, Wall, WallLinear};
 use super::params::Params;
-use super::radial::radial_acceleration;
-use crate::field::loads::{Factors, MagneticLoads};
-use crate::integrate::OdeSystem;
 
 /// Per-mode constants.
 #[derive(Debug, Clone, Copy)]
@@ -28,110 +26,121 @@ pub struct ModeConst {
     pub viscous_length: f64,
 }
 
-/// Radial + shape modes with the boundary-layer closure, optionally with magnetic loads.
+impl ModeConst {
+    /// δ_k = min(√(ν/ω), R/(2k)) (eq 3.1).
+    #[inline]
+    pub fn delta(&self, r: f64) -> f64 {
+        self.viscous_length.min(r / (2.0 * self.k))
+    }
+    /// dδ_k/dR (0 on the √(ν/ω) branch, 1/(2k) on the cap).
+    #[inline]
+    pub fn delta_dr(&self, r: f64) -> f64 {
+        if self.viscous_length <= r / (2.0 * self.k) {
+            0.0
+        } else {
+            1.0 / (2.0 * self.k)
+        }
+    }
+
+    /// The boundary-layer wall terms from the (TS) source A (module doc).
+    #[inline]
+    pub fn wall(&self, eta: f64, r: f64, src: f64) -> Wall {
+        let k = self.k;
+        let delta = self.delta(r);
+        let tw = src / (1.0 + 2.0 * delta / r);
+        Wall { tw, itil: delta * tw / r, normal: [(k * eta * tw / r) * (1.0 - 2.0 * (k + 1.0) * delta / r), 0.0, 0.0] }
+    }
+
+    /// T_w, Ĩ = δT_w/R, J = 0 and their partials, from A and ∂A/∂(R, Ṙ, a, ȧ, G_t).
+    pub fn wall_linear(&self, r: f64, src: f64, d_src: &[f64; 5]) -> WallLinear {
+        use super::equations::var::*;
+        let (delta, dd) = (self.delta(r), self.delta_dr(r));
+        let den = 1.0 + 2.0 * delta / r;
+        let den_r = 2.0 * (dd * r - delta) / (r * r);
+        let tw = src / den;
+        let mut w = WallLinear { tw, itil: delta * tw / r, ..WallLinear::default() };
+        for (x, &d) in [R, RD, A, AD, GT].iter().zip(d_src) {
+            w.d_tw[*x] = d / den;
+        }
+        w.d_tw[R] -= src * den_r / (den * den);
+        for x in 0..N {
+            w.d_itil[x] = delta * w.d_tw[x] / r;
+        }
+        w.d_itil[R] += (dd / r - delta / (r * r)) * tw;
+        w
+    }
+}
+
+/// Radial + shape modes with the boundary-layer closure, with the terms of the scene.
 #[derive(Debug)]
 pub struct BoundaryLayerSystem {
-    pub(crate) params: Params,
+    pub(crate) eq: Equations,
     pub(crate) modes: Vec<ModeConst>,
-    pub(crate) loads: Option<MagneticLoads>,
 }
 
 impl BoundaryLayerSystem {
     /// δ_k = min(√(ν/ω), R/(2k)) (eq 3.1).
     #[inline]
     pub fn delta(&self, m: usize, r: f64) -> f64 {
-        let mc = self.modes[m];
-        mc.viscous_length.min(r / (2.0 * mc.k))
+        self.modes[m].delta(r)
     }
 
-    /// Writes (ȧ_k, ä_k, ḃ_k) for every mode into `dy[2..]`, for given R, Ṙ, R̈ (the radial
-    /// entries of `y` are not read). Linear in the mode amplitudes.
+    pub fn equations(&self) -> &Equations {
+        &self.eq
+    }
+
+    pub fn params(&self) -> &Params {
+        &self.eq.params
+    }
+
+    pub fn modes(&self) -> &[ModeConst] {
+        &self.modes
+    }
+
+    /// Writes (ȧ_k, ä_k, ḃ_k) for every mode into `dy[2..]`, for given R, Ṙ, R̈ and loads G_n,k,
+    /// G_t,k (the radial entries of `y` are not read). Affine in the mode amplitudes.
     #[inline]
     #[allow(clippy::too_many_arguments)]
-    pub fn mode_rates(&self, t: f64, r: f64, rd: f64, rdd: f64, f: Option<&Factors>, y: &[f64], dy: &mut [f64]) {
-        let p = &self.params;
-        let mem = &p.membrane;
-        let _ = t;
+    pub fn mode_rates(&self, r: f64, rd: f64, rdd: f64, gn: &[f64], gt: &[f64], y: &[f64], dy: &mut [f64]) {
+        let (rho, eta) = (self.eq.params.rho, self.eq.params.eta);
         for (m, mc) in self.modes.iter().enumerate() {
             let k = mc.k;
             let i = 2 + 3 * m;
             let (a, ad, b) = (y[i], y[i + 1], y[i + 2]);
-            let (mn, mt) = match (f, &self.loads) {
-                (Some(f), Some(l)) => (l.normal(f, m, y), l.tangential(f, m, y)),
-                _ => (0.0, 0.0),
-            };
-            let gn = (mem.s1)(r, p.r0, p.c1, p.c2, k) * a + (mem.s2)(r, p.r0, p.c1, p.c2, k) * b - mn;
-            let gt = (mem.s11)(r, p.r0, p.c1, p.c2, k) * a + (mem.s12)(r, p.r0, p.c1, p.c2, k) * b - mt;
-            let delta = mc.viscous_length.min(r / (2.0 * k));
-            let kp1 = k + 1.0;
-            let tw = (2.0 * (k + 2.0) * ad / kp1 + 2.0 * (1.0 - k) * rd * a / (kp1 * r) - r * gt / p.eta)
-                / (1.0 + 2.0 * delta / r);
-            let bd = rd * b / r - ad / kp1 - 2.0 * rd * a / (kp1 * r) + delta * tw / r;
-            let add = -(3.0 * rd * ad - (k - 1.0) * rdd * a) / r
-                - kp1 / (p.rho * r)
-                    * (2.0 * p.eta * (k + 2.0) * ad / r
-                        + 4.0 * p.eta * (k - 1.0) * rd * a / (r * r)
-                        + (k * p.eta * tw / r) * (1.0 - 2.0 * kp1 * delta / r)
-                        + gn);
+            let w = mc.wall(eta, r, wall_source(k, eta, r, rd, a, ad, gt[m]));
+            let (add, bd) = mode_rates(k, rho, eta, r, rd, rdd, a, ad, b, gn[m], &w);
             dy[i] = ad;
             dy[i + 1] = add;
             dy[i + 2] = bd;
         }
     }
 
-    /// The linear mode system at prescribed (t, R, Ṙ, R̈): x' = A x + g with
-    /// x = (a_k, ȧ_k, b_k)_k (dimension 3M, state order), nondimensional. For the Floquet and
-    /// frequency analyses (FORMULATION §4.6): R(t) is prescribed, so M0's coupling to a_2, b_2
-    /// is not part of it. g holds the magnetic forcing ℋ2, ℋ¹2 (zero without a field).
-    pub fn linear_modes(&self, t: f64, r: f64, rd: f64, rdd: f64) -> (DMatrix<f64>, DVector<f64>) {
-        let n = 3 * self.modes.len();
-        let mut y = vec![0.0; 2 + n];
-        y[0] = r;
-        y[1] = rd;
-        let mut dy = vec![0.0; 2 + n];
-        let f = self.loads.as_ref().map(|l| l.factors(t, r));
-        self.mode_rates(t, r, rd, rdd, f.as_ref(), &y, &mut dy);
-        let g = DVector::from_column_slice(&dy[2..]);
-        let mut a = DMatrix::zeros(n, n);
-        for j in 0..n {
-            y[2 + j] = 1.0;
-            self.mode_rates(t, r, rd, rdd, f.as_ref(), &y, &mut dy);
-            for i in 0..n {
-                a[(i, j)] = dy[2 + i] - g[i];
-            }
-            y[2 + j] = 0.0;
-        }
-        (a, g)
-    }
-
     /// R̈ at state y (M0 included), nondimensional.
     pub fn radial_acceleration(&self, t: f64, y: &[f64]) -> f64 {
-        let m0 = match &self.loads {
-            None => 0.0,
-            Some(l) => l.radial(&l.factors(t, y[0]), y),
-        };
-        radial_acceleration(&self.params, t, y[0], y[1], m0)
+        self.eq.radial_acceleration(t, y)
     }
 }
 
-impl OdeSystem for BoundaryLayerSystem {
+impl crate::integrate::OdeSystem for BoundaryLayerSystem {
     fn dim(&self) -> usize {
         2 + 3 * self.modes.len()
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let (r, rd) = (y[0], y[1]);
-        let (f, m0) = match &self.loads {
-            None => (None, 0.0),
-            Some(l) => {
-                let f = l.factors(t, r);
-                let m0 = l.radial(&f, y);
-                (Some(f), m0)
-            }
-        };
-        let rdd = radial_acceleration(&self.params, t, r, rd, m0);
+        let m = self.modes.len();
+        let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+        let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
+        let rdd = self.eq.acceleration(r, rd, p);
         dy[0] = rd;
         dy[1] = rdd;
-        self.mode_rates(t, r, rd, rdd, f.as_ref(), y, dy);
+        self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
+    }
+
+    /// The exact Jacobian (dense, row-major), assembled from the terms' gradients
+    /// ([`super::linearize`]); its sparsity is [`BoundaryLayerSystem::jacobian_pattern`].
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
+        self.jacobian_into(t, y, jac);
+        true
     }
 }

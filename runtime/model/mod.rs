@@ -12,18 +12,24 @@
 
 pub mod blow_up;
 pub mod boundary_layer;
+pub mod effects;
+pub mod equations;
+pub mod linearize;
 pub mod params;
 pub mod radial;
 mod simulate;
 pub mod vorticity;
 
 pub use boundary_layer::BoundaryLayerSystem;
+pub use equations::Equations;
+pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};
-pub use radial::RadialSystem;
+pub use radial::{RadialForm, RadialSystem};
 pub use simulate::{simulate, RunReport, RunStatus};
 
 use crate::coefficients::KMAX;
 use crate::field::{loads::MagneticLoads, FieldError, FieldSource};
+use effects::Term;
 use crate::integrate::OdeSystem;
 use crate::scene::{BoundaryLayerFrequency, Scene, Viscous};
 use boundary_layer::ModeConst;
@@ -85,10 +91,28 @@ impl Model {
             .as_ref()
             .map(|s| MagneticLoads::new(s, orders.len(), scales.length, scales.pressure, scales.time))
             .transpose()?;
+        let kf: Vec<f64> = orders.iter().map(|&k| k as f64).collect();
+        // The terms in summation order: P = p_in − p∞ − 4ηṘ/R − Ŝ0 + M0, G = Ŝ·(a, b) − M.
+        let mut terms: Vec<Box<dyn Term>> = vec![
+            Box::new(effects::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa }),
+            Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }),
+            Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }),
+            Box::new(effects::membrane::MembraneTerm {
+                law: params.membrane,
+                r0: params.r0,
+                c1: params.c1,
+                c2: params.c2,
+                orders: kf.clone(),
+            }),
+        ];
+        if let (Some(l), Some(s)) = (loads, &source) {
+            terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
+        }
+        let eq = Equations { params, orders: kf, form: Box::new(radial::Incompressible), terms };
 
         let mut effects = vec!["radial".to_string()];
         let system = if orders.is_empty() {
-            System::Radial(RadialSystem { params, loads })
+            System::Radial(RadialSystem { eq })
         } else {
             let nu = params.eta / params.rho;
             let modes = orders
@@ -104,14 +128,12 @@ impl Model {
                 })
                 .collect();
             effects.push(format!("shape modes k=2..{} (boundary layer)", scene.modes.max_order));
-            System::BoundaryLayer(BoundaryLayerSystem { params, modes, loads })
+            System::BoundaryLayer(BoundaryLayerSystem { eq, modes })
         };
-        if params.drive.is_some() {
-            effects.push("acoustic drive".into());
-        }
-        if let Some(s) = &source {
-            effects.push(s.label.clone());
-        }
+        effects.extend(self_labels(match &system {
+            System::Radial(s) => &s.eq,
+            System::BoundaryLayer(s) => &s.eq,
+        }));
 
         let mut y0 = vec![scene.bubble.initial.radius / scales.length, scene.bubble.initial.velocity * scales.time / scales.length];
         for &k in &orders {
@@ -148,7 +170,7 @@ impl Model {
     }
 
     /// The boundary-layer system, if the scene has shape modes (for the linear analyses:
-    /// [`BoundaryLayerSystem::linear_modes`]).
+    /// [`BoundaryLayerSystem::linear_modes`], the exact A(t)).
     pub fn boundary_layer(&self) -> Option<&BoundaryLayerSystem> {
         match &self.system {
             System::BoundaryLayer(s) => Some(s),
@@ -157,16 +179,14 @@ impl Model {
     }
 
     pub fn params(&self) -> &Params {
-        match &self.system {
-            System::Radial(s) => &s.params,
-            System::BoundaryLayer(s) => &s.params,
-        }
+        &self.equations().params
     }
 
-    fn loads(&self) -> Option<&MagneticLoads> {
+    /// The assembled terms and radial form.
+    pub fn equations(&self) -> &Equations {
         match &self.system {
-            System::Radial(s) => s.loads.as_ref(),
-            System::BoundaryLayer(s) => s.loads.as_ref(),
+            System::Radial(s) => &s.eq,
+            System::BoundaryLayer(s) => &s.eq,
         }
     }
 
@@ -239,11 +259,16 @@ impl Model {
 
     /// Number of magnetic-load evaluations so far (0 when the scene has no field).
     pub fn magnetic_evaluations(&self) -> u64 {
-        self.loads().map_or(0, |l| l.evaluations())
+        self.equations().evaluations("magnetic")
     }
 
     /// The blow-up classifier ([`blow_up::classify`]) at this scene's threshold.
     pub fn blow_up(&self, y: &[f64]) -> Option<String> {
         blow_up::classify(y, &self.orders, self.blow_up_threshold)
     }
+}
+
+/// The active-effect labels of the assembled terms, in order (e.g. "acoustic drive", the field).
+fn self_labels(eq: &Equations) -> Vec<String> {
+    eq.terms().filter_map(|t| t.label()).collect()
 }

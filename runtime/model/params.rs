@@ -33,7 +33,8 @@ impl Scales {
 type S0 = fn(f64, f64, f64, f64) -> f64;
 type Sk = fn(f64, f64, f64, f64, f64) -> f64;
 
-/// The five membrane loads of FORMULATION §4.1, chosen once by the scene's `shell.form`.
+/// The five membrane loads of FORMULATION §4.1, chosen once by the scene's `shell.form`, and
+/// their exact R-derivatives (generated alongside them, for the analytic Jacobian).
 #[derive(Clone, Copy)]
 pub struct Membrane {
     pub s0: S0,
@@ -41,6 +42,11 @@ pub struct Membrane {
     pub s2: Sk,
     pub s11: Sk,
     pub s12: Sk,
+    pub s0_dr: S0,
+    pub s1_dr: Sk,
+    pub s2_dr: Sk,
+    pub s11_dr: Sk,
+    pub s12_dr: Sk,
 }
 
 impl std::fmt::Debug for Membrane {
@@ -58,6 +64,11 @@ impl Membrane {
                 s2: membrane::paper::s2,
                 s11: membrane::paper::s11,
                 s12: membrane::paper::s12,
+                s0_dr: membrane::paper::s0_dr,
+                s1_dr: membrane::paper::s1_dr,
+                s2_dr: membrane::paper::s2_dr,
+                s11_dr: membrane::paper::s11_dr,
+                s12_dr: membrane::paper::s12_dr,
             },
             MembraneForm::Tension => Self {
                 s0: membrane::tension::s0,
@@ -65,6 +76,11 @@ impl Membrane {
                 s2: membrane::tension::s2,
                 s11: membrane::tension::s11,
                 s12: membrane::tension::s12,
+                s0_dr: membrane::tension::s0_dr,
+                s1_dr: membrane::tension::s1_dr,
+                s2_dr: membrane::tension::s2_dr,
+                s11_dr: membrane::tension::s11_dr,
+                s12_dr: membrane::tension::s12_dr,
             },
         }
     }

@@ -1,24 +1,50 @@
-//! The radial equation (paper eq 2.62, corrected: FORMULATION §4.1):
-//! ρ(R R̈ + 3/2 Ṙ²) = p_in − p∞(t) − 4ηṘ/R − Ŝ0(R) + M0,  p_in = p_g0 (R0/R)^{3κ}.
+//! The radial equation (paper eq 2.62, corrected: FORMULATION §4.1): its *form* turns the
+//! pressure balance P = p_in − p∞(t) − 4ηṘ/R − Ŝ0(R) + M0 + … (the sum of the terms,
+//! [`super::effects`]) into R̈. Today's form is the incompressible Rayleigh–Plesset one,
+//! ρ(R R̈ + 3/2 Ṙ²) = P. A compressible form (Keller–Miksis, issue 10) is one more
+//! [`RadialForm`]; it multiplies P by (1 + Ṙ/c) and adds (R/c) dP/dt, so it will extend
+//! [`RadialForm`] with the terms' time derivative (the terms' gradients are already exact).
 
-use super::params::Params;
-use crate::field::loads::MagneticLoads;
+use super::equations::Equations;
 use crate::integrate::OdeSystem;
 
-/// R̈ from the radial equation, given M0 (0 without a field). Nondimensional.
-#[inline]
-pub fn radial_acceleration(p: &Params, t: f64, r: f64, rd: f64, m0: f64) -> f64 {
-    let p_in = p.pg0 * (p.r0 / r).powf(p.three_kappa);
-    let s0 = (p.membrane.s0)(r, p.r0, p.c1, p.c2);
-    (p_in - p.p_inf(t) - 4.0 * p.eta * rd / r - s0 + m0) / (p.rho * r) - 1.5 * rd * rd / r
+/// How R̈ follows from the pressure balance P.
+pub trait RadialForm: std::fmt::Debug {
+    fn name(&self) -> &'static str;
+    /// R̈ at (R, Ṙ) given P.
+    fn acceleration(&self, rho: f64, r: f64, rd: f64, pressure: f64) -> f64;
+    /// (∂R̈/∂R, ∂R̈/∂Ṙ, ∂R̈/∂P) at (R, Ṙ, P).
+    fn partials(&self, rho: f64, r: f64, rd: f64, pressure: f64) -> (f64, f64, f64);
+}
+
+/// Incompressible liquid: R̈ = P/(ρR) − 3Ṙ²/(2R) (eq 2.62).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Incompressible;
+
+impl RadialForm for Incompressible {
+    fn name(&self) -> &'static str {
+        "incompressible"
+    }
+    #[inline]
+    fn acceleration(&self, rho: f64, r: f64, rd: f64, pressure: f64) -> f64 {
+        pressure / (rho * r) - 1.5 * rd * rd / r
+    }
+    fn partials(&self, rho: f64, r: f64, rd: f64, pressure: f64) -> (f64, f64, f64) {
+        (-pressure / (rho * r * r) + 1.5 * rd * rd / (r * r), -3.0 * rd / r, 1.0 / (rho * r))
+    }
 }
 
 /// Radial motion alone (max_order = 0): y = [R, Ṙ]. With a field, only the zero-order
 /// magnetic load ℋ0 acts (there are no a_2, b_2).
 #[derive(Debug)]
 pub struct RadialSystem {
-    pub(crate) params: Params,
-    pub(crate) loads: Option<MagneticLoads>,
+    pub(crate) eq: Equations,
+}
+
+impl RadialSystem {
+    pub fn equations(&self) -> &Equations {
+        &self.eq
+    }
 }
 
 impl OdeSystem for RadialSystem {
@@ -26,17 +52,20 @@ impl OdeSystem for RadialSystem {
         2
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let m0 = match &self.loads {
-            None => 0.0,
-            Some(l) => {
-                let f = l.factors(t, y[0]);
-                l.radial(&f, y)
-            }
-        };
         dy[0] = y[1];
-        dy[1] = radial_acceleration(&self.params, t, y[0], y[1], m0);
+        dy[1] = self.eq.radial_acceleration(t, y);
     }
     fn bandwidth(&self) -> Option<(usize, usize)> {
         Some((1, 1))
+    }
+    /// Exact: [[0, 1], ∂R̈/∂(R, Ṙ)] from the terms' gradients and the radial form.
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
+        let mut lj = super::effects::LoadJacobian::new(0);
+        self.eq.load_jacobian(t, y, &mut lj);
+        let p = self.eq.loads(t, y, &mut [], &mut []);
+        let mut g = [0.0; 2];
+        self.eq.acceleration_gradient(y[0], y[1], p, &lj.pressure, &mut g);
+        jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
+        true
     }
 }

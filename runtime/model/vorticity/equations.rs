@@ -40,34 +40,55 @@ pub struct ModeRates<'a> {
     pub tw: &'a mut [f64],
 }
 
-/// Right-hand side of (TS) without the Ĩ term: A = 2(k+2)ȧ/(k+1) + 2(1−k)Ṙa/((k+1)R) − R G_t/η.
+pub use crate::model::equations::wall_source;
+use crate::model::equations::{self as eqs, Wall};
+
+/// The vorticity wall terms of one mode (module doc): T_w from (TS) with the trapezoid weight
+/// of the wall node (or fixed), Ĩ = w_0 T_w + Ĩ_int, J = R ∫(y⁻³−1)y^{−k}T dy.
+#[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn wall_source(k: f64, eta: f64, r: f64, rdot: f64, a: f64, adot: f64, gt: f64) -> f64 {
-    2.0 * (k + 2.0) * adot / (k + 1.0) + 2.0 * (1.0 - k) * rdot * a / ((k + 1.0) * r) - r * gt / eta
+pub fn wall(k: f64, rho: f64, eta: f64, r: f64, rdot: f64, src: f64, i_int: f64, j_over_r: f64, w0: f64, tw_fixed: Option<f64>) -> Wall {
+    let tw = match tw_fixed {
+        Some(v) => v,
+        None => (src - 2.0 * i_int) / (1.0 + 2.0 * w0),
+    };
+    let itil = w0 * tw + i_int;
+    let j = r * j_over_r;
+    Wall { tw, itil, normal: [k * eta * tw / r, k * rho * rdot * j / r, -(2.0 * eta * k * (k + 1.0) * itil / r)] }
 }
 
-/// Evaluates (TS), (NS), (N) for every mode.
+/// T_w, Ĩ, J and their exact partials with respect to the local variables
+/// ([`crate::model::equations::var`]), for the structured Jacobian of the monolithic system.
+pub fn wall_linear(r: f64, src: f64, d_src: &[f64; 5], i_int: f64, j_over_r: f64, w0: f64) -> eqs::WallLinear {
+    use eqs::var::*;
+    let den = 1.0 + 2.0 * w0;
+    let tw = (src - 2.0 * i_int) / den;
+    let mut w = eqs::WallLinear { tw, itil: w0 * tw + i_int, j: r * j_over_r, ..Default::default() };
+    for (x, &d) in [R, RD, A, AD, GT].iter().zip(d_src) {
+        w.d_tw[*x] = d / den;
+    }
+    w.d_tw[IINT] = -2.0 / den;
+    for x in 0..N {
+        w.d_itil[x] = w0 * w.d_tw[x];
+    }
+    w.d_itil[IINT] += 1.0;
+    w.d_j[R] = j_over_r;
+    w.d_j[JR] = r;
+    w
+}
+
+/// Evaluates (TS), (NS), (N) for every mode (the equations of [`crate::model::equations`]).
 pub fn mode_rates(orders: &[usize], rho: f64, eta: f64, x: &ModeInputs<'_>, out: ModeRates<'_>) {
     let (r, rdot, rddot) = (x.r, x.rdot, x.rddot);
     for (m, &k) in orders.iter().enumerate() {
         let kf = k as f64;
         let (a, adot, b) = (x.a[m], x.adot[m], x.b[m]);
         let src = wall_source(kf, eta, r, rdot, a, adot, x.gt[m]);
-        let tw = match x.tw_fixed {
-            Some(fixed) => fixed[m],
-            None => (src - 2.0 * x.i_int[m]) / (1.0 + 2.0 * x.w0),
-        };
-        let itil = x.w0 * tw + x.i_int[m];
-        let j = r * x.j_over_r[m];
-        out.tw[m] = tw;
-        out.bdot[m] = rdot * b / r - adot / (kf + 1.0) - 2.0 * rdot * a / ((kf + 1.0) * r) + itil;
-        let bracket = 2.0 * eta * (kf + 2.0) * adot / r
-            + 4.0 * eta * (kf - 1.0) * rdot * a / (r * r)
-            + kf * eta * tw / r
-            + kf * rho * rdot * j / r
-            - 2.0 * eta * kf * (kf + 1.0) * itil / r
-            + x.gn[m];
-        out.add[m] = -(3.0 * rdot * adot - (kf - 1.0) * rddot * a) / r - (kf + 1.0) / (rho * r) * bracket;
+        let w = wall(kf, rho, eta, r, rdot, src, x.i_int[m], x.j_over_r[m], x.w0, x.tw_fixed.map(|f| f[m]));
+        out.tw[m] = w.tw;
+        let (add, bd) = eqs::mode_rates(kf, rho, eta, r, rdot, rddot, a, adot, b, x.gn[m], &w);
+        out.add[m] = add;
+        out.bdot[m] = bd;
     }
 }
 
@@ -82,9 +103,8 @@ impl LoadScratch {
     pub fn new(m: usize) -> Self {
         Self { gn: vec![0.0; m], gt: vec![0.0; m] }
     }
-    /// R̈ and the loads at (t, R, Ṙ, a, b).
+    /// R̈ and the loads at (t, R, Ṙ, a, b) (one evaluation of the terms).
     pub fn eval(&mut self, c: &dyn ModeCoupling, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64 {
-        c.shape_loads(t, r, a, b, &mut self.gn, &mut self.gt);
-        c.radial_acceleration(t, r, rdot, a, b)
+        c.loads(t, r, rdot, a, b, &mut self.gn, &mut self.gt)
     }
 }

@@ -43,6 +43,13 @@ pub trait ModeCoupling {
     fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64;
     /// G_n,k = Ŝ1 a_k + Ŝ2 b_k − M_n,k and G_t,k = Ŝ11 a_k + Ŝ12 b_k − M_t,k (FORMULATION §4.1).
     fn shape_loads(&self, t: f64, r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]);
+    /// Both at once: writes the loads and returns R̈ (a coupling built on the model's terms
+    /// evaluates them once).
+    #[allow(clippy::too_many_arguments)]
+    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        self.shape_loads(t, r, a, b, gn, gt);
+        self.radial_acceleration(t, r, rdot, a, b)
+    }
 }
 
 /// A failure of a full-model run, with where and when.

@@ -53,30 +53,25 @@ impl ModeCoupling for SceneCoupling<'_> {
         self.orders
     }
     fn density(&self) -> f64 {
-        self.bl.params.rho
+        self.bl.params().rho
     }
     fn viscosity(&self) -> f64 {
-        self.bl.params.eta
+        self.bl.params().eta
     }
     fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64 {
         let y = self.fill(r, rdot, a, b);
         self.bl.radial_acceleration(t, &y)
     }
-    /// G_n,k = Ŝ1 a + Ŝ2 b − M_n,k, G_t,k = Ŝ11 a + Ŝ12 b − M_t,k (FORMULATION §4.1).
+    /// G_n,k, G_t,k from the scene's terms (FORMULATION §4.1; [`crate::model::effects`]).
     fn shape_loads(&self, t: f64, r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
         let y = self.fill(r, 0.0, a, b);
-        let p = &self.bl.params;
-        let mem = &p.membrane;
-        let f = self.bl.loads.as_ref().map(|l| l.factors(t, r));
-        for (m, &k) in self.orders.iter().enumerate() {
-            let k = k as f64;
-            let (mn, mt) = match (&f, &self.bl.loads) {
-                (Some(f), Some(l)) => (l.normal(f, m, &y), l.tangential(f, m, &y)),
-                _ => (0.0, 0.0),
-            };
-            gn[m] = (mem.s1)(r, p.r0, p.c1, p.c2, k) * a[m] + (mem.s2)(r, p.r0, p.c1, p.c2, k) * b[m] - mn;
-            gt[m] = (mem.s11)(r, p.r0, p.c1, p.c2, k) * a[m] + (mem.s12)(r, p.r0, p.c1, p.c2, k) * b[m] - mt;
-        }
+        self.bl.equations().loads(t, &y, gn, gt);
+    }
+    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        let y = self.fill(r, rdot, a, b);
+        let eq = self.bl.equations();
+        let p = eq.loads(t, &y, gn, gt);
+        eq.acceleration(r, rdot, p)
     }
 }
 

@@ -1,0 +1,28 @@
+//! The gas inside the bubble: polytropic, p_in = p_g0 (R0/R)^{3κ} (FORMULATION §4.1, audit 7).
+//! Vapour pressure (issue 10) would be one more file.
+
+use super::{At, LoadJacobian, Loads, Term};
+
+#[derive(Debug, Clone, Copy)]
+pub struct PolytropicGas {
+    /// p̄_g0
+    pub pg0: f64,
+    pub r0: f64,
+    /// 3κ
+    pub three_kappa: f64,
+}
+
+impl Term for PolytropicGas {
+    fn name(&self) -> &'static str {
+        "gas"
+    }
+    #[inline]
+    fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
+        loads.pressure += self.pg0 * (self.r0 / at.r()).powf(self.three_kappa);
+    }
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
+        let r = at.r();
+        let p_in = self.pg0 * (self.r0 / r).powf(self.three_kappa);
+        jac.pressure[0] -= self.three_kappa * p_in / r;
+    }
+}

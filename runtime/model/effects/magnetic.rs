@@ -1,0 +1,50 @@
+//! The magnetic loads (eq 2.40, FORMULATION §0 and §4.1, χ_s = εχ): +M0 in the radial balance
+//! and −M_n,k, −M_t,k in G_n,k, G_t,k, from the generated field tables
+//! ([`crate::field::loads::MagneticLoads`]). The time and R prefactors are computed once per
+//! call (counted: `Model::magnetic_evaluations`). The loads are affine in (a, b) with couplings
+//! k → k, k ± 2 (wider for H4 fields); the zero-order parts ℋ2, ℋ¹2 are the forcing.
+
+use super::{At, LoadJacobian, Loads, Term};
+use crate::field::loads::MagneticLoads;
+
+#[derive(Debug)]
+pub struct MagneticTerm {
+    pub loads: MagneticLoads,
+    /// e.g. "coil field (static current)"
+    pub label: String,
+}
+
+impl Term for MagneticTerm {
+    fn name(&self) -> &'static str {
+        "magnetic"
+    }
+    fn label(&self) -> Option<String> {
+        Some(self.label.clone())
+    }
+    #[inline]
+    fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
+        let l = &self.loads;
+        let f = l.factors(at.t, at.r());
+        loads.pressure += l.radial(&f, at.z);
+        for m in 0..loads.gn.len() {
+            loads.gn[m] -= l.normal(&f, m, at.z);
+            loads.gt[m] -= l.tangential(&f, m, at.z);
+        }
+    }
+    fn band(&self) -> usize {
+        self.loads.width()
+    }
+    fn evaluations(&self) -> u64 {
+        self.loads.evaluations()
+    }
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
+        let l = &self.loads;
+        let f = l.factors(at.t, at.r());
+        let n = jac.n;
+        l.add_row_gradient(&f, 0, at.z, true, 1.0, &mut jac.pressure);
+        for m in 0..jac.modes() {
+            l.add_row_gradient(&f, m + 1, at.z, true, -1.0, &mut jac.gn[m * n..(m + 1) * n]);
+            l.add_row_gradient(&f, m + 1, at.z, false, -1.0, &mut jac.gt[m * n..(m + 1) * n]);
+        }
+    }
+}

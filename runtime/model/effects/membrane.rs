@@ -1,0 +1,85 @@
+//! The lipid shell (Mooney–Rivlin, ε-scaled: FORMULATION §2, §4.1, audit 1): −Ŝ0(R) in the
+//! radial balance and Ŝ1 a_k + Ŝ2 b_k, Ŝ11 a_k + Ŝ12 b_k in G_n,k, G_t,k. The coefficients and
+//! their R-derivatives are the generated ones (`coefficients::membrane`, from derivations/),
+//! chosen by `shell.form`; they depend on R and k only and are evaluated once per mode per call.
+
+use super::{a_index, At, LoadJacobian, Loads, Term};
+use crate::model::params::Membrane;
+
+#[derive(Debug, Clone)]
+pub struct MembraneTerm {
+    pub law: Membrane,
+    pub r0: f64,
+    pub c1: f64,
+    pub c2: f64,
+    /// k of each mode index.
+    pub orders: Vec<f64>,
+}
+
+/// Ŝ1, Ŝ2, Ŝ11, Ŝ12 of one mode at one R (FORMULATION §4.1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModeStiffness {
+    pub s1: f64,
+    pub s2: f64,
+    pub s11: f64,
+    pub s12: f64,
+}
+
+impl MembraneTerm {
+    /// Ŝ1, Ŝ2, Ŝ11, Ŝ12 of mode k at R.
+    #[inline]
+    pub fn stiffness(&self, r: f64, k: f64) -> ModeStiffness {
+        let (law, r0, c1, c2) = (&self.law, self.r0, self.c1, self.c2);
+        ModeStiffness {
+            s1: (law.s1)(r, r0, c1, c2, k),
+            s2: (law.s2)(r, r0, c1, c2, k),
+            s11: (law.s11)(r, r0, c1, c2, k),
+            s12: (law.s12)(r, r0, c1, c2, k),
+        }
+    }
+    /// Their R-derivatives.
+    pub fn stiffness_dr(&self, r: f64, k: f64) -> ModeStiffness {
+        let (law, r0, c1, c2) = (&self.law, self.r0, self.c1, self.c2);
+        ModeStiffness {
+            s1: (law.s1_dr)(r, r0, c1, c2, k),
+            s2: (law.s2_dr)(r, r0, c1, c2, k),
+            s11: (law.s11_dr)(r, r0, c1, c2, k),
+            s12: (law.s12_dr)(r, r0, c1, c2, k),
+        }
+    }
+}
+
+impl Term for MembraneTerm {
+    fn name(&self) -> &'static str {
+        "membrane"
+    }
+    #[inline]
+    fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
+        let r = at.r();
+        loads.pressure -= (self.law.s0)(r, self.r0, self.c1, self.c2);
+        for m in 0..loads.gn.len() {
+            let s = self.stiffness(r, self.orders[m]);
+            let (a, b) = (at.a(m), at.b(m));
+            loads.gn[m] += s.s1 * a + s.s2 * b;
+            loads.gt[m] += s.s11 * a + s.s12 * b;
+        }
+    }
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
+        let r = at.r();
+        let n = jac.n;
+        jac.pressure[0] -= (self.law.s0_dr)(r, self.r0, self.c1, self.c2);
+        for m in 0..jac.modes() {
+            let k = self.orders[m];
+            let (s, d) = (self.stiffness(r, k), self.stiffness_dr(r, k));
+            let (a, b) = (at.a(m), at.b(m));
+            let (gn, gt) = (&mut jac.gn[m * n..(m + 1) * n], &mut jac.gt[m * n..(m + 1) * n]);
+            let ia = a_index(m);
+            gn[0] += d.s1 * a + d.s2 * b;
+            gt[0] += d.s11 * a + d.s12 * b;
+            gn[ia] += s.s1;
+            gn[ia + 2] += s.s2;
+            gt[ia] += s.s11;
+            gt[ia + 2] += s.s12;
+        }
+    }
+}

@@ -1,0 +1,147 @@
+//! The loads of the model, one effect per file, each a [`Term`] (issue 16 part 1).
+//!
+//! The mode equations ([`super::equations`], FORMULATION §4.1–4.3) see the physics only through
+//! two sums, evaluated once per right-hand side:
+//!
+//! * the radial pressure balance P = p_in − p∞(t) − 4ηṘ/R − Ŝ0(R) + M0 + … (the right-hand side
+//!   of eq 2.62 corrected, FORMULATION §4.1), which the radial form ([`super::radial::RadialForm`])
+//!   turns into R̈;
+//! * the shape loads G_n,k = Ŝ1 a_k + Ŝ2 b_k − M_n,k + … and G_t,k = Ŝ11 a_k + Ŝ12 b_k − M_t,k + …
+//!   (FORMULATION §4.1), which enter (N), (TS) of the mode equations.
+//!
+//! Every term adds its share to both ([`Term::add`]) and its exact derivatives with respect to the
+//! state ([`Term::add_jacobian`]), so the implicit integrators, Floquet's A(t) and the natural
+//! frequencies use the same analytic linear structure. A scene assembles only the terms it asks
+//! for ([`super::equations::Equations::from_scene`]); the order of the list is the order of the
+//! sums (kept so that the assembled model reproduces the hand-written one bit for bit).
+//!
+//! Adding an effect = one more file here implementing [`Term`], plus one line in the assembly
+//! (docs/architecture.md, "Adding an effect").
+
+pub mod drive;
+pub mod gas;
+pub mod magnetic;
+pub mod membrane;
+pub mod viscosity;
+
+/// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.
+pub const MAX_MODES: usize = crate::coefficients::KMAX / 2 + 1;
+
+/// Where the terms are evaluated: time and the reduced state
+/// z = [R, Ṙ, (a_k, ȧ_k, b_k) for k = 2, 4, …, N] (the boundary-layer state layout; the full
+/// vorticity model passes its ODE part in the same layout). Nondimensional (FORMULATION §4.5).
+#[derive(Debug, Clone, Copy)]
+pub struct At<'a> {
+    pub t: f64,
+    pub z: &'a [f64],
+}
+
+impl At<'_> {
+    #[inline]
+    pub fn r(&self) -> f64 {
+        self.z[0]
+    }
+    #[inline]
+    pub fn rdot(&self) -> f64 {
+        self.z[1]
+    }
+    /// a_k of mode index m (k = 2(m+1)).
+    #[inline]
+    pub fn a(&self, m: usize) -> f64 {
+        self.z[2 + 3 * m]
+    }
+    /// ȧ_k of mode index m.
+    #[inline]
+    pub fn adot(&self, m: usize) -> f64 {
+        self.z[3 + 3 * m]
+    }
+    /// b_k of mode index m.
+    #[inline]
+    pub fn b(&self, m: usize) -> f64 {
+        self.z[4 + 3 * m]
+    }
+}
+
+/// Index of a_k (mode index m) in z; ȧ_k and b_k follow.
+#[inline]
+pub const fn a_index(m: usize) -> usize {
+    2 + 3 * m
+}
+
+/// The two sums of one evaluation. `gn`, `gt` have one entry per mode the caller wants; empty
+/// slices ask for the radial pressure alone (a term then skips its shape loads).
+#[derive(Debug)]
+pub struct Loads<'a> {
+    /// P: the pressure balance of the radial equation (FORMULATION §4.1), R̈ = form(P).
+    pub pressure: f64,
+    pub gn: &'a mut [f64],
+    pub gt: &'a mut [f64],
+}
+
+/// Exact derivatives of the two sums with respect to z (dimension n = 2 + 3M), dense:
+/// `pressure[j] = ∂P/∂z_j`, `gn[m * n + j] = ∂G_n,k/∂z_j`, `gt` likewise.
+///
+/// The structure is sparse and known (docs/architecture.md, "Jacobian structure"): P depends on
+/// R, Ṙ and (with a field) on a_2, b_2; G_k on R, Ṙ and on modes k, k ± 2 (the field's band);
+/// the dense storage is for simplicity (it is filled once per Jacobian, not per rhs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadJacobian {
+    pub n: usize,
+    pub pressure: Vec<f64>,
+    pub gn: Vec<f64>,
+    pub gt: Vec<f64>,
+}
+
+impl LoadJacobian {
+    /// Zero derivatives for M modes.
+    pub fn new(modes: usize) -> Self {
+        let n = 2 + 3 * modes;
+        Self { n, pressure: vec![0.0; n], gn: vec![0.0; modes * n], gt: vec![0.0; modes * n] }
+    }
+    pub fn modes(&self) -> usize {
+        (self.n - 2) / 3
+    }
+    pub fn clear(&mut self) {
+        self.pressure.fill(0.0);
+        self.gn.fill(0.0);
+        self.gt.fill(0.0);
+    }
+    /// Row of ∂G_n,k/∂z for mode index m.
+    pub fn gn_row(&self, m: usize) -> &[f64] {
+        &self.gn[m * self.n..(m + 1) * self.n]
+    }
+    pub fn gt_row(&self, m: usize) -> &[f64] {
+        &self.gt[m * self.n..(m + 1) * self.n]
+    }
+}
+
+/// One load of the model. See the module doc; implementors are the files of this directory.
+///
+/// Contract:
+/// * [`add`](Term::add) adds the term's share to `loads.pressure` and, for m < `loads.gn.len()`,
+///   to `loads.gn[m]`, `loads.gt[m]`. It may depend on t, R, Ṙ and on every mode amplitude
+///   (a, ȧ, b): the shape loads must be linear in (a, ȧ, b) (R-dependent coefficients, any
+///   coupling k ± 2j), the pressure may be any smooth function. Per-(t, R) constants are
+///   computed once per call (a term loops over the modes itself).
+/// * [`add_jacobian`](Term::add_jacobian) adds the exact partial derivatives of the same
+///   quantities with respect to z (property-tested against finite differences: tests/suite/
+///   equations_jacobian.rs).
+pub trait Term: std::fmt::Debug {
+    /// Short identifier ("membrane", "magnetic", …).
+    fn name(&self) -> &'static str;
+    /// Entry of the run summary's `active_effects`, if the term is worth listing.
+    fn label(&self) -> Option<String> {
+        None
+    }
+    fn add(&self, at: &At<'_>, loads: &mut Loads<'_>);
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian);
+    /// Half-width, in modes, of the coupling of the shape loads (0: mode k sees only itself;
+    /// 1: k ± 2). Describes the Jacobian's band (docs/architecture.md, "Jacobian structure").
+    fn band(&self) -> usize {
+        0
+    }
+    /// Evaluations so far, for terms that count them (the magnetic field; 0 otherwise).
+    fn evaluations(&self) -> u64 {
+        0
+    }
+}

@@ -1,0 +1,222 @@
+//! The model's equations, written once (paper eqs 2.62–2.67, FORMULATION §4.1–4.3): the loads as
+//! a list of [`Term`]s ([`super::effects`]), the radial equation's form
+//! ([`super::radial::RadialForm`]) and the mode equations with the viscous closure as an input
+//! (the wall terms [`Wall`]: boundary layer, [`super::boundary_layer`], or the vorticity
+//! integrals, [`super::vorticity::equations`]).
+//!
+//! Per mode k (n = k(k+1)), with the tangential-stress source
+//! A = 2(k+2)ȧ/(k+1) + 2(1−k)Ṙa/((k+1)R) − R G_t/η of (TS):
+//!
+//! ```text
+//! (TS) T_w = closure(A, …)                                               (corrected 2.65, audit 3–4)
+//! (NS) ḃ   = Ṙb/R − ȧ/(k+1) − 2Ṙa/((k+1)R) + Ĩ                           (2.67)
+//! (N)  ä   = −[3Ṙȧ − (k−1)R̈a]/R − (k+1)/(ρR)[2η(k+2)ȧ/R + 4η(k−1)Ṙa/R²
+//!             + kηT_w/R + kρṘJ/R − 2ηk(k+1)Ĩ/R + G_n]                      (2.64 × (k+1)/(ρR), audit 2, 5)
+//! ```
+//! Boundary layer (eq 3.1, §4.3): Ĩ = δT_w/R, J = 0, T_w = A/(1 + 2δ/R). Vorticity (§4.2):
+//! Ĩ = w_0T_w + Ĩ_int, J = R∫(y⁻³−1)y^{−k}T dy, T_w = (A − 2Ĩ_int)/(1 + 2w_0).
+//! The linearisation of the same expressions ([`WallLinear`], [`mode_partials`]) gives the exact
+//! Jacobian and A(t) ([`super::linearize`]).
+
+use super::effects::{At, LoadJacobian, Loads, Term};
+use super::params::Params;
+use super::radial::RadialForm;
+
+/// The assembled loads and the radial form of one scene (nondimensional).
+#[derive(Debug)]
+pub struct Equations {
+    pub(crate) params: Params,
+    /// k of each mode index.
+    pub(crate) orders: Vec<f64>,
+    pub(crate) form: Box<dyn RadialForm>,
+    /// In summation order (docs/architecture.md, "Adding an effect").
+    pub(crate) terms: Vec<Box<dyn Term>>,
+}
+
+impl Equations {
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+    /// k of each mode index.
+    pub fn orders(&self) -> &[f64] {
+        &self.orders
+    }
+    pub fn terms(&self) -> impl Iterator<Item = &dyn Term> {
+        self.terms.iter().map(|t| t.as_ref())
+    }
+    /// Whether a term called `name` is assembled.
+    pub fn has(&self, name: &str) -> bool {
+        self.terms.iter().any(|t| t.name() == name)
+    }
+    pub fn form(&self) -> &dyn RadialForm {
+        self.form.as_ref()
+    }
+
+    /// The radial pressure balance P at (t, z) and, for m < gn.len(), G_n,k, G_t,k.
+    #[inline]
+    pub fn loads(&self, t: f64, z: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        gn.fill(0.0);
+        gt.fill(0.0);
+        let at = At { t, z };
+        let mut l = Loads { pressure: 0.0, gn, gt };
+        for term in &self.terms {
+            term.add(&at, &mut l);
+        }
+        l.pressure
+    }
+
+    /// R̈ from P (the radial form).
+    #[inline]
+    pub fn acceleration(&self, r: f64, rd: f64, pressure: f64) -> f64 {
+        self.form.acceleration(self.params.rho, r, rd, pressure)
+    }
+
+    /// R̈ at (t, z) (shape loads not evaluated).
+    pub fn radial_acceleration(&self, t: f64, z: &[f64]) -> f64 {
+        let p = self.loads(t, z, &mut [], &mut []);
+        self.acceleration(z[0], z[1], p)
+    }
+
+    /// Exact ∂P/∂z, ∂G_n/∂z, ∂G_t/∂z at (t, z) for `jac.modes()` modes (overwritten).
+    pub fn load_jacobian(&self, t: f64, z: &[f64], jac: &mut LoadJacobian) {
+        jac.clear();
+        let at = At { t, z };
+        for term in &self.terms {
+            term.add_jacobian(&at, jac);
+        }
+    }
+
+    /// ∂R̈/∂z (length of `grad`) given P and its gradient (radial form's chain rule).
+    pub fn acceleration_gradient(&self, r: f64, rd: f64, pressure: f64, dp: &[f64], grad: &mut [f64]) {
+        let (d_r, d_rd, d_p) = self.form.partials(self.params.rho, r, rd, pressure);
+        for (g, d) in grad.iter_mut().zip(dp) {
+            *g = d_p * d;
+        }
+        grad[0] += d_r;
+        grad[1] += d_rd;
+    }
+
+    /// Number of evaluations a counting term made (the magnetic field: one per rhs).
+    pub fn evaluations(&self, name: &str) -> u64 {
+        self.terms.iter().filter(|t| t.name() == name).map(|t| t.evaluations()).sum()
+    }
+}
+
+/// (TS)'s source A = 2(k+2)ȧ/(k+1) + 2(1−k)Ṙa/((k+1)R) − R G_t/η (corrected 2.65).
+#[inline]
+pub fn wall_source(k: f64, eta: f64, r: f64, rdot: f64, a: f64, adot: f64, gt: f64) -> f64 {
+    2.0 * (k + 2.0) * adot / (k + 1.0) + 2.0 * (1.0 - k) * rdot * a / ((k + 1.0) * r) - r * gt / eta
+}
+
+/// ∂A/∂(R, Ṙ, a, ȧ, G_t).
+#[inline]
+pub fn wall_source_partials(k: f64, eta: f64, r: f64, rdot: f64, a: f64, gt: f64) -> [f64; 5] {
+    let c = 2.0 * (1.0 - k) / (k + 1.0);
+    [-c * rdot * a / (r * r) - gt / eta, c * a / r, c * rdot / r, 2.0 * (k + 2.0) / (k + 1.0), -r / eta]
+}
+
+/// What a closure gives the mode equations: T_w, Ĩ and the wall part of the bracket of (N),
+/// `normal` = [kηT_w/R, kρṘJ/R, −2ηk(k+1)Ĩ/R], added in this order (a closure may fold them:
+/// the boundary layer writes the first and third as one product and has J = 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wall {
+    pub tw: f64,
+    pub itil: f64,
+    pub normal: [f64; 3],
+}
+
+/// (NS) and (N): (ä_k, ḃ_k).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn mode_rates(k: f64, rho: f64, eta: f64, r: f64, rd: f64, rdd: f64, a: f64, ad: f64, b: f64, gn: f64, w: &Wall) -> (f64, f64) {
+    let kp1 = k + 1.0;
+    let bd = rd * b / r - ad / kp1 - 2.0 * rd * a / (kp1 * r) + w.itil;
+    let bracket = 2.0 * eta * (k + 2.0) * ad / r + 4.0 * eta * (k - 1.0) * rd * a / (r * r)
+        + w.normal[0]
+        + w.normal[1]
+        + w.normal[2]
+        + gn;
+    let add = -(3.0 * rd * ad - (k - 1.0) * rdd * a) / r - kp1 / (rho * r) * bracket;
+    (add, bd)
+}
+
+/// Local variables of the mode equations, in the order of the partial-derivative arrays.
+pub mod var {
+    pub const R: usize = 0;
+    pub const RD: usize = 1;
+    pub const RDD: usize = 2;
+    pub const A: usize = 3;
+    pub const AD: usize = 4;
+    pub const B: usize = 5;
+    pub const GN: usize = 6;
+    pub const GT: usize = 7;
+    /// Vorticity closure: Ĩ_int and ∫(y⁻³−1)y^{−k}T dy (zero for the boundary layer).
+    pub const IINT: usize = 8;
+    pub const JR: usize = 9;
+    pub const N: usize = 10;
+}
+
+/// A closure's wall values and their exact partials with respect to the local variables
+/// ([`var`]; the R̈, b, G_n entries are zero for both closures).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WallLinear {
+    pub tw: f64,
+    pub itil: f64,
+    pub j: f64,
+    pub d_tw: [f64; var::N],
+    pub d_itil: [f64; var::N],
+    pub d_j: [f64; var::N],
+}
+
+/// Exact ∂(ä, ḃ)/∂(local variables) of (N), (NS) in their generic form (module doc).
+#[allow(clippy::too_many_arguments)]
+pub fn mode_partials(
+    k: f64,
+    rho: f64,
+    eta: f64,
+    r: f64,
+    rd: f64,
+    rdd: f64,
+    a: f64,
+    ad: f64,
+    b: f64,
+    gn: f64,
+    w: &WallLinear,
+) -> ([f64; var::N], [f64; var::N]) {
+    use var::*;
+    let kp1 = k + 1.0;
+    let (ck, cj, ci) = (k * eta / r, k * rho * rd / r, -2.0 * eta * k * kp1 / r);
+    let bracket = 2.0 * eta * (k + 2.0) * ad / r + 4.0 * eta * (k - 1.0) * rd * a / (r * r)
+        + ck * w.tw
+        + cj * w.j
+        + ci * w.itil
+        + gn;
+    // ∂bracket/∂x: the wall part first, then the explicit terms.
+    let mut db = [0.0; N];
+    for x in 0..N {
+        db[x] = ck * w.d_tw[x] + cj * w.d_j[x] + ci * w.d_itil[x];
+    }
+    db[R] += -2.0 * eta * (k + 2.0) * ad / (r * r) - 8.0 * eta * (k - 1.0) * rd * a / (r * r * r)
+        - (ck * w.tw + cj * w.j + ci * w.itil) / r;
+    db[RD] += 4.0 * eta * (k - 1.0) * a / (r * r) + k * rho * w.j / r;
+    db[A] += 4.0 * eta * (k - 1.0) * rd / (r * r);
+    db[AD] += 2.0 * eta * (k + 2.0) / r;
+    db[GN] += 1.0;
+    let c = kp1 / (rho * r);
+    let mut dadd = [0.0; N];
+    for x in 0..N {
+        dadd[x] = -c * db[x];
+    }
+    dadd[R] += (3.0 * rd * ad - (k - 1.0) * rdd * a) / (r * r) + c * bracket / r;
+    dadd[RD] += -3.0 * ad / r;
+    dadd[RDD] += (k - 1.0) * a / r;
+    dadd[A] += (k - 1.0) * rdd / r;
+    dadd[AD] += -3.0 * rd / r;
+    let mut dbd = w.d_itil;
+    dbd[R] += -rd * b / (r * r) + 2.0 * rd * a / (kp1 * r * r);
+    dbd[RD] += b / r - 2.0 * a / (kp1 * r);
+    dbd[A] += -2.0 * rd / (kp1 * r);
+    dbd[AD] += -1.0 / kp1;
+    dbd[B] += rd / r;
+    (dadd, dbd)
+}

@@ -1,0 +1,154 @@
+//! The exact linear structure of the boundary-layer system (issue 16 part 2): its Jacobian
+//! ∂f/∂y for the implicit integrators, and the linear mode system x' = A(t) x + g(t) along a
+//! prescribed R(t) for Floquet and the spectra — assembled from the terms' analytic gradients
+//! ([`super::effects::Term::add_jacobian`]), the radial form's partials and the closure's
+//! partials ([`super::equations::mode_partials`]). No rhs differencing, no unit-vector probing.
+//!
+//! Sparsity ([`JacobianPattern`]): with y = [R, Ṙ, (a, ȧ, b)_k], the Jacobian is an "arrow" —
+//! column 0 (R) is full, row 1 (R̈) sees R, Ṙ and the amplitudes the radial loads depend on
+//! (a_2, b_2 with a field), every ä and ḃ row sees R, Ṙ and, through R̈, row 1's columns — plus a
+//! block band: mode k's rows see the (a, ȧ, b) of modes k ± 2j for j ≤ `band` (0 without a
+//! field: 3×3 diagonal blocks; 1 for the paper's coil and the dipole).
+
+use super::boundary_layer::BoundaryLayerSystem;
+use super::effects::{a_index, LoadJacobian, MAX_MODES};
+use super::equations::{mode_partials, var, wall_source, wall_source_partials};
+use nalgebra::{DMatrix, DVector};
+
+/// Which entries of the boundary-layer Jacobian can be non-zero (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct JacobianPattern {
+    pub modes: usize,
+    /// Half-width in modes of the mode-to-mode coupling.
+    pub band: usize,
+}
+
+impl JacobianPattern {
+    /// Whether ∂f_i/∂y_j may be non-zero.
+    pub fn may_be_nonzero(&self, i: usize, j: usize) -> bool {
+        let block = |x: usize| (x - 2) / 3;
+        if i == 0 {
+            return j == 1;
+        }
+        // R̈ sees R, Ṙ and the amplitudes within the band of the zero-order (P_0) row.
+        if i == 1 {
+            return j < 2 || block(j) < self.band;
+        }
+        // ȧ_k' = ȧ_k
+        if (i - 2) % 3 == 0 {
+            return j == i + 1;
+        }
+        // ä, ḃ rows: R, Ṙ, the band, and row 1's columns through R̈
+        j < 2 || block(i).abs_diff(block(j)) <= self.band || block(j) < self.band
+    }
+}
+
+/// Scratch-free helpers: the gradient of the loads and of R̈ at (t, y).
+struct Lin {
+    lj: LoadJacobian,
+    rdd: f64,
+    drdd: Vec<f64>,
+    gn: [f64; MAX_MODES],
+    gt: [f64; MAX_MODES],
+}
+
+impl BoundaryLayerSystem {
+    /// The Jacobian's sparsity (see the module doc).
+    pub fn jacobian_pattern(&self) -> JacobianPattern {
+        JacobianPattern { modes: self.modes.len(), band: self.eq.terms().map(|t| t.band()).max().unwrap_or(0) }
+    }
+
+    fn lin(&self, t: f64, y: &[f64], rdd: Option<f64>) -> Lin {
+        let m = self.modes.len();
+        let n = 2 + 3 * m;
+        let mut lj = LoadJacobian::new(m);
+        self.eq.load_jacobian(t, y, &mut lj);
+        let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+        let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
+        let mut drdd = vec![0.0; n];
+        let rdd = match rdd {
+            Some(v) => v,
+            None => {
+                self.eq.acceleration_gradient(y[0], y[1], p, &lj.pressure, &mut drdd);
+                self.eq.acceleration(y[0], y[1], p)
+            }
+        };
+        Lin { lj, rdd, drdd, gn, gt }
+    }
+
+    /// Rows of (ä, ḃ) of mode index m as gradients over y (length n): `out_a`, `out_b`.
+    fn mode_rows(&self, y: &[f64], l: &Lin, m: usize, out_a: &mut [f64], out_b: &mut [f64]) {
+        use var::*;
+        let p = &self.eq.params;
+        let mc = &self.modes[m];
+        let (r, rd) = (y[0], y[1]);
+        let i = a_index(m);
+        let (a, ad, b) = (y[i], y[i + 1], y[i + 2]);
+        let (gn, gt) = (l.gn[m], l.gt[m]);
+        let src = wall_source(mc.k, p.eta, r, rd, a, ad, gt);
+        let w = mc.wall_linear(r, src, &wall_source_partials(mc.k, p.eta, r, rd, a, gt));
+        let (da, db) = mode_partials(mc.k, p.rho, p.eta, r, rd, l.rdd, a, ad, b, gn, &w);
+        let (gn_row, gt_row) = (l.lj.gn_row(m), l.lj.gt_row(m));
+        for (out, d) in [(out_a, &da), (out_b, &db)] {
+            for j in 0..out.len() {
+                out[j] = d[RDD] * l.drdd[j] + d[GN] * gn_row[j] + d[GT] * gt_row[j];
+            }
+            out[0] += d[R];
+            out[1] += d[RD];
+            out[i] += d[A];
+            out[i + 1] += d[AD];
+            out[i + 2] += d[B];
+        }
+    }
+
+    /// The exact Jacobian ∂f/∂y at (t, y), row-major `jac[i * n + j]` (n = 2 + 3M).
+    pub fn jacobian_into(&self, t: f64, y: &[f64], jac: &mut [f64]) {
+        let n = y.len();
+        let l = self.lin(t, y, None);
+        jac[..n * n].fill(0.0);
+        jac[1] = 1.0;
+        jac[n..2 * n].copy_from_slice(&l.drdd);
+        for m in 0..self.modes.len() {
+            let i = a_index(m);
+            jac[i * n + i + 1] = 1.0;
+            let (ra, rest) = jac[(i + 1) * n..(i + 3) * n].split_at_mut(n);
+            self.mode_rows(y, &l, m, ra, rest);
+        }
+    }
+
+    /// The linear mode system at prescribed (t, R, Ṙ, R̈): x' = A x + g with x = (a_k, ȧ_k, b_k)_k
+    /// (dimension 3M, state order), nondimensional. For the Floquet and frequency analyses
+    /// (FORMULATION §4.6): R(t) is prescribed, so M0's coupling to a_2, b_2 is not part of it.
+    /// g holds the magnetic forcing ℋ2, ℋ¹2 (zero without a field). Exact: the equations are
+    /// affine in x at fixed (R, Ṙ, R̈).
+    pub fn linear_modes(&self, t: f64, r: f64, rd: f64, rdd: f64) -> (DMatrix<f64>, DVector<f64>) {
+        let n = 3 * self.modes.len();
+        let (mut a, mut g) = (DMatrix::zeros(n, n), DVector::zeros(n));
+        self.linear_modes_into(t, r, rd, rdd, &mut a, &mut g);
+        (a, g)
+    }
+
+    /// [`linear_modes`](Self::linear_modes) into sized buffers (A: 3M × 3M, g: 3M).
+    pub fn linear_modes_into(&self, t: f64, r: f64, rd: f64, rdd: f64, a: &mut DMatrix<f64>, g: &mut DVector<f64>) {
+        let nm = 3 * self.modes.len();
+        let n = 2 + nm;
+        let mut y = vec![0.0; n];
+        y[0] = r;
+        y[1] = rd;
+        let l = self.lin(t, &y, Some(rdd));
+        let mut dy = vec![0.0; n];
+        self.mode_rates(r, rd, rdd, &l.gn[..self.modes.len()], &l.gt[..self.modes.len()], &y, &mut dy);
+        g.copy_from_slice(&dy[2..]);
+        a.fill(0.0);
+        let (mut ra, mut rb) = (vec![0.0; n], vec![0.0; n]);
+        for m in 0..self.modes.len() {
+            let i = 3 * m;
+            a[(i, i + 1)] = 1.0;
+            self.mode_rows(&y, &l, m, &mut ra, &mut rb);
+            for j in 0..nm {
+                a[(i + 1, j)] = ra[2 + j];
+                a[(i + 2, j)] = rb[2 + j];
+            }
+        }
+    }
+}
