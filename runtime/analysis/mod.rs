@@ -8,6 +8,7 @@
 
 pub mod bisect;
 pub mod critical;
+pub mod expm;
 pub mod floquet;
 pub mod frequencies;
 pub mod periodic;
