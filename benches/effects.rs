@@ -29,6 +29,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
             sample_interval: 0.1e-6,
             integrator: IntegratorSettings { method, rtol: 1e-6, atol: 1e-9, dt: 0.5e-9, max_steps: 50_000_000 },
             blow_up_threshold: 0.5,
+            max_output_bytes: 1e9,
         },
     }
 }

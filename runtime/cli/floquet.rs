@@ -14,7 +14,7 @@ pub struct FloquetArgs {
     pub json: bool,
     /// `orbit`: shoot the periodic radial orbit (default); `paper`: R linearised, p∞ substituted.
     #[arg(long, value_enum, default_value = "orbit")]
-    pub variant: Variant,
+    pub variant: VariantArg,
     /// Magnus steps per drive period (≥ 16); the result also carries max|μ| with twice as many
     /// (`convergence`) and a warning when the two differ by more than 1e-6.
     #[arg(long, default_value_t = 400)]
@@ -22,6 +22,24 @@ pub struct FloquetArgs {
     /// Override a scene key, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+}
+
+/// `--variant` (the command line's spelling of [`Variant`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum VariantArg {
+    /// The periodic radial orbit by shooting (FORMULATION §4.6).
+    Orbit,
+    /// The paper's §4: R linearised about R0, p∞ substituted into R̈.
+    Paper,
+}
+
+impl From<VariantArg> for Variant {
+    fn from(v: VariantArg) -> Variant {
+        match v {
+            VariantArg::Orbit => Variant::Orbit,
+            VariantArg::Paper => Variant::Paper,
+        }
+    }
 }
 
 /// Loads a scene with `--set` overrides.
@@ -49,14 +67,14 @@ pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
                 "scene_file": args.scene.display().to_string(),
             }),
         };
-        println!("{}", serde_json::to_string_pretty(&value)?);
+        outln!("{}", serde_json::to_string_pretty(&value)?);
     }
     let v = result.map_err(|(_, e)| e)?;
     for w in v["warnings"].as_array().into_iter().flatten() {
         eprintln!("warning: {}", w.as_str().unwrap_or_default());
     }
     if !args.json {
-        println!(
+        outln!(
             "period {:.6e} s ({} × drive period {:.6e} s), max |μ| = {:.6} ({:.6} per drive period), {} (mode k = {}), R in [{:.4e}, {:.4e}] m",
             v["period_s"].as_f64().unwrap_or(f64::NAN),
             v["orbit_multiple"],
@@ -82,7 +100,7 @@ fn compute(args: &FloquetArgs) -> Result<serde_json::Value, Failure> {
         ));
     }
     let scene = load_scene(&args.scene, &args.set).map_err(|e| ("scene", e))?;
-    let opts = FloquetOptions { variant: args.variant, magnus_steps: args.steps, convergence_check: true, ..FloquetOptions::default() };
+    let opts = FloquetOptions { variant: args.variant.into(), magnus_steps: args.steps, convergence_check: true, ..FloquetOptions::default() };
     let r = floquet(&scene, &opts).map_err(|e| {
         let kind = match e {
             StabilityError::Orbit(_) => "no_orbit",

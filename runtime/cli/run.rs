@@ -164,11 +164,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         return Err(e.into());
     }
 
-    print_summary(&report, &scene, &out, rows);
+    print_summary(&report, &scene, &out, rows)?;
     if args.plot {
         crate::plot::series_plot(&series_path, &out)
             .with_context(|| format!("plotting {}", series_path.display()))?;
-        println!("plotted:    {}", out.join("series.svg").display());
+        outln!("plotted:    {}", out.join("series.svg").display());
     }
     if let RunStatus::Failed { reason } = &report.status {
         anyhow::bail!(
@@ -180,29 +180,35 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
     Ok(())
 }
 
-fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) {
+fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) -> anyhow::Result<()> {
     let status = match &report.status {
         RunStatus::Completed => "completed".to_string(),
         RunStatus::BlowUp { t, mode } => format!("blow-up of {mode} at t = {t:e} s"),
         RunStatus::Failed { reason } => format!("FAILED: {reason}"),
     };
-    println!("status:     {status}");
-    println!(
+    outln!("status:     {status}");
+    outln!(
         "t_end:      {:e} s of {:e} s",
         report.t_end, scene.run.duration
     );
-    println!(
+    outln!(
         "steps:      {} ({} rejected), {} rhs evaluations, {:.3} s wall",
         report.stats.steps, report.stats.rejected, report.stats.rhs_evals, report.wall_seconds
     );
-    println!(
+    outln!(
         "effects:    {} (state dimension {})",
         report.active_effects.join(", "),
         report.state_dimension
     );
     if let Ok(serde_json::Value::Object(groups)) = serde_json::to_value(&report.groups) {
-        let list: Vec<String> = groups.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-        println!("groups:     {}", list.join(", "));
+        let list: Vec<String> = groups
+            .iter()
+            .map(|(k, v)| match v.as_f64() {
+                Some(x) => format!("{k} = {}", crate::scene::schema::fmt_sig(x)),
+                None => format!("{k} = {v}"),
+            })
+            .collect();
+        outln!("groups:     {}", list.join(", "));
     }
     let largest = report
         .max_abs
@@ -210,16 +216,17 @@ fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) {
         .filter(|(n, _)| n != "R")
         .max_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((name, v)) = largest {
-        println!(
+        outln!(
             "largest:    max |{name}| = {v:e} m (|{name}|/R0 = {:.3e})",
             v / scene.bubble.radius
         );
     }
-    println!(
+    outln!(
         "wrote:      {} ({rows} rows), {}",
         out.join("series.csv").display(),
         out.join("summary.json").display()
     );
+    Ok(())
 }
 
 /// The simulation entry points this command uses.

@@ -12,6 +12,7 @@
 
 pub mod blow_up;
 pub mod boundary_layer;
+pub mod dispersion;
 pub mod effects;
 pub mod equations;
 pub mod linearize;

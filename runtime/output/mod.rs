@@ -7,10 +7,13 @@
 //! failed run leaves nothing behind.
 
 mod atomic;
+#[macro_use]
+mod console;
 mod csv;
 mod progress;
 
 pub use atomic::{AtomicFile, OutputDir};
+pub use console::{flush_out, write_err, write_out, StdoutError};
 pub use csv::CsvWriter;
 pub use progress::Progress;
 

@@ -136,6 +136,7 @@ pub struct RawRun {
     pub duration: Option<f64>,
     pub sample_interval: Option<f64>,
     pub blow_up_threshold: Option<f64>,
+    pub max_output_bytes: Option<f64>,
     pub integrator: Option<RawIntegrator>,
 }
 

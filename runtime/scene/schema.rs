@@ -291,6 +291,9 @@ pub static SCHEMA: &[Param] = &[
     p("run.duration", K::Float, "s", D::Float(100e-6), Rg::Positive, "", "Simulated time."),
     p("run.sample_interval", K::Float, "s", D::Float(1e-8), Rg::Positive, "",
       "Interval between rows of series.csv (must not exceed run.duration)."),
+    p("run.max_output_bytes", K::Float, "bytes", D::Float(1e9), Rg::Positive, "",
+      "Largest estimated size of series.csv ((duration/sample_interval + 1) rows of max_order + 2 numbers, \
+       24 bytes each); a scene above it is refused before running."),
     p("run.blow_up_threshold", K::Float, "", D::Float(0.5), Rg::Positive, "",
       "The run stops as `blow_up` when max_k |a_k|/R0 or |b_k|/R0 exceeds this (or R leaves (0, inf))."),
     section("run.integrator", D::Present, "The time integrator and its settings."),
@@ -333,6 +336,25 @@ pub fn fmt_num(x: f64) -> String {
         format!("{x:?}")
     } else {
         format!("{x:e}")
+    }
+}
+
+/// A computed number to 6 significant digits, trailing zeros dropped (`10.1325`, `4.47214e-310`,
+/// `1e14`): for derived quantities, where the last bits of a float are noise.
+pub fn fmt_sig(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x:?}");
+    }
+    let e = x.abs().log10().floor();
+    if (-3.0..6.0).contains(&e) {
+        let decimals = (5.0 - e).max(0.0) as usize;
+        let t = format!("{x:.decimals$}");
+        if t.contains('.') { t.trim_end_matches('0').trim_end_matches('.').to_string() } else { t }
+    } else {
+        let t = format!("{x:.5e}");
+        let (m, exp) = t.split_once('e').expect("exponent form");
+        let m = if m.contains('.') { m.trim_end_matches('0').trim_end_matches('.') } else { m };
+        format!("{m}e{exp}")
     }
 }
 

@@ -232,4 +232,6 @@ pub struct Run {
     pub integrator: IntegratorSettings,
     /// A run is classified `blow_up` when max_k |a_k|/R0 or |b_k|/R0 exceeds this (or R leaves (0, ∞)).
     pub blow_up_threshold: f64,
+    /// Largest estimated size of series.csv [bytes] (checked by validation, `scene::derived`).
+    pub max_output_bytes: f64,
 }

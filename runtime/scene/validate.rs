@@ -14,6 +14,10 @@ impl TryFrom<RawScene> for Scene {
         let mut c = Check::default();
         let scene = build(&mut c, raw);
         if c.issues.is_empty() {
+            // Each key is valid on its own: now what they give together.
+            c.issues = super::derived::check(&scene);
+        }
+        if c.issues.is_empty() {
             Ok(scene)
         } else {
             Err(Issues(c.issues))
@@ -369,7 +373,25 @@ fn build_run(
     // t* = sqrt(rho R0^3 / (2 c1)), FORMULATION sec 4.5.
     let t_star = (liquid.density * bubble.radius.powi(3) / (2.0 * shell.c1)).sqrt();
     let dt = c.float_or("run.integrator.dt", ri.dt, schema::DT_OVER_TSTAR * t_star);
-    if dt > duration && duration > 0.0 {
+    if ri.dt.is_none() && !(t_star.is_finite() && t_star > 0.0) {
+        // Not the user's run.integrator.dt: the time scale it defaults to (scene::derived says which key).
+    } else if ri.dt.is_none() && dt > duration && duration > 0.0 {
+        // The default step is longer than the run: blame the key that made it so.
+        c.issues.push(super::derived::blame(
+            &[
+                ("run.duration", duration),
+                ("bubble.radius", bubble.radius),
+                ("liquid.density", liquid.density),
+                ("shell.c1", shell.c1),
+            ],
+            format!(
+                "gives the default run.integrator.dt = 1e-3 t* = {} s (t* = sqrt(rho R0^3/(2 c1))), longer than \
+                 run.duration = {} s; set run.integrator.dt",
+                schema::fmt_sig(dt),
+                fmt_num(duration)
+            ),
+        ));
+    } else if dt > duration && duration > 0.0 {
         c.push(
             "run.integrator.dt",
             Some(fmt_num(dt)),
@@ -394,5 +416,6 @@ fn build_run(
         sample_interval,
         integrator,
         blow_up_threshold,
+        max_output_bytes: c.float("run.max_output_bytes", rr.max_output_bytes),
     }
 }

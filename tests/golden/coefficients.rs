@@ -714,6 +714,12 @@ pub mod membrane {
             ((-4.0)) * c1.powi(1) * r.powi(-7) * r0.powi(6)
                 + ((4.0)) * c1.powi(1) * r.powi(-1)
         }
+        /// ∂S0/∂R, S0 = (-4)*C1*R0^6/R^7 + (4)*C1/R
+        #[allow(unused_variables)]
+        pub fn s0_dr(r: f64, r0: f64, c1: f64) -> f64 {
+            ((-4.0)) * (-7.0) * c1.powi(1) * r.powi(-8) * r0.powi(6)
+                + ((4.0)) * (-1.0) * c1.powi(1) * r.powi(-2)
+        }
         /// S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
         #[allow(unused_variables)]
         pub fn s1(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
@@ -721,11 +727,24 @@ pub mod membrane {
             ((28.0) + (-2.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                 + ((-4.0) + (2.0) * n) * c1.powi(1) * r.powi(-2)
         }
+        /// ∂S1/∂R, S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
+        #[allow(unused_variables)]
+        pub fn s1_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+            let n = k * (k + 1.0);
+            ((28.0) + (-2.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                + ((-4.0) + (2.0) * n) * (-2.0) * c1.powi(1) * r.powi(-3)
+        }
         /// S2 = (-12*n)*C1*R0^6/R^8
         #[allow(unused_variables)]
         pub fn s2(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
             let n = k * (k + 1.0);
             ((-12.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
+        }
+        /// ∂S2/∂R, S2 = (-12*n)*C1*R0^6/R^8
+        #[allow(unused_variables)]
+        pub fn s2_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+            let n = k * (k + 1.0);
+            ((-12.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
         }
         /// S11 = (-8)*C1*R0^6/R^8 + (-4)*C1/R^2
         #[allow(unused_variables)]
@@ -734,12 +753,26 @@ pub mod membrane {
             ((-8.0)) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                 + ((-4.0)) * c1.powi(1) * r.powi(-2)
         }
+        /// ∂S11/∂R, S11 = (-8)*C1*R0^6/R^8 + (-4)*C1/R^2
+        #[allow(unused_variables)]
+        pub fn s11_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+            let n = k * (k + 1.0);
+            ((-8.0)) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                + ((-4.0)) * (-2.0) * c1.powi(1) * r.powi(-3)
+        }
         /// S12 = (4*n)*C1*R0^6/R^8 + (4*n - 4)*C1/R^2
         #[allow(unused_variables)]
         pub fn s12(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
             let n = k * (k + 1.0);
             ((4.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                 + ((-4.0) + (4.0) * n) * c1.powi(1) * r.powi(-2)
+        }
+        /// ∂S12/∂R, S12 = (4*n)*C1*R0^6/R^8 + (4*n - 4)*C1/R^2
+        #[allow(unused_variables)]
+        pub fn s12_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+            let n = k * (k + 1.0);
+            ((4.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                + ((-4.0) + (4.0) * n) * (-2.0) * c1.powi(1) * r.powi(-3)
         }
     }
     /// The tension form: F_t from the divergence of εσ/α (FORMULATION §2).
@@ -750,6 +783,12 @@ pub mod membrane {
             ((-4.0)) * c1.powi(1) * r.powi(-7) * r0.powi(6)
                 + ((4.0)) * c1.powi(1) * r.powi(-1)
         }
+        /// ∂S0/∂R, S0 = (-4)*C1*R0^6/R^7 + (4)*C1/R
+        #[allow(unused_variables)]
+        pub fn s0_dr(r: f64, r0: f64, c1: f64) -> f64 {
+            ((-4.0)) * (-7.0) * c1.powi(1) * r.powi(-8) * r0.powi(6)
+                + ((4.0)) * (-1.0) * c1.powi(1) * r.powi(-2)
+        }
         /// S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
         #[allow(unused_variables)]
         pub fn s1(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
@@ -757,11 +796,24 @@ pub mod membrane {
             ((28.0) + (-2.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                 + ((-4.0) + (2.0) * n) * c1.powi(1) * r.powi(-2)
         }
+        /// ∂S1/∂R, S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
+        #[allow(unused_variables)]
+        pub fn s1_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+            let n = k * (k + 1.0);
+            ((28.0) + (-2.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                + ((-4.0) + (2.0) * n) * (-2.0) * c1.powi(1) * r.powi(-3)
+        }
         /// S2 = (-12*n)*C1*R0^6/R^8
         #[allow(unused_variables)]
         pub fn s2(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
             let n = k * (k + 1.0);
             ((-12.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
+        }
+        /// ∂S2/∂R, S2 = (-12*n)*C1*R0^6/R^8
+        #[allow(unused_variables)]
+        pub fn s2_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+            let n = k * (k + 1.0);
+            ((-12.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
         }
         /// S11 = (-12)*C1*R0^6/R^8
         #[allow(unused_variables)]
@@ -769,12 +821,25 @@ pub mod membrane {
             let n = k * (k + 1.0);
             ((-12.0)) * c1.powi(1) * r.powi(-8) * r0.powi(6)
         }
+        /// ∂S11/∂R, S11 = (-12)*C1*R0^6/R^8
+        #[allow(unused_variables)]
+        pub fn s11_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+            let n = k * (k + 1.0);
+            ((-12.0)) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+        }
         /// S12 = (6*n)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
         #[allow(unused_variables)]
         pub fn s12(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
             let n = k * (k + 1.0);
             ((6.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                 + ((-4.0) + (2.0) * n) * c1.powi(1) * r.powi(-2)
+        }
+        /// ∂S12/∂R, S12 = (6*n)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
+        #[allow(unused_variables)]
+        pub fn s12_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
+            let n = k * (k + 1.0);
+            ((6.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
+                + ((-4.0) + (2.0) * n) * (-2.0) * c1.powi(1) * r.powi(-3)
         }
     }
 }

@@ -127,7 +127,7 @@ impl Monolithic<'_> {
             sc.adot[mi] = z[3 + 3 * mi];
             sc.b[mi] = z[4 + 3 * mi];
         }
-        let rddot = sc.loads.eval(self.coupling, t, r, rdot, &sc.a, &sc.b);
+        let rddot = sc.loads.eval(self.coupling, t, r, rdot, &sc.a, &sc.adot, &sc.b);
         fz[0] = rdot;
         fz[1] = rddot;
         let inputs = ModeInputs {

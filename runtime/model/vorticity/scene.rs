@@ -34,14 +34,14 @@ pub struct SceneCoupling<'m> {
 }
 
 impl SceneCoupling<'_> {
-    /// Fills the boundary-layer state layout [R, Ṙ, (a, ȧ, b)_k] the load code reads.
-    fn fill(&self, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> std::cell::RefMut<'_, Vec<f64>> {
+    /// Fills the boundary-layer state layout z = [R, Ṙ, (a, ȧ, b)_k] the terms read.
+    fn fill(&self, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> std::cell::RefMut<'_, Vec<f64>> {
         let mut y = self.y.borrow_mut();
         y[0] = r;
         y[1] = rdot;
         for m in 0..a.len() {
             y[2 + 3 * m] = a[m];
-            y[3 + 3 * m] = 0.0;
+            y[3 + 3 * m] = adot[m];
             y[4 + 3 * m] = b[m];
         }
         y
@@ -58,17 +58,37 @@ impl ModeCoupling for SceneCoupling<'_> {
     fn viscosity(&self) -> f64 {
         self.bl.params().eta
     }
-    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64 {
-        let y = self.fill(r, rdot, a, b);
+    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> f64 {
+        let y = self.fill(r, rdot, a, adot, b);
         self.bl.radial_acceleration(t, &y)
     }
     /// G_n,k, G_t,k from the scene's terms (FORMULATION §4.1; [`crate::model::effects`]).
-    fn shape_loads(&self, t: f64, r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
-        let y = self.fill(r, 0.0, a, b);
+    fn shape_loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
+        let y = self.fill(r, rdot, a, adot, b);
         self.bl.equations().loads(t, &y, gn, gt);
     }
-    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
-        let y = self.fill(r, rdot, a, b);
+    fn mode_stiffness(&self, t: f64, r: f64) -> Vec<[f64; 4]> {
+        let m = self.orders.len();
+        let zero = vec![0.0; m];
+        let y = self.fill(r, 0.0, &zero, &zero, &zero);
+        let mut lj = crate::model::effects::LoadJacobian::new(m);
+        self.bl.equations().load_jacobian(t, &y, &mut lj);
+        (0..m)
+            .map(|i| {
+                let ia = crate::model::effects::a_index(i);
+                let (gn, gt) = (lj.gn_row(i), lj.gt_row(i));
+                [gn[ia], gn[ia + 2], gt[ia], gt[ia + 2]]
+            })
+            .collect()
+    }
+    fn linearize(&self, t: f64, z: &[f64], drdd: &mut [f64], jac: &mut crate::model::effects::LoadJacobian) {
+        let eq = self.bl.equations();
+        eq.load_jacobian(t, z, jac);
+        let p = eq.loads(t, z, &mut [], &mut []);
+        eq.acceleration_gradient(z[0], z[1], p, &jac.pressure, drdd);
+    }
+    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        let y = self.fill(r, rdot, a, adot, b);
         let eq = self.bl.equations();
         let p = eq.loads(t, &y, gn, gt);
         eq.acceleration(r, rdot, p)

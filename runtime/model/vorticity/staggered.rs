@@ -103,7 +103,7 @@ impl<'c> Staggered<'c> {
         let a = &u[2..2 + m];
         let adot = &u[2 + m..2 + 2 * m];
         let b = &u[2 + 2 * m..2 + 3 * m];
-        let rddot = self.loads.eval(self.coupling, t, r, rdot, a, b);
+        let rddot = self.loads.eval(self.coupling, t, r, rdot, a, adot, b);
         du[0] = rdot;
         du[1] = rddot;
         du[2..2 + m].copy_from_slice(adot);
@@ -183,7 +183,7 @@ impl<'c> Staggered<'c> {
         // step 2: backward Euler for T with the new R, Ṙ, a, ȧ, b
         let eta = self.coupling.viscosity();
         let nu = eta / self.coupling.density();
-        self.coupling.shape_loads(s.t, s.r, &s.a, &s.b, &mut self.loads.gn, &mut self.loads.gt);
+        self.coupling.shape_loads(s.t, s.r, s.rdot, &s.a, &s.adot, &s.b, &mut self.loads.gn, &mut self.loads.gt);
         for mi in 0..m {
             let op = &self.ops[mi];
             let kf = op.k as f64;
