@@ -70,9 +70,6 @@ pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
         outln!("{}", serde_json::to_string_pretty(&value)?);
     }
     let v = result.map_err(|(_, e)| e)?;
-    for w in v["warnings"].as_array().into_iter().flatten() {
-        eprintln!("warning: {}", w.as_str().unwrap_or_default());
-    }
     if !args.json {
         outln!(
             "period {:.6e} s ({} × drive period {:.6e} s), max |μ| = {:.6} ({:.6} per drive period), {} (mode k = {}), R in [{:.4e}, {:.4e}] m",
@@ -86,6 +83,10 @@ pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
             v["r_min_m"].as_f64().unwrap_or(f64::NAN),
             v["r_max_m"].as_f64().unwrap_or(f64::NAN),
         );
+    }
+    // After stdout, so a closed pipe ends the command before anything reaches stderr.
+    for w in v["warnings"].as_array().into_iter().flatten() {
+        eprintln!("warning: {}", w.as_str().unwrap_or_default());
     }
     Ok(())
 }
