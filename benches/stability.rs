@@ -22,6 +22,7 @@ fn curve(base: &Scene, freqs: &[f64], criterion: Crit) -> usize {
         hi: 1.0,
         scan: 8,
         tol: 1e-3,
+        relative_tol: false,
         floquet: Default::default(),
         series: Default::default(),
     };

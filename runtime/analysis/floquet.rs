@@ -234,7 +234,7 @@ fn step_block(a1: &DMatrix<f64>, a2: &DMatrix<f64>, idx: &[usize], h: f64) -> DM
     let p = DMatrix::from_fn(m, m, |i, j| a1[(idx[i], idx[j])]);
     let q = DMatrix::from_fn(m, m, |i, j| a2[(idx[i], idx[j])]);
     let omega = (&p + &q) * (0.5 * h) + (&q * &p - &p * &q) * k;
-    omega.exp()
+    super::expm::expm(&omega)
 }
 
 #[cfg(test)]

@@ -7,9 +7,12 @@
 //! [`stability`] apply them to the model.
 
 pub mod bisect;
+pub mod critical;
+pub mod expm;
 pub mod floquet;
 pub mod frequencies;
 pub mod periodic;
+pub mod shooting;
 pub mod stability;
 pub mod sweep;
 

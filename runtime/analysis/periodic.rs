@@ -1,16 +1,18 @@
-//! Periodic orbits of driven ODEs by shooting (FORMULATION §4.6 step 1, audit 14), and the common
-//! period of several drives.
+//! Periodic orbits of driven ODEs (FORMULATION §4.6 step 1, audit 14): the fixed-step period map
+//! [`RkFlow`] with its exact derivative, the orbit search (in [`super::shooting`], re-exported
+//! here), and the common period of several drives.
 //!
-//! The period map P_m(y) = φ(t0 + mT; t0, y) is evaluated with a fixed-step classical RK4
-//! ([`RkFlow`]): a fixed step count makes P_m a smooth function of y, so its finite-difference
-//! Jacobian is clean (an adaptive step-size controller would add step-selection noise to it).
-//! Newton on P_m(y) − y = 0 runs from the state reached after a transient. The multiples
-//! m = 1, 2, 4 … of the drive period are tried in order and the first orbit that converges and is
-//! stable (all eigenvalues of DP_m inside the unit circle) is returned with its m: a period-2
-//! response is detected, not assumed away. The eigenvalues of DP_m are reported too.
+//! The period map P_m(y) = φ(t0 + mT; t0, y) is evaluated with a fixed-step classical RK4: a
+//! fixed step count makes P_m a smooth function of y. Its Jacobian DP_m is the RK4 solution of
+//! the variational equations Φ' = J(t, y) Φ integrated with the same steps
+//! ([`RkFlow::advance_variational`]), i.e. the derivative of the discrete map itself — not a
+//! finite difference of P_m, whose step on a small component (Ṙ ≈ 0) cost 2–5e-5 in the radial
+//! multipliers (issue 13 part 2).
 
 use crate::integrate::OdeSystem;
-use nalgebra::{Complex, DMatrix, DVector};
+use nalgebra::DMatrix;
+
+pub use super::shooting::{find_orbit, PeriodicOrbit, ShootingOptions};
 
 /// Errors of the orbit search. They carry the numbers that went wrong.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -21,6 +23,12 @@ pub enum PeriodicError {
     NonFinite { t: f64 },
     #[error("no stable periodic orbit with period m·T for m in {multiples:?}: {attempts}")]
     NoStableOrbit { multiples: Vec<usize>, attempts: String },
+    #[error("the transient before the orbit search failed: {reason}")]
+    Transient { reason: String },
+    #[error("Newton on P_{multiple}(y) = y did not converge in {iterations} iterations (residual {residual:.3e})")]
+    NotConverged { multiple: usize, iterations: usize, residual: f64 },
+    #[error("singular shooting Jacobian for m = {multiple} (a multiplier equal to 1)")]
+    SingularShooting { multiple: usize },
     #[error("frequencies {frequencies:?} Hz have no common period with denominators ≤ {max_denominator} within relative tolerance {tolerance}")]
     Incommensurate { frequencies: Vec<f64>, max_denominator: u64, tolerance: f64 },
     #[error("frequency {value} Hz must be finite and > 0")]
@@ -82,181 +90,96 @@ impl RkFlow<'_> {
         obs(t, y, &k1);
         Ok(t)
     }
-}
 
-/// Settings of [`find_orbit`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct ShootingOptions {
-    /// Drive periods integrated before Newton starts.
-    pub transient_periods: usize,
-    /// Multiples m of the drive period to try, in order.
-    pub multiples: Vec<usize>,
-    /// Convergence: ‖P_m(y) − y‖∞ ≤ tol · max(1, ‖y‖∞).
-    pub tol: f64,
-    pub max_iterations: usize,
-    /// RK4 steps per drive period.
-    pub steps_per_period: usize,
-}
-
-impl Default for ShootingOptions {
-    fn default() -> Self {
-        Self { transient_periods: 20, multiples: vec![1, 2, 4], tol: 1e-10, max_iterations: 20, steps_per_period: 1000 }
-    }
-}
-
-/// A periodic orbit of a driven system.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PeriodicOrbit {
-    /// Phase origin: the orbit passes through `y0` at `t0` (t0 is a whole number of drive periods).
-    pub t0: f64,
-    pub y0: Vec<f64>,
-    pub drive_period: f64,
-    /// The orbit's period is `multiple` drive periods.
-    pub multiple: usize,
-    pub newton_iterations: usize,
-    /// ‖P_m(y0) − y0‖∞ at the end.
-    pub residual: f64,
-    /// Eigenvalues of DP_m (the orbit's own Floquet multipliers; stable: all |λ| < 1).
-    pub multipliers: Vec<Complex<f64>>,
-}
-
-impl PeriodicOrbit {
-    pub fn period(&self) -> f64 {
-        self.multiple as f64 * self.drive_period
-    }
-    pub fn max_multiplier(&self) -> f64 {
-        self.multipliers.iter().map(|z| z.norm()).fold(0.0, f64::max)
-    }
-}
-
-/// Finds a stable periodic orbit of `sys` driven with period `drive_period` (see the module doc).
-pub fn find_orbit(
-    sys: &dyn OdeSystem,
-    t0: f64,
-    y0: &[f64],
-    drive_period: f64,
-    opts: &ShootingOptions,
-) -> Result<PeriodicOrbit, PeriodicError> {
-    if !(drive_period.is_finite() && drive_period > 0.0) {
-        return Err(PeriodicError::BadPeriod { period: drive_period });
-    }
-    let flow = RkFlow { sys, period: drive_period, steps_per_period: opts.steps_per_period.max(1) };
-    let mut y = y0.to_vec();
-    let t_start = flow.advance(t0, &mut y, opts.transient_periods)?;
-    let mut attempts = Vec::new();
-    for &m in &opts.multiples {
-        match newton(&flow, t_start, &y, m.max(1), opts) {
-            Ok(orbit) if orbit.max_multiplier() < 1.0 => return Ok(orbit),
-            Ok(orbit) => attempts.push(format!(
-                "m={m}: converged (residual {:.2e}) but unstable, max |λ| = {:.4}",
-                orbit.residual,
-                orbit.max_multiplier()
-            )),
-            Err(e) => attempts.push(format!("m={m}: {e}")),
-        }
-    }
-    Err(PeriodicError::NoStableOrbit { multiples: opts.multiples.clone(), attempts: attempts.join("; ") })
-}
-
-/// Newton on G(y) = P_m(y) − y with a forward-difference Jacobian and step halving.
-fn newton(
-    flow: &RkFlow,
-    t0: f64,
-    y_start: &[f64],
-    m: usize,
-    opts: &ShootingOptions,
-) -> Result<PeriodicOrbit, PeriodicError> {
-    let n = y_start.len();
-    let map = |y: &[f64]| -> Result<Vec<f64>, PeriodicError> {
-        let mut z = y.to_vec();
-        flow.advance(t0, &mut z, m)?;
-        Ok(z)
-    };
-    let residual = |y: &[f64], p: &[f64]| -> f64 {
-        y.iter().zip(p).map(|(a, b)| (b - a).abs()).fold(0.0, f64::max)
-    };
-    let scale = |y: &[f64]| y.iter().map(|v| v.abs()).fold(1.0, f64::max);
-    let mut y = y_start.to_vec();
-    let mut p = map(&y)?;
-    let mut r = residual(&y, &p);
-    let mut iterations = 0;
-    loop {
-        let jac = jacobian(&map, &y, &p)?;
-        if r <= opts.tol * scale(&y) {
-            let multipliers = crate::analysis::floquet::eigenvalues(&jac);
-            return Ok(PeriodicOrbit {
-                t0,
-                y0: y,
-                drive_period: flow.period,
-                multiple: m,
-                newton_iterations: iterations,
-                residual: r,
-                multipliers,
-            });
-        }
-        if iterations >= opts.max_iterations {
-            return Err(PeriodicError::NoStableOrbit {
-                multiples: vec![m],
-                attempts: format!("Newton did not converge in {iterations} iterations (residual {r:.3e})"),
-            });
-        }
-        iterations += 1;
-        // (DP − I) δ = −(P − y)
-        let mut a = jac;
-        for i in 0..n {
-            a[(i, i)] -= 1.0;
-        }
-        let g = DVector::from_iterator(n, y.iter().zip(&p).map(|(yi, pi)| yi - pi));
-        let Some(delta) = a.lu().solve(&g) else {
-            return Err(PeriodicError::NoStableOrbit {
-                multiples: vec![m],
-                attempts: "singular shooting Jacobian (a multiplier equal to 1)".into(),
-            });
-        };
-        let mut lambda = 1.0;
-        loop {
-            let trial: Vec<f64> = y.iter().zip(delta.iter()).map(|(a, d)| a + lambda * d).collect();
-            let accepted = match map(&trial) {
-                Ok(pt) => {
-                    let rt = residual(&trial, &pt);
-                    if rt < r || lambda < 1.0 / 64.0 {
-                        y = trial;
-                        p = pt;
-                        r = rt;
-                        true
-                    } else {
-                        false
+    /// As [`advance`](Self::advance), also propagating Φ (n × n) by the variational equations
+    /// Φ' = J(t, y)Φ with the same RK4 stages: on return Φ ← DP·Φ, the derivative of the
+    /// discrete map. J is the system's analytic Jacobian when it has one, else a central
+    /// difference with step 1e-6·max(|y_j|, ‖y‖∞, 1e-8) (exact for terms quadratic in y_j).
+    pub fn advance_variational(
+        &self,
+        t0: f64,
+        y: &mut [f64],
+        phi: &mut DMatrix<f64>,
+        periods: usize,
+    ) -> Result<f64, PeriodicError> {
+        let n = y.len();
+        let h = self.period / self.steps_per_period as f64;
+        let mut ws = VarWork::new(n);
+        let total = periods * self.steps_per_period;
+        let mut kp: [DMatrix<f64>; 4] = std::array::from_fn(|_| DMatrix::zeros(n, n));
+        let mut ky = vec![vec![0.0; n]; 4];
+        let mut tmp = vec![0.0; n];
+        let mut ptmp = DMatrix::zeros(n, n);
+        for s in 0..total {
+            let t = t0 + s as f64 * h;
+            let nodes = [(0.0, 0usize), (0.5, 0), (0.5, 1), (1.0, 2)];
+            for (st, &(c, from)) in nodes.iter().enumerate() {
+                if st == 0 {
+                    tmp.copy_from_slice(y);
+                    ptmp.copy_from(phi);
+                } else {
+                    for i in 0..n {
+                        tmp[i] = y[i] + c * h * ky[from][i];
                     }
+                    ptmp.copy_from(phi);
+                    ptmp.zip_apply(&kp[from], |a, b| *a += c * h * b);
                 }
-                Err(e) if lambda < 1.0 / 64.0 => return Err(e),
-                Err(_) => false,
-            };
-            if accepted {
-                break;
+                self.sys.rhs(t + c * h, &tmp, &mut ky[st]);
+                ws.jacobian(self.sys, t + c * h, &tmp);
+                kp[st].gemm(1.0, &ws.jac, &ptmp, 0.0);
             }
-            lambda *= 0.5;
+            for i in 0..n {
+                y[i] += h / 6.0 * (ky[0][i] + 2.0 * ky[1][i] + 2.0 * ky[2][i] + ky[3][i]);
+            }
+            for (w, k) in [(1.0, 0), (2.0, 1), (2.0, 2), (1.0, 3)] {
+                phi.zip_apply(&kp[k], |a, b| *a += w * h / 6.0 * b);
+            }
+            if y.iter().chain(phi.iter()).any(|v| !v.is_finite()) {
+                return Err(PeriodicError::NonFinite { t: t + h });
+            }
         }
+        Ok(t0 + total as f64 * h)
     }
 }
 
-/// Forward-difference Jacobian of `map` at y (p = map(y)).
-fn jacobian(
-    map: &impl Fn(&[f64]) -> Result<Vec<f64>, PeriodicError>,
-    y: &[f64],
-    p: &[f64],
-) -> Result<DMatrix<f64>, PeriodicError> {
-    let n = y.len();
-    let mut jac = DMatrix::zeros(n, n);
-    for j in 0..n {
-        let h = 1e-7 * y[j].abs().max(1e-3);
-        let mut yj = y.to_vec();
-        yj[j] += h;
-        let pj = map(&yj)?;
-        for i in 0..n {
-            jac[(i, j)] = (pj[i] - p[i]) / h;
+/// Jacobian workspace of [`RkFlow::advance_variational`].
+struct VarWork {
+    jac: DMatrix<f64>,
+    row_major: Vec<f64>,
+    yp: Vec<f64>,
+    fp: Vec<f64>,
+    fm: Vec<f64>,
+}
+
+impl VarWork {
+    fn new(n: usize) -> Self {
+        Self { jac: DMatrix::zeros(n, n), row_major: vec![0.0; n * n], yp: vec![0.0; n], fp: vec![0.0; n], fm: vec![0.0; n] }
+    }
+
+    fn jacobian(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64]) {
+        let n = y.len();
+        if sys.jacobian(t, y, &mut self.row_major) {
+            for i in 0..n {
+                for j in 0..n {
+                    self.jac[(i, j)] = self.row_major[i * n + j];
+                }
+            }
+            return;
+        }
+        let scale = y.iter().fold(1e-8f64, |m, v| m.max(v.abs()));
+        self.yp.copy_from_slice(y);
+        for j in 0..n {
+            let hj = 1e-6 * y[j].abs().max(scale);
+            self.yp[j] = y[j] + hj;
+            sys.rhs(t, &self.yp, &mut self.fp);
+            self.yp[j] = y[j] - hj;
+            sys.rhs(t, &self.yp, &mut self.fm);
+            self.yp[j] = y[j];
+            for i in 0..n {
+                self.jac[(i, j)] = (self.fp[i] - self.fm[i]) / (2.0 * hj);
+            }
         }
     }
-    Ok(jac)
 }
 
 /// The smallest T > 0 such that f·T is an integer for every f in `frequencies` (Hz), where each

@@ -54,8 +54,14 @@ pub enum Variant {
 pub struct FloquetOptions {
     pub variant: Variant,
     pub shooting: ShootingOptions,
+    /// Transient before the orbit search, in radial decay times 1/γ, γ = −½ ∂R̈/∂Ṙ at (R0, 0)
+    /// (= 2ν/R0²: 1/γ ≈ 50 µs at R0 = 10 µm in water). `shooting.transient_periods` is a floor.
+    pub transient_decay_times: f64,
     /// Magnus steps per drive period for the monodromy.
     pub magnus_steps: usize,
+    /// Also compute the monodromy with 2 × `magnus_steps` and report the difference of max|μ|
+    /// ([`FloquetReport::convergence`]).
+    pub convergence_check: bool,
     /// Largest denominator q accepted for the ratio of two drive frequencies.
     pub max_denominator: u64,
     pub commensurate_tolerance: f64,
@@ -66,11 +72,27 @@ impl Default for FloquetOptions {
         Self {
             variant: Variant::Orbit,
             shooting: ShootingOptions { transient_periods: 10, steps_per_period: 400, ..ShootingOptions::default() },
+            transient_decay_times: 1.0,
             magnus_steps: 400,
+            convergence_check: false,
             max_denominator: 1000,
             commensurate_tolerance: 1e-9,
         }
     }
+}
+
+/// Tolerance of the convergence estimate: |max|μ|(2n) − max|μ|(n)| above it times
+/// max(1, max|μ|) is a warning.
+pub const CONVERGENCE_TOLERANCE: f64 = 1e-6;
+
+/// max|μ| with n and 2n Magnus steps per drive period.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Convergence {
+    pub steps: usize,
+    pub max_multiplier_2x_steps: f64,
+    /// |max|μ|(2n) − max|μ|(n)|.
+    pub difference: f64,
+    pub converged: bool,
 }
 
 /// The Floquet verdict on one scene (SI units).
@@ -80,9 +102,12 @@ pub struct FloquetReport {
     pub period_s: f64,
     /// The common period of every drive [s] (acoustic, current, coil distance).
     pub drive_period_s: f64,
-    /// The radial orbit repeats after this many drive periods (1, 2, 4 …; 1 for the paper variant).
+    /// The radial orbit's minimal period in drive periods (1, 2, 4 …; 1 for the paper variant).
     pub orbit_multiple: usize,
+    /// max|μ| over the orbit's period (`period_s`).
     pub max_multiplier: f64,
+    /// max|μ|^(1/orbit_multiple): the growth per drive period.
+    pub max_multiplier_per_drive_period: f64,
     pub unstable: bool,
     /// The shape mode k carrying the largest multiplier (largest share of its eigenvector).
     pub mode: usize,
@@ -90,6 +115,16 @@ pub struct FloquetReport {
     pub multipliers: Vec<[f64; 2]>,
     /// Multipliers of the radial orbit itself (DP_m), [re, im]; empty for the paper variant.
     pub radial_multipliers: Vec<[f64; 2]>,
+    /// min and max of R(t) over the orbit [m].
+    pub r_min_m: f64,
+    pub r_max_m: f64,
+    /// How the radial orbit was found (transient, flip restart …); "" for the paper variant.
+    pub orbit_found_by: String,
+    /// Magnus steps per drive period used for `max_multiplier`.
+    pub magnus_steps: usize,
+    /// Transient before the orbit search [s].
+    pub transient_s: f64,
+    pub convergence: Option<Convergence>,
     pub variant: Variant,
 }
 
@@ -111,10 +146,18 @@ pub fn drive_frequencies(scene: &Scene) -> Vec<f64> {
     f
 }
 
-/// The radial equation alone at a_k = b_k = 0 (M0 evaluated with zero shape amplitudes).
-struct Radial<'a> {
+/// The radial equation alone at a_k = b_k = 0 (M0 evaluated with zero shape amplitudes): the
+/// system whose periodic orbit [`floquet`] shoots for. State [R, Ṙ], nondimensional.
+pub struct Radial<'a> {
     bl: &'a BoundaryLayerSystem,
     full: usize,
+}
+
+impl<'a> Radial<'a> {
+    /// The radial system of a model with shape modes (`None` for a radial-only model).
+    pub fn of(model: &'a Model) -> Option<Self> {
+        model.boundary_layer().map(|bl| Radial { bl, full: bl.dim() })
+    }
 }
 
 impl OdeSystem for Radial<'_> {
@@ -207,9 +250,32 @@ pub fn check_scene(scene: &Scene, criterion: Criterion) -> Result<(), StabilityE
     }
 }
 
-/// Floquet analysis of `scene` (see the module doc).
-pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, StabilityError> {
-    let model = Model::from_scene(scene)?;
+/// −½ ∂R̈/∂Ṙ at (R0, Ṙ = 0), t = 0: the radial damping rate γ (nondimensional).
+fn radial_damping_rate(radial: &Radial) -> f64 {
+    let (mut fp, mut fm) = ([0.0; 2], [0.0; 2]);
+    let h = 1e-6;
+    radial.rhs(0.0, &[1.0, h], &mut fp);
+    radial.rhs(0.0, &[1.0, -h], &mut fm);
+    -0.5 * (fp[1] - fm[1]) / (2.0 * h)
+}
+
+/// The periodic problem behind [`floquet`]: the radial orbit (found once) and the linear shape
+/// system along it, so the monodromy can be evaluated at several step counts.
+pub struct Prepared<'a> {
+    model: &'a Model,
+    shape: ShapeSystem<'a>,
+    /// Orbit period (nondimensional) and its multiple of the drive period.
+    period: f64,
+    multiple: usize,
+    drive_period_s: f64,
+    radial_multipliers: Vec<[f64; 2]>,
+    r_range: (f64, f64),
+    found_by: String,
+    transient: f64,
+}
+
+/// Finds the radial orbit of `scene` and sets up its shape system.
+pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Result<Prepared<'a>, StabilityError> {
     let bl = model.boundary_layer().ok_or(StabilityError::NoShapeModes)?;
     let ts = model.time_scale();
     let freqs = drive_frequencies(scene);
@@ -222,13 +288,19 @@ pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, St
     let tp = drive_period_s / ts; // nondimensional
     let full = bl.dim();
     let n = full - 2;
-    let (period, radial_multipliers, multiple, shape) = match opts.variant {
+    match opts.variant {
         Variant::Orbit => {
             let radial = Radial { bl, full };
             let y0 = &model.initial_state()[..2];
-            let orbit = periodic::find_orbit(&radial, 0.0, y0, tp, &opts.shooting)?;
-            let sampled = SampledOrbit::new(&radial, &orbit, opts.shooting.steps_per_period)?;
-            let mults = orbit.multipliers.iter().map(|z| [z.re, z.im]).collect();
+            let gamma = radial_damping_rate(&radial);
+            let mut shooting = opts.shooting.clone();
+            if gamma.is_finite() && gamma > 0.0 {
+                shooting.transient_time = opts.transient_decay_times / gamma;
+            }
+            let orbit = periodic::find_orbit(&radial, 0.0, y0, tp, &shooting)?;
+            let sampled = SampledOrbit::new(&radial, &orbit, shooting.steps_per_period)?;
+            let r_range = sampled.y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y[0]), hi.max(y[0])));
+            let transient = (shooting.transient_periods as f64 * tp).max((shooting.transient_time / tp).ceil() * tp);
             let zeros = vec![0.0; full];
             let f = move |t: f64| {
                 let (r, rd) = sampled.at(t);
@@ -237,7 +309,17 @@ pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, St
                 z[1] = rd;
                 (r, rd, bl.radial_acceleration(t, &z))
             };
-            (orbit.period(), mults, orbit.multiple, ShapeSystem { bl, n, radial: Box::new(f) })
+            Ok(Prepared {
+                model,
+                shape: ShapeSystem { bl, n, radial: Box::new(f) },
+                period: orbit.period(),
+                multiple: orbit.multiple,
+                drive_period_s,
+                radial_multipliers: orbit.multipliers.iter().map(|z| [z.re, z.im]).collect(),
+                r_range,
+                found_by: orbit.found_by,
+                transient,
+            })
         }
         Variant::Paper => {
             let zeros = vec![0.0; full];
@@ -246,30 +328,83 @@ pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, St
                 z[0] = 1.0;
                 (1.0, 0.0, bl.radial_acceleration(t, &z))
             };
-            (tp, Vec::new(), 1, ShapeSystem { bl, n, radial: Box::new(f) })
+            Ok(Prepared {
+                model,
+                shape: ShapeSystem { bl, n, radial: Box::new(f) },
+                period: tp,
+                multiple: 1,
+                drive_period_s,
+                radial_multipliers: Vec::new(),
+                r_range: (1.0, 1.0),
+                found_by: String::new(),
+                transient: 0.0,
+            })
         }
-    };
-    let steps = opts.magnus_steps.max(1) * multiple;
-    let mono = floquet::monodromy(&shape, 0.0, period, steps)?;
-    let spec = mono.spectrum();
-    // Mode: the k whose (a, ȧ, b) components hold the largest share of the critical eigenvector.
-    let orders = model.orders();
-    let mut share = vec![0.0; orders.len()];
-    for &(i, w) in &spec.components {
-        share[i / 3] += w;
     }
-    let m = share.iter().enumerate().fold(0, |b, (i, &w)| if w > share[b] { i } else { b });
-    Ok(FloquetReport {
-        period_s: period * ts,
-        drive_period_s,
-        orbit_multiple: multiple,
-        max_multiplier: spec.max_modulus,
-        unstable: spec.max_modulus > 1.0,
-        mode: orders[m],
-        multipliers: spec.multipliers.iter().map(|z| [z.re, z.im]).collect(),
-        radial_multipliers,
-        variant: opts.variant,
-    })
+}
+
+impl Prepared<'_> {
+    /// The monodromy's spectrum with `steps` Magnus steps per drive period.
+    pub fn spectrum(&self, steps: usize) -> Result<floquet::Spectrum, StabilityError> {
+        let steps = steps.max(1) * self.multiple;
+        Ok(floquet::monodromy(&self.shape, 0.0, self.period, steps)?.spectrum())
+    }
+
+    /// The orbit's minimal period in drive periods.
+    pub fn multiple(&self) -> usize {
+        self.multiple
+    }
+
+    /// The report of a spectrum computed with `steps` (see [`floquet`]).
+    pub fn report(&self, spec: &floquet::Spectrum, steps: usize, convergence: Option<Convergence>, variant: Variant) -> FloquetReport {
+        let ts = self.model.time_scale();
+        let length = self.model.scales().length;
+        // Mode: the k whose (a, ȧ, b) components hold the largest share of the critical eigenvector.
+        let orders = self.model.orders();
+        let mut share = vec![0.0; orders.len()];
+        for &(i, w) in &spec.components {
+            share[i / 3] += w;
+        }
+        let m = share.iter().enumerate().fold(0, |b, (i, &w)| if w > share[b] { i } else { b });
+        FloquetReport {
+            period_s: self.period * ts,
+            drive_period_s: self.drive_period_s,
+            orbit_multiple: self.multiple,
+            max_multiplier: spec.max_modulus,
+            max_multiplier_per_drive_period: spec.max_modulus.powf(1.0 / self.multiple as f64),
+            unstable: spec.max_modulus > 1.0,
+            mode: orders[m],
+            multipliers: spec.multipliers.iter().map(|z| [z.re, z.im]).collect(),
+            radial_multipliers: self.radial_multipliers.clone(),
+            r_min_m: self.r_range.0 * length,
+            r_max_m: self.r_range.1 * length,
+            orbit_found_by: self.found_by.clone(),
+            magnus_steps: steps,
+            transient_s: self.transient * ts,
+            convergence,
+            variant,
+        }
+    }
+}
+
+/// Floquet analysis of `scene` (see the module doc).
+pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, StabilityError> {
+    let model = Model::from_scene(scene)?;
+    let prep = prepare(&model, scene, opts)?;
+    let spec = prep.spectrum(opts.magnus_steps)?;
+    let convergence = if opts.convergence_check {
+        let fine = prep.spectrum(2 * opts.magnus_steps.max(1))?;
+        let difference = (fine.max_modulus - spec.max_modulus).abs();
+        Some(Convergence {
+            steps: opts.magnus_steps,
+            max_multiplier_2x_steps: fine.max_modulus,
+            difference,
+            converged: difference <= CONVERGENCE_TOLERANCE * spec.max_modulus.max(1.0),
+        })
+    } else {
+        None
+    };
+    Ok(prep.report(&spec, opts.magnus_steps, convergence, opts.variant))
 }
 
 /// Settings of the time-series criterion (docs/stability.md).
@@ -381,116 +516,4 @@ pub enum Criterion {
     Series,
 }
 
-/// Settings of one point of a stability diagram.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CriticalOptions {
-    pub criterion: Criterion,
-    /// Search range of the varied parameter.
-    pub lo: f64,
-    pub hi: f64,
-    /// Coarse scan intervals before bisection, and the bisection tolerance (bisect.rs).
-    pub scan: usize,
-    pub tol: f64,
-    pub floquet: FloquetOptions,
-    pub series: SeriesOptions,
-}
-
-/// One point of a stability diagram.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct CriticalPoint {
-    pub outcome: super::bisect::Outcome,
-    /// The mode that goes unstable at the unstable end of the bracket ("" if none).
-    pub mode: String,
-    /// max|μ| at the stable and at the unstable end (Floquet only; NaN otherwise).
-    pub max_multiplier_stable: f64,
-    pub max_multiplier_unstable: f64,
-    /// Orbit multiple at the stable end (1, 2, 4 …).
-    pub orbit_multiple: usize,
-    /// Anything unusual (e.g. "no periodic radial orbit at 0.73 → unstable").
-    pub note: String,
-}
-
-/// The header of [`CriticalPoint::fields`].
-pub const CRITICAL_HEADER: [&str; 10] = [
-    "critical",
-    "outcome",
-    "stable",
-    "unstable",
-    "mode",
-    "max_multiplier_stable",
-    "max_multiplier_unstable",
-    "orbit_multiple",
-    "evaluations",
-    "note",
-];
-
-impl CriticalPoint {
-    pub fn fields(&self) -> Vec<String> {
-        use super::bisect::Outcome::*;
-        let (crit, name, s, u) = match self.outcome {
-            Critical { value, stable, unstable, .. } => (value, "critical", stable, unstable),
-            StableThroughout { top, .. } => (f64::NAN, "stable_throughout", top, f64::NAN),
-            UnstableAtBottom { bottom, .. } => (f64::NAN, "unstable_at_bottom", f64::NAN, bottom),
-        };
-        vec![
-            format!("{crit:.8e}"),
-            name.into(),
-            format!("{s:.8e}"),
-            format!("{u:.8e}"),
-            self.mode.clone(),
-            format!("{:.8e}", self.max_multiplier_stable),
-            format!("{:.8e}", self.max_multiplier_unstable),
-            self.orbit_multiple.to_string(),
-            self.outcome.evaluations().to_string(),
-            self.note.clone(),
-        ]
-    }
-}
-
-/// The critical value of the parameter `scene_at(p)` varies, by bracketing and bisection
-/// (bisect.rs) of the chosen criterion. A radial orbit that cannot be found (collapse,
-/// non-finite state, no stable period-m orbit) counts as unstable and is noted.
-pub fn critical_point(
-    scene_at: &dyn Fn(f64) -> Result<Scene, StabilityError>,
-    opts: &CriticalOptions,
-) -> Result<CriticalPoint, StabilityError> {
-    // (unstable?, mode, max|μ|, multiple, note) per evaluated p, kept for the bracket ends.
-    let mut seen: Vec<(f64, String, f64, usize, String)> = Vec::new();
-    let outcome = super::bisect::critical(opts.lo, opts.hi, opts.scan, opts.tol, |p| {
-        let scene = scene_at(p)?;
-        let (unstable, mode, mu, multiple, note) = match opts.criterion {
-            Criterion::Floquet => match floquet(&scene, &opts.floquet) {
-                Ok(r) => (r.unstable, format!("a{}", r.mode), r.max_multiplier, r.orbit_multiple, String::new()),
-                Err(StabilityError::Orbit(e)) => (true, String::new(), f64::NAN, 0, format!("at {p:.6e}: {e} → unstable")),
-                Err(e) => return Err(e),
-            },
-            Criterion::Series => {
-                let v = series_unstable(&scene, &opts.series)?;
-                (v.unstable, v.mode, f64::NAN, 0, if v.reason.starts_with("failed") { v.reason } else { String::new() })
-            }
-        };
-        seen.push((p, mode, mu, multiple, note));
-        Ok(unstable)
-    })
-    .map_err(|e| match e {
-        super::bisect::BisectError::Predicate { error } => error,
-        other => StabilityError::Scene(other.to_string()),
-    })?;
-    use super::bisect::Outcome::*;
-    let (s, u) = match outcome {
-        Critical { stable, unstable, .. } => (Some(stable), Some(unstable)),
-        StableThroughout { top, .. } => (Some(top), None),
-        UnstableAtBottom { bottom, .. } => (None, Some(bottom)),
-    };
-    let find = |p: Option<f64>| p.and_then(|p| seen.iter().rev().find(|e| e.0 == p));
-    let (es, eu) = (find(s), find(u));
-    let note: Vec<String> = seen.iter().filter(|e| !e.4.is_empty()).map(|e| e.4.clone()).take(1).collect();
-    Ok(CriticalPoint {
-        outcome,
-        mode: eu.map(|e| e.1.clone()).unwrap_or_default(),
-        max_multiplier_stable: es.map_or(f64::NAN, |e| e.2),
-        max_multiplier_unstable: eu.map_or(f64::NAN, |e| e.2),
-        orbit_multiple: es.map_or(0, |e| e.3),
-        note: note.join(" "),
-    })
-}
+pub use super::critical::{critical_point, CriticalOptions, CriticalPoint, CRITICAL_HEADER};

@@ -1,9 +1,8 @@
-//! `magbubble floquet SCENE [--json] [--variant orbit|paper]`: Floquet stability of the driven
-//! scene (FORMULATION §4.6; paper §4 with `--variant paper`).
+//! `magbubble floquet SCENE [--json] [--variant orbit|paper] [--steps N]`: Floquet stability of
+//! the driven scene (FORMULATION §4.6; paper §4 with `--variant paper`).
 
-use crate::analysis::stability::{floquet, FloquetOptions, Variant};
+use crate::analysis::stability::{floquet, FloquetOptions, StabilityError, Variant, CONVERGENCE_TOLERANCE};
 use crate::scene::Scene;
-use anyhow::Context;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `magbubble floquet`.
@@ -16,7 +15,8 @@ pub struct FloquetArgs {
     /// `orbit`: shoot the periodic radial orbit (default); `paper`: R linearised, p∞ substituted.
     #[arg(long, value_enum, default_value = "orbit")]
     pub variant: VariantArg,
-    /// Magnus steps per drive period.
+    /// Magnus steps per drive period (≥ 16); the result also carries max|μ| with twice as many
+    /// (`convergence`) and a warning when the two differ by more than 1e-6.
     #[arg(long, default_value_t = 400)]
     pub steps: usize,
     /// Override a scene key, KEY=VALUE (repeatable).
@@ -48,23 +48,90 @@ pub(crate) fn load_scene(path: &Path, overrides: &[String]) -> anyhow::Result<Sc
     Ok(crate::scene::load(path, overrides)?)
 }
 
+/// Fewest Magnus steps per drive period `--steps` accepts: below it the fourth-order scheme is
+/// not in its asymptotic range on these orbits (issue 13: 1 step gave max|μ| = 0.22, "stable",
+/// where the converged value is 1.78).
+pub const MIN_STEPS: usize = 16;
+
+/// `magbubble floquet`. With `--json` stdout is always one JSON object: the report with
+/// `"status": "ok"`, or `{"status": "error", "kind", "message"}` on failure (exit code 1 then).
 pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
-    let scene = load_scene(&args.scene, &args.set)?;
-    let mut opts = FloquetOptions { variant: args.variant.into(), ..FloquetOptions::default() };
-    opts.magnus_steps = args.steps.max(1);
-    let r = floquet(&scene, &opts).with_context(|| format!("Floquet analysis of {}", args.scene.display()))?;
+    let result = compute(args);
     if args.json {
-        outln!("{}", serde_json::to_string_pretty(&r)?);
-    } else {
+        let value = match &result {
+            Ok(v) => v.clone(),
+            Err((kind, e)) => serde_json::json!({
+                "status": "error",
+                "kind": kind,
+                "message": format!("{e:#}"),
+                "scene_file": args.scene.display().to_string(),
+            }),
+        };
+        outln!("{}", serde_json::to_string_pretty(&value)?);
+    }
+    let v = result.map_err(|(_, e)| e)?;
+    if !args.json {
         outln!(
-            "period {:.6e} s ({} × drive period {:.6e} s), max |μ| = {:.6}, {} (mode k = {})",
-            r.period_s,
-            r.orbit_multiple,
-            r.drive_period_s,
-            r.max_multiplier,
-            if r.unstable { "UNSTABLE" } else { "stable" },
-            r.mode
+            "period {:.6e} s ({} × drive period {:.6e} s), max |μ| = {:.6} ({:.6} per drive period), {} (mode k = {}), R in [{:.4e}, {:.4e}] m",
+            v["period_s"].as_f64().unwrap_or(f64::NAN),
+            v["orbit_multiple"],
+            v["drive_period_s"].as_f64().unwrap_or(f64::NAN),
+            v["max_multiplier"].as_f64().unwrap_or(f64::NAN),
+            v["max_multiplier_per_drive_period"].as_f64().unwrap_or(f64::NAN),
+            if v["unstable"].as_bool() == Some(true) { "UNSTABLE" } else { "stable" },
+            v["mode"],
+            v["r_min_m"].as_f64().unwrap_or(f64::NAN),
+            v["r_max_m"].as_f64().unwrap_or(f64::NAN),
         );
     }
+    // After stdout, so a closed pipe ends the command before anything reaches stderr.
+    for w in v["warnings"].as_array().into_iter().flatten() {
+        eprintln!("warning: {}", w.as_str().unwrap_or_default());
+    }
     Ok(())
+}
+
+type Failure = (&'static str, anyhow::Error);
+
+fn compute(args: &FloquetArgs) -> Result<serde_json::Value, Failure> {
+    if args.steps < MIN_STEPS {
+        return Err((
+            "invalid_argument",
+            anyhow::anyhow!("--steps {}: at least {MIN_STEPS} Magnus steps per drive period are needed", args.steps),
+        ));
+    }
+    let scene = load_scene(&args.scene, &args.set).map_err(|e| ("scene", e))?;
+    let opts = FloquetOptions { variant: args.variant.into(), magnus_steps: args.steps, convergence_check: true, ..FloquetOptions::default() };
+    let r = floquet(&scene, &opts).map_err(|e| {
+        let kind = match e {
+            StabilityError::Orbit(_) => "no_orbit",
+            StabilityError::NoShapeModes => "no_shape_modes",
+            _ => "failed",
+        };
+        (kind, anyhow::Error::new(e).context(format!("Floquet analysis of {}", args.scene.display())))
+    })?;
+    let mut warnings = Vec::new();
+    if let Some(c) = r.convergence.as_ref().filter(|c| !c.converged) {
+        warnings.push(format!(
+            "max|μ| not converged to {CONVERGENCE_TOLERANCE:e} (relative above 1): {} with {} steps, {} with {} (difference {:.2e}); raise --steps",
+            r.max_multiplier,
+            c.steps,
+            c.max_multiplier_2x_steps,
+            2 * c.steps,
+            c.difference
+        ));
+    }
+    let mut v = serde_json::to_value(&r).map_err(|e| ("failed", e.into()))?;
+    v["status"] = "ok".into();
+    v["warnings"] = warnings.into();
+    v["parameters"] = serde_json::json!({
+        "scene_file": args.scene.display().to_string(),
+        "overrides": args.set,
+        "scene": scene,
+        "shooting_steps_per_period": opts.shooting.steps_per_period,
+        "newton_tolerance": opts.shooting.tol,
+        "orbit_multiples_tried": opts.shooting.multiples,
+        "transient_decay_times": opts.transient_decay_times,
+    });
+    Ok(v)
 }

@@ -72,9 +72,15 @@ fn save(fig: &crate::plot::Figure, dir: &std::path::Path, stem: &str) -> anyhow:
     Ok(())
 }
 
-/// The damped spectrum of the scene's closure, modes k = 2, 4, …, max_order (`--kmax` is not
-/// used: the spectrum is per simulated mode). NaN (JSON null) where a root was not found.
+/// The damped spectrum of the scene's closure, modes k = 2, 4, …, N with N = `--kmax` (even
+/// part) or the scene's max_order. NaN (JSON null) where a root was not found.
 fn damped(args: &ModesArgs, scene: &crate::scene::Scene) -> anyhow::Result<()> {
+    let mut scene = scene.clone();
+    if let Some(kmax) = args.kmax {
+        anyhow::ensure!(kmax >= 2, "--kmax {kmax}: must be ≥ 2");
+        scene.modes.max_order = kmax - kmax % 2;
+    }
+    let scene = &scene;
     anyhow::ensure!(
         scene.modes.max_order >= 2,
         "--damped: the scene has no shape modes (modes.max_order = {}); set modes.max_order ≥ 2",

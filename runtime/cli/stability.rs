@@ -13,7 +13,8 @@ use std::path::PathBuf;
 pub struct StabilityArgs {
     /// Scene file (TOML).
     pub scene: PathBuf,
-    /// Frequencies START:STOP:N [Hz], N points, linear.
+    /// Frequencies [Hz]: START:STOP:N (N points, linear), START:STOP:N:log (logarithmic), or a
+    /// list F1,F2,… (e.g. 0.5e6,1e6,2e6).
     #[arg(long)]
     pub freq: String,
     #[arg(long, value_enum, default_value = "floquet")]
@@ -31,9 +32,12 @@ pub struct StabilityArgs {
     /// Search range LO:HI of the varied quantity.
     #[arg(long, default_value = "0:1")]
     pub range: String,
-    /// Bisection tolerance (absolute, in the varied quantity's unit).
+    /// Bracket tolerance relative to the critical value: unstable − stable ≤ tol · stable.
     #[arg(long, default_value_t = 1e-3)]
     pub tol: f64,
+    /// Absolute bracket tolerance in the varied quantity's unit (replaces the relative --tol).
+    #[arg(long, value_name = "TOL")]
+    pub abs_tol: Option<f64>,
     /// Coarse scan intervals before bisection.
     #[arg(long, default_value_t = 8)]
     pub scan: usize,
@@ -96,14 +100,33 @@ fn parse_range(s: &str, what: &str) -> anyhow::Result<(f64, f64)> {
     Ok((a, b))
 }
 
-/// START:STOP:N → N linearly spaced values.
+/// `--freq`: START:STOP:N (linear), START:STOP:N:log (logarithmic), or F1,F2,… (a list).
 pub fn parse_freq(s: &str) -> anyhow::Result<Vec<f64>> {
+    let num = |t: &str| -> anyhow::Result<f64> {
+        let v: f64 = t.trim().parse().with_context(|| format!("--freq '{s}': '{}' is not a number", t.trim()))?;
+        anyhow::ensure!(v.is_finite() && v > 0.0, "--freq '{s}': frequency {v} must be finite and > 0");
+        Ok(v)
+    };
+    if !s.contains(':') {
+        let list: Vec<f64> = s.split(',').map(num).collect::<anyhow::Result<_>>()?;
+        anyhow::ensure!(!list.is_empty(), "--freq '{s}': empty list");
+        return Ok(list);
+    }
     let p: Vec<&str> = s.split(':').collect();
-    anyhow::ensure!(p.len() == 3, "--freq '{s}': expected START:STOP:N");
-    let (a, b): (f64, f64) = (p[0].trim().parse()?, p[1].trim().parse()?);
+    anyhow::ensure!(
+        p.len() == 3 || p.len() == 4,
+        "--freq '{s}': expected START:STOP:N, START:STOP:N:log or a list F1,F2,…"
+    );
+    let (a, b) = (num(p[0])?, num(p[1])?);
     let n: usize = p[2].trim().parse().with_context(|| format!("--freq '{s}': N must be a positive integer"))?;
-    anyhow::ensure!(n >= 1 && a > 0.0 && b >= a && b.is_finite(), "--freq '{s}': need 0 < START ≤ STOP and N ≥ 1");
-    Ok((0..n).map(|i| if n == 1 { a } else { a + (b - a) * i as f64 / (n - 1) as f64 }).collect())
+    anyhow::ensure!(n >= 1 && b >= a, "--freq '{s}': need START ≤ STOP and N ≥ 1");
+    let log = match p.get(3).map(|t| t.trim()) {
+        None | Some("lin") => false,
+        Some("log") => true,
+        Some(other) => anyhow::bail!("--freq '{s}': spacing '{other}' must be lin or log"),
+    };
+    let u = |i: usize| if n == 1 { 0.0 } else { i as f64 / (n - 1) as f64 };
+    Ok((0..n).map(|i| if log { a * (b / a).powf(u(i)) } else { a + (b - a) * u(i) }).collect())
 }
 
 /// Everything a stability run needs, checked before any point is computed.
@@ -194,7 +217,8 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             lo,
             hi,
             scan: args.scan,
-            tol: args.tol,
+            tol: args.abs_tol.unwrap_or(args.tol),
+            relative_tol: args.abs_tol.is_none(),
             floquet: Default::default(),
             series: Default::default(),
         };
@@ -205,8 +229,8 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         header.extend(CRITICAL_HEADER.iter().map(|s| s.to_string()));
         let meta = SweepMeta {
             fingerprint: format!(
-                "scene={scene_text:?} set={set:?} vary={} freq_key={freq_key} freq={} method={:?} range={lo}:{hi} tol={} scan={}",
-                args.vary, args.freq, Criterion::from(args.method), args.tol, args.scan
+                "scene={scene_text:?} set={set:?} vary={} freq_key={freq_key} freq={} method={:?} range={lo}:{hi} tol={} abs_tol={:?} scan={}",
+                args.vary, args.freq, Criterion::from(args.method), args.tol, args.abs_tol, args.scan
             ),
             total: freqs.len(),
             shard,

@@ -175,6 +175,7 @@ fn stability_curve_on_the_scene_completes() {
         hi: 1.0,
         scan: 8,
         tol: 1e-3,
+        relative_tol: false,
         floquet: FloquetOptions::default(),
         series: SeriesOptions::default(),
     };

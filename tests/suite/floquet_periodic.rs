@@ -61,6 +61,22 @@ fn detects_period_one_and_period_two() {
 }
 
 #[test]
+fn the_reported_multiple_is_minimal() {
+    // Searching only m = 4 at γ = 0.28 converges to a fixed point of P_4 that is the period-2
+    // orbit: it must be reported as period 2 with the multipliers of P_2 (not their squares).
+    let period = 2.0 * PI / OMEGA;
+    let sys = Duffing { gamma: 0.28 };
+    let two = find_orbit(&sys, 0.0, &[1.0, 0.0], period, &ShootingOptions::default()).unwrap();
+    let opts = ShootingOptions { multiples: vec![4], ..ShootingOptions::default() };
+    let four = find_orbit(&sys, 0.0, &[1.0, 0.0], period, &opts).unwrap();
+    assert_eq!(four.multiple, 2, "{four:?}");
+    assert!((four.max_multiplier() - two.max_multiplier()).abs() < 1e-8, "{} vs {}", four.max_multiplier(), two.max_multiplier());
+    // And at γ = 0.2 a fixed point of P_2 is the period-1 orbit.
+    let opts = ShootingOptions { multiples: vec![2], ..ShootingOptions::default() };
+    assert_eq!(find_orbit(&Duffing { gamma: 0.2 }, 0.0, &[1.0, 0.0], period, &opts).unwrap().multiple, 1);
+}
+
+#[test]
 fn period_one_is_refused_when_it_is_unstable() {
     // At γ = 0.28 the period-1 orbit exists but has a multiplier below −1; shooting restricted
     // to m = 1 must say so instead of returning it.

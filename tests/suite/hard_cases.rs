@@ -92,6 +92,7 @@ fn drive_just_below_critical_is_bounded_and_just_above_blows_up() {
         hi: 0.5,
         scan: 8,
         tol: 1e-4,
+        relative_tol: false,
         floquet: FloquetOptions::default(),
         series: SeriesOptions::default(),
     };

@@ -3,7 +3,7 @@ use crate::common;
 use magbubble::analysis::stability::*;
 
 fn opts(criterion: Criterion, tol: f64) -> CriticalOptions {
-    CriticalOptions { criterion, lo: 0.0, hi: 1.0, scan: 8, tol, floquet: Default::default(), series: Default::default() }
+    CriticalOptions { criterion, lo: 0.0, hi: 1.0, scan: 8, tol, relative_tol: false, floquet: Default::default(), series: Default::default() }
 }
 
 #[test]

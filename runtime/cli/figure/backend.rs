@@ -122,6 +122,7 @@ impl Analyzer for ModelAnalyzer {
             hi,
             scan: if self.quick { 4 } else { 8 },
             tol: (hi - lo) * if self.quick { 2e-2 } else { 2e-3 },
+            relative_tol: false,
             floquet: self.floquet_options(),
             series: Default::default(),
         };

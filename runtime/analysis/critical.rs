@@ -1,0 +1,194 @@
+//! One point of a stability diagram (paper §5.2, figs 5–11): the critical value of a scene
+//! parameter, by the scan + bracket search of [`super::bisect::critical_search`] on the Floquet
+//! or the time-series criterion. Definitions in docs/stability.md.
+//!
+//! **Cost** (issue 16, rows 3–5). A Floquet evaluation first finds the radial orbit once
+//! ([`prepare`]); the monodromy is then computed with n/8 and n/4 Magnus steps per drive period
+//! (n = `magnus_steps`, 400). The fourth-order scheme's error at n/4 is ≈ |μ(n/4) − μ(n/8)|/15;
+//! when |max|μ| − 1| exceeds 8 |μ(n/4) − μ(n/8)| (≈ 120 × that error) and the two differ by less
+//! than 1e-3 relative, the verdict is the one n steps would give and the Richardson value
+//! μ(n/4) + (μ(n/4) − μ(n/8))/15 is kept; otherwise the monodromy is computed with n steps.
+//! The margin ln max|μ| feeds the regula-falsi bracket search. The multipliers reported at the
+//! two ends of the final bracket are recomputed with n steps when their estimated error exceeds
+//! 1e-7, so the CSV is that of an n-step computation to ≤ 1e-6.
+//!
+//! **No orbit**: where no stable periodic radial orbit exists (collapse, non-finite state, none
+//! of period m·T for the tried m), the point is [`Verdict::Undefined`]; the search reports
+//! `no_orbit` when stability ends that way — it is never counted as unstable.
+
+use super::bisect::{self, Eval, Outcome, Verdict};
+use super::stability::{floquet, prepare, series_unstable, Criterion, FloquetOptions, SeriesOptions, StabilityError};
+use crate::model::Model;
+use crate::scene::Scene;
+use serde::Serialize;
+
+/// Settings of one point of a stability diagram.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalOptions {
+    pub criterion: Criterion,
+    /// Search range of the varied parameter.
+    pub lo: f64,
+    pub hi: f64,
+    /// Coarse scan intervals before the bracket search, and the bracket tolerance (bisect.rs).
+    pub scan: usize,
+    pub tol: f64,
+    /// `tol` relative to the critical value (the stable end of the bracket) instead of absolute.
+    pub relative_tol: bool,
+    pub floquet: FloquetOptions,
+    pub series: SeriesOptions,
+}
+
+/// One point of a stability diagram.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CriticalPoint {
+    pub outcome: Outcome,
+    /// The mode that goes unstable at the unstable end of the bracket ("" if none).
+    pub mode: String,
+    /// max|μ| at the stable and at the unstable end (Floquet only; NaN otherwise).
+    pub max_multiplier_stable: f64,
+    pub max_multiplier_unstable: f64,
+    /// Orbit multiple at the stable end (1, 2, 4 …).
+    pub orbit_multiple: usize,
+    /// Anything unusual (e.g. "at 7.3e-1: no stable periodic orbit …").
+    pub note: String,
+}
+
+/// The header of [`CriticalPoint::fields`].
+pub const CRITICAL_HEADER: [&str; 10] = [
+    "critical",
+    "outcome",
+    "stable",
+    "unstable",
+    "mode",
+    "max_multiplier_stable",
+    "max_multiplier_unstable",
+    "orbit_multiple",
+    "evaluations",
+    "note",
+];
+
+impl CriticalPoint {
+    pub fn fields(&self) -> Vec<String> {
+        use Outcome::*;
+        let (crit, s, u) = match self.outcome {
+            Critical { value, stable, unstable, .. } => (value, stable, unstable),
+            NoOrbit { stable, .. } => (f64::NAN, stable, f64::NAN),
+            StableThroughout { top, .. } => (f64::NAN, top, f64::NAN),
+            UnstableAtBottom { bottom, .. } => (f64::NAN, f64::NAN, bottom),
+            NoOrbitAtBottom { .. } => (f64::NAN, f64::NAN, f64::NAN),
+        };
+        vec![
+            format!("{crit:.8e}"),
+            self.outcome.name().into(),
+            format!("{s:.8e}"),
+            format!("{u:.8e}"),
+            self.mode.clone(),
+            format!("{:.8e}", self.max_multiplier_stable),
+            format!("{:.8e}", self.max_multiplier_unstable),
+            self.orbit_multiple.to_string(),
+            self.outcome.evaluations().to_string(),
+            self.note.clone(),
+        ]
+    }
+}
+
+/// One evaluated parameter value.
+struct Seen {
+    p: f64,
+    mode: String,
+    mu: f64,
+    /// Estimated error of `mu` (0 when computed with the full step count).
+    mu_error: f64,
+    multiple: usize,
+    note: String,
+}
+
+/// Floquet verdict at one scene with the cheap-first step counts of the module doc.
+fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, Seen), StabilityError> {
+    let model = Model::from_scene(scene)?;
+    let prep = match prepare(&model, scene, opts) {
+        Ok(prep) => prep,
+        Err(StabilityError::Orbit(e)) => {
+            let seen = Seen { p, mode: String::new(), mu: f64::NAN, mu_error: 0.0, multiple: 0, note: format!("at {p:.6e}: {e}") };
+            return Ok((Eval { verdict: Verdict::Undefined, margin: None }, seen));
+        }
+        Err(e) => return Err(e),
+    };
+    let n = opts.magnus_steps.max(1);
+    let mut chosen = None;
+    if n >= 64 {
+        let coarse = prep.spectrum(n / 8)?;
+        let fine = prep.spectrum(n / 4)?;
+        let d = (fine.max_modulus - coarse.max_modulus).abs();
+        if (fine.max_modulus - 1.0).abs() > 8.0 * d && d < 1e-3 * fine.max_modulus {
+            let mu = fine.max_modulus + (fine.max_modulus - coarse.max_modulus) / 15.0;
+            chosen = Some((fine, mu, d / 15.0));
+        }
+    }
+    let (spec, mu, mu_error) = match chosen {
+        Some(c) => c,
+        None => {
+            let s = prep.spectrum(n)?;
+            let mu = s.max_modulus;
+            (s, mu, 0.0)
+        }
+    };
+    let report = prep.report(&spec, n, None, opts.variant);
+    let verdict = if spec.max_modulus > 1.0 { Verdict::Unstable } else { Verdict::Stable };
+    let seen = Seen { p, mode: format!("a{}", report.mode), mu, mu_error, multiple: report.orbit_multiple, note: String::new() };
+    Ok((Eval { verdict, margin: Some(mu.ln()) }, seen))
+}
+
+/// The critical value of the parameter `scene_at(p)` varies (see the module doc).
+pub fn critical_point(
+    scene_at: &dyn Fn(f64) -> Result<Scene, StabilityError>,
+    opts: &CriticalOptions,
+) -> Result<CriticalPoint, StabilityError> {
+    let mut seen: Vec<Seen> = Vec::new();
+    let tolerance = if opts.relative_tol { bisect::Tolerance::Relative(opts.tol) } else { bisect::Tolerance::Absolute(opts.tol) };
+    let outcome = bisect::critical_search(opts.lo, opts.hi, opts.scan, tolerance, |p| {
+        let scene = scene_at(p)?;
+        let (eval, s) = match opts.criterion {
+            Criterion::Floquet => floquet_eval(&scene, &opts.floquet, p)?,
+            Criterion::Series => {
+                let v = series_unstable(&scene, &opts.series)?;
+                let note = if v.reason.starts_with("failed") { v.reason.clone() } else { String::new() };
+                let s = Seen { p, mode: v.mode, mu: f64::NAN, mu_error: 0.0, multiple: 0, note };
+                (Eval::from_bool(v.unstable), s)
+            }
+        };
+        seen.push(s);
+        Ok(eval)
+    })
+    .map_err(|e| match e {
+        bisect::BisectError::Predicate { error } => error,
+        other => StabilityError::Scene(other.to_string()),
+    })?;
+    use Outcome::*;
+    let (s, u) = match outcome {
+        Critical { stable, unstable, .. } => (Some(stable), Some(unstable)),
+        NoOrbit { stable, no_orbit, .. } => (Some(stable), Some(no_orbit)),
+        StableThroughout { top, .. } => (Some(top), None),
+        UnstableAtBottom { bottom, .. } | NoOrbitAtBottom { bottom, .. } => (None, Some(bottom)),
+    };
+    // The multipliers at the bracket ends, at the full step count when the cheap value's
+    // estimated error is above 1e-7.
+    let end = |p: Option<f64>| -> Result<Option<(String, f64, usize)>, StabilityError> {
+        let Some(e) = p.and_then(|p| seen.iter().rev().find(|e| e.p == p)) else { return Ok(None) };
+        let mut mu = e.mu;
+        if e.mu_error > 1e-7 {
+            mu = floquet(&scene_at(e.p)?, &opts.floquet)?.max_multiplier;
+        }
+        Ok(Some((e.mode.clone(), mu, e.multiple)))
+    };
+    let (es, eu) = (end(s)?, end(u)?);
+    let note: Vec<String> = seen.iter().filter(|e| !e.note.is_empty()).map(|e| e.note.clone()).take(1).collect();
+    Ok(CriticalPoint {
+        outcome,
+        mode: eu.as_ref().map(|e| e.0.clone()).unwrap_or_default(),
+        max_multiplier_stable: es.as_ref().map_or(f64::NAN, |e| e.1),
+        max_multiplier_unstable: eu.as_ref().map_or(f64::NAN, |e| e.1),
+        orbit_multiple: es.map_or(0, |e| e.2),
+        note: note.join(" "),
+    })
+}
