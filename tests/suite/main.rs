@@ -4,6 +4,7 @@
 mod common;
 mod support;
 
+mod blow_up_time;
 mod accuracy;
 mod cli_run;
 mod equations_jacobian;
