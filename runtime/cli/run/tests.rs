@@ -22,8 +22,11 @@ fn report(status: RunStatus, names: &[String]) -> RunReport {
         groups: Groups {
             t_star: 2.2e-6,
             reynolds: 10.0,
-            p: 10.0,
-            alpha: 1.2,
+            p: Some(10.0),
+            alpha: Some(1.2),
+            p_g0_pa: 101325.0,
+            p_g0_rule: "equilibrium",
+            mach: None,
             rn: None,
             mn: None,
             omega_d_star: None,
