@@ -123,7 +123,15 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
         w.row_mut(m).scale_mut(scale);
     }
     let mut shape = Vec::new();
-    for mu in crate::analysis::floquet::eigenvalues(&w) {
+    // Uncoupled (no field): the spectrum is the diagonal, mode by mode (also avoids the
+    // eigen-solver on a zero matrix: a free bubble without surface tension has ω_k = 0).
+    let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || w[(i, j)] == 0.0));
+    if diagonal {
+        for m in 0..n {
+            shape.push(wrap(w[(m, m)], 2 * (m + 1), true));
+        }
+    }
+    for mu in if diagonal { Vec::new() } else { crate::analysis::floquet::eigenvalues(&w) } {
         let weights = crate::analysis::floquet::eigenvector_weights(&w, mu);
         let m = weights.iter().enumerate().fold(0, |best, (i, &v)| if v > weights[best] { i } else { best });
         shape.push(wrap(mu.re, 2 * (m + 1), true));

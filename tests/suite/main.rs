@@ -19,6 +19,7 @@ mod floquet_mathieu;
 mod floquet_periodic;
 mod hard_cases;
 mod integrators;
+mod liquid_gas;
 mod modes_damped;
 mod modes_frequencies;
 mod physics_bl;
