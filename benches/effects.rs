@@ -17,7 +17,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
             radius: 10e-6,
             initial: Initial { radius: 10e-6, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new() },
         },
-        shell: Shell { c1: 0.1, c2: 0.12, thickness: 20e-9, susceptibility: 1.0, form: MembraneForm::Paper },
+        shell: Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0 },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None },
         drive: Some(Drive { amplitude: 0.5, frequency_hz: 1e6 }),
@@ -29,6 +29,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
             sample_interval: 0.1e-6,
             integrator: IntegratorSettings { method, rtol: 1e-6, atol: 1e-9, dt: 0.5e-9, max_steps: 50_000_000 },
             blow_up_threshold: 0.5,
+            max_output_bytes: 1e9,
         },
     }
 }

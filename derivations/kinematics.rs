@@ -22,5 +22,14 @@ let t_theta = g1_theta / g1_norm;
 let n_r = t_theta;
 let n_theta = -t_r;
 
+// Exact principal curvatures of the deformed surface (replace the approximations 2.23), for the
+// shell laws. Meridian: curvature of the plane curve r(Θ) e_r(θ(Θ)), positive for a sphere.
+let acc_r = d(g1_r, Theta) - g1_theta * d(theta, Theta);
+let acc_theta = d(g1_theta, Theta) + g1_r * d(theta, Theta);
+let kappa1 = (g1_r * acc_theta - g1_theta * acc_r) / g1_norm.powi(3);
+// Parallel: κ2 = n_ρ / ρ, with ρ the distance from the axis (eq 2.27 in exact form).
+let rho = r * sin(theta);
+let kappa2 = (n_r * sin(theta) + n_theta * cos(theta)) / rho;
+
 // Eq (2.39): the area factor 1/(λ1 λ2), applied once to the magnetic force.
 let area = 1 / (lambda1 * lambda2);

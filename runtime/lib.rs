@@ -19,6 +19,7 @@ pub mod coefficients;
 pub mod field;
 pub mod integrate;
 pub mod model;
+#[macro_use]
 pub mod output;
 pub mod plot;
 pub mod scene;

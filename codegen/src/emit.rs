@@ -1,5 +1,6 @@
 //! Emission: the Rust tables (quote + prettyplease, deterministic) and the markdown review table.
 
+use crate::algebra::dual::RATE_R;
 use crate::algebra::{rat_f64, rat_text, Mono, Rat};
 use crate::derive::field::{ComponentData, CouplingData, FieldData};
 use crate::derive::fit::poly_text;
@@ -63,6 +64,8 @@ fn coupling(c: &CouplingData) -> TokenStream {
     let amp = match c.amp {
         Amp::A => quote!(Amp::A),
         Amp::B => quote!(Amp::B),
+        // rate amplitudes exist only in shell laws (validate rejects `rate` in a field spec)
+        Amp::Ad | Amp::Bd => quote!(compile_error!("rate amplitude in a field table")),
     };
     let offset = Literal::i32_unsuffixed(c.offset);
     let values = c.values.iter().map(|v| match v {
@@ -192,9 +195,20 @@ pub fn membrane_text(c: &MembraneCoeff) -> String {
     }
 }
 
-fn membrane(m: &Membrane) -> Result<TokenStream, CodegenError> {
+/// Arguments of every function of one law: r, r0, then rd when a coefficient depends on Ṙ, then
+/// the law's symbols (lower case).
+fn law_args(m: &Membrane) -> Vec<String> {
     let mut args = vec!["r".to_string(), "r0".to_string()];
+    let rate = m.variants.iter().flat_map(|v| v.coeffs.iter()).flat_map(|c| c.terms.iter()).any(|(mono, _)| mono.power(RATE_R) != 0);
+    if rate {
+        args.push(arg_name(RATE_R));
+    }
     args.extend(m.symbols.iter().map(|s| arg_name(s)));
+    args
+}
+
+fn law(m: &Membrane) -> Result<TokenStream, CodegenError> {
+    let args = law_args(m);
     let mut mods = Vec::new();
     for v in &m.variants {
         let fns = v
@@ -209,8 +223,40 @@ fn membrane(m: &Membrane) -> Result<TokenStream, CodegenError> {
         };
         mods.push(quote!(#[doc = #doc] pub mod #name { #(#fns)* }));
     }
-    let doc = format!(" Membrane loads (ε-scaled: c_i = ε C_i), derived from `{}`; k enters through n = k(k+1).", m.spec_path);
-    Ok(quote!(#[doc = #doc] pub mod membrane { #(#mods)* }))
+    let name = format_ident!("{}", m.law);
+    let doc = format!(" Shell law `{}`, derived from `{}` with {}.", m.law, m.spec_path, m.mechanics.join(", "));
+    let spec = &m.spec_path;
+    let syms = m.symbols.iter();
+    let arg_list = args.join(", ");
+    Ok(quote!(#[doc = #doc] pub mod #name {
+        /// The spec the law was derived from.
+        pub const SPEC: &str = #spec;
+        /// The law's symbols, in the order of the functions' arguments after r, r0 (and rd).
+        pub const SYMBOLS: &[&str] = &[#(#syms),*];
+        /// The arguments of every function of this law (k last, where it applies).
+        pub const ARGS: &str = #arg_list;
+        #(#mods)*
+    }))
+}
+
+fn membrane(d: &Derived) -> Result<TokenStream, CodegenError> {
+    let laws = d.membranes.iter().map(law).collect::<Result<Vec<_>, _>>()?;
+    let names = d.membranes.iter().map(|m| &m.law);
+    let compat = if d.membranes.iter().any(|m| m.law == "mooney_rivlin") {
+        quote!(
+            /// The paper's Mooney–Rivlin membrane (eq 2.24) under its historical names.
+            pub use self::mooney_rivlin::{paper, tension};
+        )
+    } else {
+        quote!()
+    };
+    let doc = " Shell loads (ε-scaled: c_i = ε C_i; 2-D laws in N/m), one module per law of derivations/shell/; k enters through n = k(k+1).";
+    Ok(quote!(#[doc = #doc] pub mod membrane {
+        /// The laws, in module order.
+        pub const LAWS: &[&str] = &[#(#names),*];
+        #compat
+        #(#laws)*
+    }))
 }
 
 /// The `@generated` header line.
@@ -222,7 +268,7 @@ pub fn header(d: &Derived) -> String {
 pub fn rust(d: &Derived) -> Result<String, CodegenError> {
     let kmax = Literal::usize_unsuffixed(d.kmax);
     let fields = d.fields.iter().map(field);
-    let membrane = membrane(&d.membrane)?;
+    let membrane = membrane(d)?;
     let tokens = quote! {
         /// Largest mode of the tables (build setting MAGBUBBLE_KMAX).
         pub const KMAX: usize = #kmax;
@@ -314,13 +360,21 @@ pub fn markdown(d: &Derived) -> String {
             s += "\n";
         }
     }
-    s += &format!("## Membrane (from `{}`), n = k(k+1)\n\n", d.membrane.spec_path);
-    for v in &d.membrane.variants {
-        s += &format!("### {}\n\n", v.variant);
-        for c in &v.coeffs {
-            s += &format!("- {} = {}\n", c.name.to_uppercase(), membrane_text(c));
+    for m in &d.membranes {
+        s += &format!(
+            "## Shell law `{}` (from `{}` with {}), n = k(k+1); arguments ({}, k)\n\n",
+            m.law,
+            m.spec_path,
+            m.mechanics.join(", "),
+            law_args(m).join(", ")
+        );
+        for v in &m.variants {
+            s += &format!("### {}\n\n", v.variant);
+            for c in &v.coeffs {
+                s += &format!("- {} = {}\n", c.name.to_uppercase(), membrane_text(c));
+            }
+            s += "\n";
         }
-        s += "\n";
     }
     s
 }

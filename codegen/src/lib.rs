@@ -56,8 +56,16 @@ pub struct Derived {
     /// The spec paths, in the order read.
     pub specs: Vec<String>,
     pub fields: Vec<FieldData>,
-    pub membrane: Membrane,
+    /// One per shell law of `derivations/shell/`, sorted by name.
+    pub membranes: Vec<Membrane>,
 }
+
+/// Mechanics specs (not fields): the equilibrium of stresses, the stresses of a strain energy,
+/// the loads of a shape energy.
+pub const MECHANICS: [&str; 4] = ["kinematics.rs", "membrane.rs", "hyperelastic.rs", "shape.rs"];
+
+/// The directory of the shell laws, inside the derivations directory.
+pub const LAWS_DIR: &str = "shell";
 
 /// Read and parse one spec file.
 pub fn read_spec(cfg: &Config, file: &str) -> Result<Spec, CodegenError> {
@@ -72,19 +80,63 @@ pub fn field_files(dir: &Path) -> Result<Vec<String>, CodegenError> {
     let mut v: Vec<String> = rd
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".rs") && n != "kinematics.rs" && n != "membrane.rs")
+        .filter(|n| n.ends_with(".rs") && !MECHANICS.contains(&n.as_str()))
         .collect();
     v.sort();
     Ok(v)
+}
+
+/// The shell-law files `shell/*.rs` (file names relative to the derivations directory), sorted;
+/// none when the directory does not exist.
+pub fn law_files(dir: &Path) -> Result<Vec<String>, CodegenError> {
+    let d = dir.join(LAWS_DIR);
+    if !d.is_dir() {
+        return Ok(Vec::new());
+    }
+    let rd = std::fs::read_dir(&d).map_err(|e| CodegenError::Io { path: d.display().to_string(), source: e })?;
+    let mut v: Vec<String> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".rs"))
+        .map(|n| format!("{LAWS_DIR}/{n}"))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+/// Evaluate one shell law on the kinematics, then on its mechanics: a strain energy `W` goes
+/// through `hyperelastic.rs` (σ_i = λ_i ∂W/∂λ_i) and `membrane.rs`; stresses `sigma1`, `sigma2`
+/// through `membrane.rs`; a shape energy `w_area` through `shape.rs` (its first variation).
+fn derive_law(cfg: &Config, file: &str, kin: &derive::eval::Env, cache: &mut Vec<(String, Spec)>) -> Result<Membrane, CodegenError> {
+    let law = read_spec(cfg, file)?;
+    validate(&law, SpecKind::Law, kin.defined())?;
+    let mechanics: &[(&str, SpecKind)] = if law.get("W").is_some() {
+        &[("hyperelastic.rs", SpecKind::Hyperelastic), ("membrane.rs", SpecKind::Membrane)]
+    } else if law.get("w_area").is_some() {
+        &[("shape.rs", SpecKind::Shape)]
+    } else {
+        &[("membrane.rs", SpecKind::Membrane)]
+    };
+    let mut env = derive::eval::eval_spec(&law, kin.clone())?;
+    let mut specs = Vec::new();
+    for (f, kind) in mechanics {
+        if !cache.iter().any(|(n, _)| n == f) {
+            cache.push((f.to_string(), read_spec(cfg, f)?));
+        }
+        let spec = cache.iter().find(|(n, _)| n == f).map(|(_, s)| s.clone()).expect("cached above");
+        validate(&spec, *kind, env.defined())?;
+        env = derive::eval::eval_spec(&spec, env)?;
+        specs.push(spec);
+    }
+    let name = file.trim_start_matches(&format!("{LAWS_DIR}/")).trim_end_matches(".rs");
+    let refs: Vec<&Spec> = specs.iter().collect();
+    derive::membrane::derive_membrane(name, &law, &refs, &env)
 }
 
 /// Parse, validate and derive everything (exact).
 pub fn derive(cfg: &Config) -> Result<Derived, CodegenError> {
     let kin_spec = read_spec(cfg, "kinematics.rs")?;
     validate(&kin_spec, SpecKind::Kinematics, &[])?;
-    let mem_spec = read_spec(cfg, "membrane.rs")?;
-    let kin_names: Vec<String> = kin_spec.lets.iter().map(|l| l.name.clone()).collect();
-    validate(&mem_spec, SpecKind::Membrane, &kin_names)?;
     let mut field_specs = Vec::new();
     for file in field_files(&cfg.derivations)? {
         let s = read_spec(cfg, &file)?;
@@ -92,14 +144,24 @@ pub fn derive(cfg: &Config) -> Result<Derived, CodegenError> {
         field_specs.push((file.trim_end_matches(".rs").to_string(), s));
     }
     let kin = derive::eval::eval_spec(&kin_spec, derive::eval::kinematic_env())?;
-    let mut specs = vec![kin_spec.path.clone(), mem_spec.path.clone()];
+    let mut specs = vec![kin_spec.path.clone()];
     let mut fields = Vec::new();
     for (name, s) in &field_specs {
         specs.push(s.path.clone());
         fields.push(derive::field::derive_field(name, &kin_spec, &kin, s, cfg.kmax)?);
     }
-    let membrane = derive::membrane::derive_membrane(&mem_spec, &kin)?;
-    Ok(Derived { kmax: cfg.kmax, specs, fields, membrane })
+    let mut cache = Vec::new();
+    let mut membranes = Vec::new();
+    for file in law_files(&cfg.derivations)? {
+        membranes.push(derive_law(cfg, &file, &kin, &mut cache)?);
+    }
+    for f in MECHANICS[1..].iter() {
+        if let Some((_, s)) = cache.iter().find(|(n, _)| n == f) {
+            specs.push(s.path.clone());
+        }
+    }
+    specs.extend(membranes.iter().map(|m| m.spec_path.clone()));
+    Ok(Derived { kmax: cfg.kmax, specs, fields, membranes })
 }
 
 /// Generate the Rust tables and the markdown review table.

@@ -138,13 +138,17 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
     }
     // Odd modes: membrane only (see the module doc).
     let coupled_field = !eq.has("magnetic");
+    let (c1, c2) = p.membrane_args;
+    let sc = crate::model::Scales::from_scene(&s);
     for k in (3..=kmax).step_by(2) {
         let kf = k as f64;
+        // the elastic law, plus surface tension and bending when the scene has them
+        let x = crate::model::effects::shell::extra_stiffness(&s.shell, &sc, p.r0, r, kf);
         let (s1, s2, s11, s12) = (
-            (mem.s1)(r, p.r0, p.c1, p.c2, kf),
-            (mem.s2)(r, p.r0, p.c1, p.c2, kf),
-            (mem.s11)(r, p.r0, p.c1, p.c2, kf),
-            (mem.s12)(r, p.r0, p.c1, p.c2, kf),
+            (mem.s1)(r, p.r0, c1, c2, kf) + x[0],
+            (mem.s2)(r, p.r0, c1, c2, kf) + x[1],
+            (mem.s11)(r, p.r0, c1, c2, kf) + x[2],
+            (mem.s12)(r, p.r0, c1, c2, kf) + x[3],
         );
         let s_eff = if !eq.has("membrane") { 0.0 } else { s1 - s2 * s11 / s12 };
         shape.push(wrap((kf + 1.0) / (p.rho * p.r0) * s_eff, k, coupled_field));

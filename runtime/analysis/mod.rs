@@ -16,4 +16,6 @@ pub mod sweep;
 pub mod accuracy;
 pub mod compare;
 pub mod convergence;
-pub mod dispersion;
+/// The exact dispersion relation lives with the model it linearises (layering: model never
+/// imports analysis); re-exported here for the analyses and tests that use it.
+pub use crate::model::dispersion;

@@ -40,7 +40,7 @@ pub enum StabilityError {
 }
 
 /// Which linear periodic system is analysed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Variant {
     /// The periodic radial orbit by shooting (FORMULATION §4.6).
@@ -190,6 +190,20 @@ impl LinearPeriodic for ShapeSystem<'_> {
         } else {
             (0..self.n / 3).map(|m| vec![3 * m, 3 * m + 1, 3 * m + 2]).collect()
         }
+    }
+}
+
+/// Whether `criterion` can be evaluated on `scene` at all (assembled model, shape modes for
+/// Floquet, a periodic drive for the time series): checked once before a sweep, so that a
+/// scene the criterion cannot judge is one error, not a CSV of error rows.
+pub fn check_scene(scene: &Scene, criterion: Criterion) -> Result<(), StabilityError> {
+    let model = Model::from_scene(scene)?;
+    match criterion {
+        Criterion::Floquet => model.boundary_layer().map(|_| ()).ok_or(StabilityError::NoShapeModes),
+        Criterion::Series if drive_frequencies(scene).is_empty() && scene.drive.is_none() => {
+            Err(StabilityError::Scene("the time-series criterion needs a periodic drive".into()))
+        }
+        Criterion::Series => Ok(()),
     }
 }
 
@@ -360,7 +374,7 @@ pub fn series_unstable(scene: &Scene, opts: &SeriesOptions) -> Result<SeriesVerd
 }
 
 /// Which stability criterion a diagram uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Criterion {
     Floquet,

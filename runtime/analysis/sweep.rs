@@ -130,6 +130,22 @@ pub fn run<F>(csv: &Path, meta: &SweepMeta, progress: bool, compute: F) -> Resul
 where
     F: Fn(usize) -> Vec<String> + Sync,
 {
+    run_retrying(csv, meta, progress, |_| false, compute)
+}
+
+/// [`run`], where a finished row for which `retry(fields)` holds (an error row) is computed
+/// again instead of being resumed.
+pub fn run_retrying<F, R>(
+    csv: &Path,
+    meta: &SweepMeta,
+    progress: bool,
+    retry: R,
+    compute: F,
+) -> Result<SweepReport, SweepError>
+where
+    F: Fn(usize) -> Vec<String> + Sync,
+    R: Fn(&[String]) -> bool,
+{
     let full_header = header_line(&meta.header);
     let mut done: BTreeMap<usize, Vec<String>> = BTreeMap::new();
     if csv.exists() {
@@ -143,6 +159,7 @@ where
             return Err(SweepError::Mismatch { path: csv.to_path_buf(), why });
         }
         done = read_rows(csv, &full_header)?;
+        done.retain(|_, fields| !retry(fields));
     } else if let Some(dir) = csv.parent().filter(|d| !d.as_os_str().is_empty()) {
         fs::create_dir_all(dir).map_err(io(dir))?;
     }
@@ -192,6 +209,13 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<SweepMeta, SweepError>
     let Some(first) = inputs.first() else {
         return Err(SweepError::Merge { why: "no input files".into() });
     };
+    for path in inputs {
+        if same_file(path, output) || same_file(&meta_path(path), &meta_path(output)) {
+            return Err(SweepError::Merge {
+                why: format!("--out {} is one of the inputs; merge into a new file", output.display()),
+            });
+        }
+    }
     let meta0 = read_meta(first)?;
     let full_header = header_line(&meta0.header);
     let mut rows: BTreeMap<usize, (Vec<String>, PathBuf)> = BTreeMap::new();
@@ -234,6 +258,14 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<SweepMeta, SweepError>
     write_atomic(output, &render(&full_header, &rows))?;
     write_atomic(&meta_path(output), &serde_json::to_string_pretty(&meta).expect("meta serialises"))?;
     Ok(meta)
+}
+
+/// Whether two paths name the same file (either may not exist yet).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (fs::canonicalize(a), fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
 }
 
 /// Reads the sidecar of a sweep CSV.

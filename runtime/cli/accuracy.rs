@@ -52,7 +52,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         opts.duration = Some(d);
     }
     let report = accuracy_study(&scene, &opts).context("accuracy study")?;
-    println!(
+    outln!(
         "reference: {} (estimated error {:.2e}, {:.2} s); compared over {:.3e} s, {} samples; t* = {:.4e} s",
         report.reference,
         report.reference_error,
@@ -61,8 +61,8 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         opts.samples,
         report.t_star
     );
-    println!("error = max(max_t |R - R_ref|/R0, max_t max_k |a_k - a_k,ref|/R0)");
-    println!(
+    outln!("error = max(max_t |R - R_ref|/R0, max_t max_k |a_k - a_k,ref|/R0)");
+    outln!(
         "{:>10} {:>11} {:>11} {:>11} {:>11} {:>10} {:>9} {:>8}  status",
         "method", "setting", "e_R", "e_a", "error", "wall s", "rhs", "rejected"
     );
@@ -76,7 +76,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
     let mut curves = vec![];
     for (id, l) in report.ladders.iter().enumerate() {
         for r in &l.rungs {
-            println!(
+            outln!(
                 "{:>10} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>10.4} {:>9} {:>8}  {}",
                 l.method, r.setting, r.e_r, r.e_a, r.error, r.wall_seconds, r.stats.rhs_evals, r.stats.rejected, r.status
             );
@@ -93,21 +93,21 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
             ]);
         }
         let fmt = |o: Option<f64>| o.map_or("n/a".to_string(), |v| format!("{v:.2}"));
-        println!("{:>10} observed order: vs dt {}, vs work {}", l.method, fmt(l.order_dt), fmt(l.order_work));
+        outln!("{:>10} observed order: vs dt {}, vs work {}", l.method, fmt(l.order_dt), fmt(l.order_work));
         let (x, y) = l.rungs.iter().map(|r| (r.wall_seconds, r.error)).unzip();
         curves.push(Curve::new(l.method.clone(), x, y));
     }
     csv.commit()?;
-    println!("method_id: {}", report.ladders.iter().enumerate().map(|(i, l)| format!("{i} = {}", l.method)).collect::<Vec<_>>().join(", "));
+    outln!("method_id: {}", report.ladders.iter().enumerate().map(|(i, l)| format!("{i} = {}", l.method)).collect::<Vec<_>>().join(", "));
     let mut sizes = CsvWriter::create(&dir.join("sizes.csv"), &["ladder", "size", "wall_seconds", "rhs_evals", "steps", "delta_r", "delta_a2"])?;
     for (lid, (name, rows)) in [("modes N", &report.modes), ("grid points", &report.grid)].iter().enumerate() {
         if rows.is_empty() {
             continue;
         }
-        println!("{name} ladder ({}); delta = max |x - x_largest| / R0:", report.size_ladder_method);
-        println!("{:>8} {:>10} {:>10} {:>11} {:>11}  status", "size", "wall s", "rhs", "delta R", "delta a2");
+        outln!("{name} ladder ({}); delta = max |x - x_largest| / R0:", report.size_ladder_method);
+        outln!("{:>8} {:>10} {:>10} {:>11} {:>11}  status", "size", "wall s", "rhs", "delta R", "delta a2");
         for r in rows.iter() {
-            println!(
+            outln!(
                 "{:>8} {:>10.4} {:>10} {:>11.3e} {:>11.3e}  {}",
                 r.size, r.wall_seconds, r.stats.rhs_evals, r.delta_r, r.delta_a2, r.status
             );
@@ -132,6 +132,6 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         );
         fig.save(dir.path(), "work_precision").context("writing the work–precision plot")?;
     }
-    println!("wrote {}", out.display());
+    outln!("wrote {}", out.display());
     Ok(())
 }

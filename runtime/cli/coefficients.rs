@@ -62,9 +62,9 @@ struct Report {
 pub fn run(args: &CoefficientsArgs) -> anyhow::Result<()> {
     let report = gather(args.field, args.kmax)?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&to_json(&report))?);
+        outln!("{}", serde_json::to_string_pretty(&to_json(&report))?);
     } else {
-        print!("{}", to_table(&report));
+        out!("{}", to_table(&report));
     }
     Ok(())
 }

@@ -26,10 +26,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let scene = scene::load(&args.scene, &args.set).with_context(|| format!("loading {}", args.scene.display()))?;
     let runs = run_both(&scene)?;
     let (rep_bl, rep_full, diffs) = (&runs.report_bl, &runs.report_full, &runs.diffs);
-    println!("boundary layer: {:?}; full ({:?}): {:?}", rep_bl.status, runs.scheme, rep_full.status);
-    println!("{:>6} {:>14} {:>14} {:>14} {:>10} {:>10}", "column", "max |diff| m", "mean |diff| m", "max |full| m", "max rel", "mean rel");
+    outln!("boundary layer: {:?}; full ({:?}): {:?}", rep_bl.status, runs.scheme, rep_full.status);
+    outln!("{:>6} {:>14} {:>14} {:>14} {:>10} {:>10}", "column", "max |diff| m", "mean |diff| m", "max |full| m", "max rel", "mean rel");
     for d in diffs {
-        println!(
+        outln!(
             "{:>6} {:>14.4e} {:>14.4e} {:>14.4e} {:>10} {:>10}",
             d.name,
             d.max_abs_diff,
@@ -52,7 +52,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         vorticity: &'a crate::model::RunReport,
     }
     write_json(&dir.join("compare.json"), &Summary { differences: diffs, boundary_layer: rep_bl, vorticity: rep_full })?;
-    println!("wrote {}", out.display());
+    outln!("wrote {}", out.display());
     Ok(())
 }
 

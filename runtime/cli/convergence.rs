@@ -48,7 +48,7 @@ pub fn run(args: &ConvergenceArgs) -> anyhow::Result<()> {
         anyhow::bail!("--duration = {duration}: must be a positive time in seconds");
     }
     let c = fm.coupling();
-    eprintln!(
+    noteln!(
         "convergence: {} modes, grid {} points, {:.3e} s = {:.4} t*, reference dt' = {:.3e}",
         fm.base().orders().len(),
         fm.grid.len(),
@@ -64,15 +64,15 @@ pub fn run(args: &ConvergenceArgs) -> anyhow::Result<()> {
     });
     let dir = OutputDir::create(&out)?;
     let mut csv = CsvWriter::create(&dir.join("convergence.csv"), &["dt_prime", "dt_s", "e_s", "e_f", "worst_k", "seconds"])?;
-    println!("{:>12} {:>12} {:>12} {:>8} {:>9}", "dt'", "e_s", "e_f", "worst k", "seconds");
+    outln!("{:>12} {:>12} {:>12} {:>8} {:>9}", "dt'", "e_s", "e_f", "worst k", "seconds");
     for r in &report.rows {
-        println!("{:>12.4e} {:>12.4e} {:>12.4e} {:>8} {:>9.2}", r.dt, r.e_s, r.e_f, r.worst_k_s, r.seconds);
+        outln!("{:>12.4e} {:>12.4e} {:>12.4e} {:>8} {:>9.2}", r.dt, r.e_s, r.e_f, r.worst_k_s, r.seconds);
         csv.row(&[r.dt, r.dt * ts, r.e_s, r.e_f, r.worst_k_s as f64, r.seconds]);
     }
     csv.commit()?;
     let fmt = |o: Option<f64>| o.map_or("n/a".to_string(), |v| format!("{v:.3}"));
-    println!("observed order: e_s {}, e_f {} (paper: 1.995, 2.065)", fmt(report.order_s), fmt(report.order_f));
+    outln!("observed order: e_s {}, e_f {} (paper: 1.995, 2.065)", fmt(report.order_s), fmt(report.order_f));
     write_json(&dir.join("convergence.json"), &report)?;
-    println!("wrote {}", out.display());
+    outln!("wrote {}", out.display());
     Ok(())
 }

@@ -15,13 +15,31 @@ pub struct FloquetArgs {
     pub json: bool,
     /// `orbit`: shoot the periodic radial orbit (default); `paper`: R linearised, p∞ substituted.
     #[arg(long, value_enum, default_value = "orbit")]
-    pub variant: Variant,
+    pub variant: VariantArg,
     /// Magnus steps per drive period.
     #[arg(long, default_value_t = 400)]
     pub steps: usize,
     /// Override a scene key, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+}
+
+/// `--variant` (the command line's spelling of [`Variant`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum VariantArg {
+    /// The periodic radial orbit by shooting (FORMULATION §4.6).
+    Orbit,
+    /// The paper's §4: R linearised about R0, p∞ substituted into R̈.
+    Paper,
+}
+
+impl From<VariantArg> for Variant {
+    fn from(v: VariantArg) -> Variant {
+        match v {
+            VariantArg::Orbit => Variant::Orbit,
+            VariantArg::Paper => Variant::Paper,
+        }
+    }
 }
 
 /// Loads a scene with `--set` overrides.
@@ -32,13 +50,13 @@ pub(crate) fn load_scene(path: &Path, overrides: &[String]) -> anyhow::Result<Sc
 
 pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
     let scene = load_scene(&args.scene, &args.set)?;
-    let mut opts = FloquetOptions { variant: args.variant, ..FloquetOptions::default() };
+    let mut opts = FloquetOptions { variant: args.variant.into(), ..FloquetOptions::default() };
     opts.magnus_steps = args.steps.max(1);
     let r = floquet(&scene, &opts).with_context(|| format!("Floquet analysis of {}", args.scene.display()))?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
+        outln!("{}", serde_json::to_string_pretty(&r)?);
     } else {
-        println!(
+        outln!(
             "period {:.6e} s ({} × drive period {:.6e} s), max |μ| = {:.6}, {} (mode k = {})",
             r.period_s,
             r.orbit_multiple,

@@ -50,17 +50,40 @@ pub enum Command {
 }
 
 /// Parses the arguments, runs the subcommand, prints the whole error chain on failure.
+///
+/// A closed stdout (`| head`) ends the command quietly with status 141 (128 + SIGPIPE, what a
+/// shell reports for a program killed by a broken pipe); any other write error is an error.
 pub fn main_entry() -> ExitCode {
     let cli = Cli::parse();
-    match dispatch(cli.command) {
+    let result = dispatch(cli.command).and_then(|()| Ok(crate::output::flush_out()?));
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err}");
-            for cause in err.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+            let broken_pipe = err
+                .chain()
+                .any(|e| e.downcast_ref::<crate::output::StdoutError>().is_some_and(|s| s.is_broken_pipe()));
+            if broken_pipe {
+                return ExitCode::from(141);
             }
+            report_error(&err);
             ExitCode::FAILURE
         }
+    }
+}
+
+/// `error: …` and one `caused by:` line per cause that adds something (a cause whose text is
+/// already part of the line above is not repeated).
+fn report_error(err: &anyhow::Error) {
+    let top = err.to_string();
+    noteln!("error: {top}");
+    let mut shown = top;
+    for cause in err.chain().skip(1) {
+        let text = cause.to_string();
+        if shown.contains(&text) {
+            continue;
+        }
+        noteln!("  caused by: {text}");
+        shown = text;
     }
 }
 

@@ -47,13 +47,13 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
             })).collect::<Vec<_>>(),
             "t_star_s": f.t_star,
         });
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        println!("radial: ω = {:.6e} rad/s, f = {:.6e} Hz   (t* = {:.4e} s)", f.radial.omega_rad_s, f.radial.f_hz, f.t_star);
-        println!("{:>4} {:>14} {:>14} {:>10}", "k", "omega_rad_s", "f_hz", "omega_t*");
+        outln!("radial: ω = {:.6e} rad/s, f = {:.6e} Hz   (t* = {:.4e} s)", f.radial.omega_rad_s, f.radial.f_hz, f.t_star);
+        outln!("{:>4} {:>14} {:>14} {:>10}", "k", "omega_rad_s", "f_hz", "omega_t*");
         for m in &f.shape {
             let note = if m.field_couplings { "" } else { "  (field couplings not included)" };
-            println!("{:>4} {:>14.6e} {:>14.6e} {:>10.5}{note}", m.k, m.omega_rad_s, m.f_hz, m.omega_nondim);
+            outln!("{:>4} {:>14.6e} {:>14.6e} {:>10.5}{note}", m.k, m.omega_rad_s, m.f_hz, m.omega_nondim);
         }
     }
     if let Some(dir) = &args.plot {
@@ -68,7 +68,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
 fn save(fig: &crate::plot::Figure, dir: &std::path::Path, stem: &str) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let s = fig.save(dir, stem).with_context(|| format!("plotting {stem} into {}", dir.display()))?;
-    eprintln!("wrote {} and {}", s.svg.display(), s.png.display());
+    noteln!("wrote {} and {}", s.svg.display(), s.png.display());
     Ok(())
 }
 
@@ -88,12 +88,12 @@ fn damped(args: &ModesArgs, scene: &crate::scene::Scene) -> anyhow::Result<()> {
                 "k": m.k, "decay_per_s": m.decay_per_s, "omega_rad_s": m.omega_rad_s,
             })).collect::<Vec<_>>(),
         });
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        println!("closure: {}   (s = −γ ± iω, linearisation at R0)", d.closure);
-        println!("{:>4} {:>14} {:>14} {:>10}", "k", "decay_per_s", "omega_rad_s", "Q = ω/2γ");
+        outln!("closure: {}   (s = −γ ± iω, linearisation at R0)", d.closure);
+        outln!("{:>4} {:>14} {:>14} {:>10}", "k", "decay_per_s", "omega_rad_s", "Q = ω/2γ");
         for m in &d.shape {
-            println!("{:>4} {:>14.6e} {:>14.6e} {:>10.3}", m.k, m.decay_per_s, m.omega_rad_s, m.omega_rad_s / (2.0 * m.decay_per_s));
+            outln!("{:>4} {:>14.6e} {:>14.6e} {:>10.3}", m.k, m.decay_per_s, m.omega_rad_s, m.omega_rad_s / (2.0 * m.decay_per_s));
         }
     }
     if let Some(dir) = &args.plot {

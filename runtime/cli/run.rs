@@ -63,6 +63,10 @@ struct Summary<'a> {
     steps: u64,
     rejected_steps: u64,
     rhs_evaluations: u64,
+    /// Jacobian evaluations (analytic, finite-difference or structured).
+    jacobian_evaluations: u64,
+    /// LU factorisations of the Newton matrix.
+    lu_decompositions: u64,
     wall_seconds: f64,
     rows: u64,
     max_abs: OrderedMap<'a>,
@@ -93,6 +97,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
 
     let dir = OutputDir::create(&out)?;
     let series_path = dir.join("series.csv");
+    #[cfg(unix)]
+    crate::output::clean_up_on_signal(&[
+        &dir.join("series.csv.tmp"),
+        &dir.join("summary.json.tmp"),
+    ]);
     let mut csv = match CsvWriter::create(&series_path, &header) {
         Ok(csv) => csv,
         Err(e) => {
@@ -143,6 +152,8 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
                 steps: report.stats.steps,
                 rejected_steps: report.stats.rejected,
                 rhs_evaluations: report.stats.rhs_evals,
+                jacobian_evaluations: report.stats.jac_evals,
+                lu_decompositions: report.stats.lu_decompositions,
                 wall_seconds: report.wall_seconds,
                 rows,
                 max_abs: OrderedMap(&report.max_abs),
@@ -164,11 +175,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         return Err(e.into());
     }
 
-    print_summary(&report, &scene, &out, rows);
+    print_summary(&report, &scene, &out, rows)?;
     if args.plot {
         crate::plot::series_plot(&series_path, &out)
             .with_context(|| format!("plotting {}", series_path.display()))?;
-        println!("plotted:    {}", out.join("series.svg").display());
+        outln!("plotted:    {}", out.join("series.svg").display());
     }
     if let RunStatus::Failed { reason } = &report.status {
         anyhow::bail!(
@@ -180,29 +191,35 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
     Ok(())
 }
 
-fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) {
+fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) -> anyhow::Result<()> {
     let status = match &report.status {
         RunStatus::Completed => "completed".to_string(),
         RunStatus::BlowUp { t, mode } => format!("blow-up of {mode} at t = {t:e} s"),
         RunStatus::Failed { reason } => format!("FAILED: {reason}"),
     };
-    println!("status:     {status}");
-    println!(
+    outln!("status:     {status}");
+    outln!(
         "t_end:      {:e} s of {:e} s",
         report.t_end, scene.run.duration
     );
-    println!(
+    outln!(
         "steps:      {} ({} rejected), {} rhs evaluations, {:.3} s wall",
         report.stats.steps, report.stats.rejected, report.stats.rhs_evals, report.wall_seconds
     );
-    println!(
+    outln!(
         "effects:    {} (state dimension {})",
         report.active_effects.join(", "),
         report.state_dimension
     );
     if let Ok(serde_json::Value::Object(groups)) = serde_json::to_value(&report.groups) {
-        let list: Vec<String> = groups.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-        println!("groups:     {}", list.join(", "));
+        let list: Vec<String> = groups
+            .iter()
+            .map(|(k, v)| match v.as_f64() {
+                Some(x) => format!("{k} = {}", crate::scene::schema::fmt_sig(x)),
+                None => format!("{k} = {v}"),
+            })
+            .collect();
+        outln!("groups:     {}", list.join(", "));
     }
     let largest = report
         .max_abs
@@ -210,16 +227,17 @@ fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) {
         .filter(|(n, _)| n != "R")
         .max_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((name, v)) = largest {
-        println!(
+        outln!(
             "largest:    max |{name}| = {v:e} m (|{name}|/R0 = {:.3e})",
             v / scene.bubble.radius
         );
     }
-    println!(
+    outln!(
         "wrote:      {} ({rows} rows), {}",
         out.join("series.csv").display(),
         out.join("summary.json").display()
     );
+    Ok(())
 }
 
 /// The simulation entry points this command uses.

@@ -28,7 +28,7 @@ pub enum SceneCommand {
 
 pub fn run(c: &SceneCommand) -> anyhow::Result<()> {
     match c {
-        SceneCommand::New { out: None } => print!("{}", doc::default_scene_toml()),
+        SceneCommand::New { out: None } => out!("{}", doc::default_scene_toml()),
         SceneCommand::New { out: Some(path) } => {
             use std::io::Write;
             let mut f = std::fs::OpenOptions::new()
@@ -37,7 +37,7 @@ pub fn run(c: &SceneCommand) -> anyhow::Result<()> {
                 .open(path)
                 .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", path.display()))?;
             f.write_all(doc::default_scene_toml().as_bytes())?;
-            eprintln!("wrote {}", path.display());
+            noteln!("wrote {}", path.display());
         }
         SceneCommand::Explain { key } => {
             let key = key
@@ -45,7 +45,7 @@ pub fn run(c: &SceneCommand) -> anyhow::Result<()> {
                 .unwrap_or("")
                 .trim_matches(|c| c == '[' || c == ']');
             match doc::explain(key) {
-                Some(text) => print!("{text}"),
+                Some(text) => out!("{text}"),
                 None => {
                     let sections: Vec<&str> = schema::SCHEMA
                         .iter()
@@ -58,8 +58,8 @@ pub fn run(c: &SceneCommand) -> anyhow::Result<()> {
         }
         SceneCommand::Check { file, set } => {
             let scene = scene::load(file, set)?;
-            println!("{}: valid scene", file.display());
-            print!("{}", doc::summary(&scene));
+            outln!("{}: valid scene", file.display());
+            out!("{}", doc::summary(&scene));
         }
     }
     Ok(())

@@ -2,11 +2,12 @@
 //! key with `--vary`, against a frequency), swept in parallel, resumable and shardable
 //! (analysis::sweep). Definitions: docs/stability.md.
 
-use crate::analysis::stability::{critical_point, Criterion, CriticalOptions, StabilityError, CRITICAL_HEADER};
+use crate::analysis::stability::{check_scene, critical_point, Criterion, CriticalOptions, StabilityError, CRITICAL_HEADER};
 use crate::analysis::sweep::{self, Shard, SweepMeta};
-use crate::scene::{Current, Field, Scene};
+use crate::scene::schema::fmt_num;
+use crate::scene::{numeric_param, path_exists, SceneTemplate};
 use anyhow::Context;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
 pub struct StabilityArgs {
@@ -16,7 +17,7 @@ pub struct StabilityArgs {
     #[arg(long)]
     pub freq: String,
     #[arg(long, value_enum, default_value = "floquet")]
-    pub method: Criterion,
+    pub method: MethodArg,
     /// A family of curves over a scene key, KEY=V1,V2,… (one CSV per value).
     #[arg(long)]
     pub family: Option<String>,
@@ -54,8 +55,26 @@ pub struct StabilityArgs {
 impl StabilityArgs {
     fn method_label(&self) -> String {
         match self.method {
-            Criterion::Floquet => "Floquet".into(),
-            Criterion::Series => "time series".into(),
+            MethodArg::Floquet => "Floquet".into(),
+            MethodArg::Series => "time series".into(),
+        }
+    }
+}
+
+/// `--method` (the command line's spelling of [`Criterion`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum MethodArg {
+    /// Floquet multipliers of the periodic orbit (docs/stability.md).
+    Floquet,
+    /// Growth of a seeded perturbation in the nonlinear time series.
+    Series,
+}
+
+impl From<MethodArg> for Criterion {
+    fn from(m: MethodArg) -> Criterion {
+        match m {
+            MethodArg::Floquet => Criterion::Floquet,
+            MethodArg::Series => Criterion::Series,
         }
     }
 }
@@ -87,77 +106,91 @@ pub fn parse_freq(s: &str) -> anyhow::Result<Vec<f64>> {
     Ok((0..n).map(|i| if n == 1 { a } else { a + (b - a) * i as f64 / (n - 1) as f64 }).collect())
 }
 
-/// Sets a numeric scene key directly when it is one of the swept keys with a fast path;
-/// `false` when the key needs the scene loader's `--set` mechanism.
-pub(crate) fn set_fast(scene: &mut Scene, key: &str, value: f64) -> bool {
-    match key {
-        "drive.amplitude" | "drive.frequency_hz" => {
-            let d = scene.drive.get_or_insert(crate::scene::Drive { amplitude: 0.0, frequency_hz: 1e6 });
-            if key == "drive.amplitude" { d.amplitude = value } else { d.frequency_hz = value }
-            true
-        }
-        "field.coil.current.amplitude" | "field.coil.current.frequency_hz" => match &mut scene.field {
-            Some(Field::Coil(c)) => {
-                let (amp, f) = match c.current {
-                    Current::Cosine { amplitude, frequency_hz } => (amplitude, frequency_hz),
-                    Current::Static { value } => (value, 1e6),
-                };
-                c.current = if key.ends_with("amplitude") {
-                    Current::Cosine { amplitude: value, frequency_hz: f }
-                } else {
-                    Current::Cosine { amplitude: amp, frequency_hz: value }
-                };
-                true
-            }
-            _ => false,
-        },
-        _ => false,
-    }
+/// Everything a stability run needs, checked before any point is computed.
+struct Plan {
+    freqs: Vec<f64>,
+    lo: f64,
+    hi: f64,
+    shard: Shard,
+    freq_key: String,
+    /// (family key, value, the scene with the family's value set); one entry with empty key
+    /// and value without `--family`.
+    families: Vec<(String, String, SceneTemplate)>,
 }
 
-fn scene_with(path: &Path, base_set: &[String], base: &Scene, pairs: &[(&str, f64)]) -> Result<Scene, StabilityError> {
-    let mut s = base.clone();
-    let mut slow = Vec::new();
-    for &(k, v) in pairs {
-        if !set_fast(&mut s, k, v) {
-            slow.push(format!("{k}={v:e}"));
-        }
-    }
-    if slow.is_empty() {
-        return Ok(s);
-    }
-    let mut all = base_set.to_vec();
-    all.extend(pairs.iter().map(|(k, v)| format!("{k}={v:e}")));
-    super::floquet::load_scene(path, &all).map_err(|e| StabilityError::Scene(format!("{e:#}")))
-}
-
-pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
+/// Validates every argument against the scene and the schema (issue 15 class 4): a bad
+/// `--tol`, `--scan`, `--vary`, `--freq-key`, `--range` or `--family` value is an error before
+/// any work, never a CSV of error rows.
+fn plan(args: &StabilityArgs) -> anyhow::Result<Plan> {
     let freqs = parse_freq(&args.freq)?;
     let (lo, hi) = parse_range(&args.range, "--range")?;
     let shard = match &args.shard {
         Some(s) => Shard::parse(s)?,
         None => Shard::from_env()?.unwrap_or(Shard::ALL),
     };
+    anyhow::ensure!(args.tol.is_finite() && args.tol > 0.0, "--tol {}: must be a finite number > 0", args.tol);
+    anyhow::ensure!(args.scan >= 1, "--scan {}: need at least 1 scan interval", args.scan);
+    numeric_param(&args.vary).map_err(|e| anyhow::anyhow!("--vary {}: {e}", args.vary))?;
     let freq_key = args.freq_key.clone().unwrap_or_else(|| {
         if args.vary.starts_with("field.coil.current") { "field.coil.current.frequency_hz".into() } else { "drive.frequency_hz".into() }
     });
-    let family: Vec<(String, String)> = match &args.family {
-        None => vec![(String::new(), String::new())],
+    numeric_param(&freq_key).map_err(|e| anyhow::anyhow!("--freq-key {freq_key}: {e}"))?;
+    anyhow::ensure!(freq_key != args.vary, "--vary {} is also the frequency axis (--freq-key)", args.vary);
+    let base = SceneTemplate::load(&args.scene, &args.set)?;
+    let mut families = Vec::new();
+    match &args.family {
+        None => families.push((String::new(), String::new(), base)),
         Some(f) => {
             let (k, vs) = f.split_once('=').with_context(|| format!("--family '{f}': expected KEY=V1,V2,…"))?;
-            vs.split(',').map(|v| (k.trim().to_string(), v.trim().to_string())).collect()
+            let k = k.trim();
+            anyhow::ensure!(path_exists(k), "--family {k}: no such scene key (list them with `magbubble scene explain`)");
+            anyhow::ensure!(
+                k != args.vary && k != freq_key,
+                "--family {k}: the family key is the {} key, so every curve would be the same; choose another key",
+                if k == args.vary { "varied (--vary)" } else { "frequency (--freq-key)" }
+            );
+            for v in vs.split(',').map(str::trim) {
+                anyhow::ensure!(!v.is_empty(), "--family '{f}': empty value");
+                anyhow::ensure!(!families.iter().any(|(_, w, _)| w == v), "--family '{f}': value {v} given twice");
+                let t = base.with_overrides(&[format!("{k}={v}")]).with_context(|| format!("--family {k}={v}"))?;
+                families.push((k.to_string(), v.to_string(), t));
+            }
         }
-    };
+    }
+    let criterion: Criterion = args.method.into();
+    let (f0, f1) = (freqs[0], freqs[freqs.len() - 1]);
+    for (k, v, t) in &families {
+        let at = if k.is_empty() { String::new() } else { format!(" (--family {k}={v})") };
+        for (f, p) in [(f0, lo), (f1, hi)] {
+            let scene = t
+                .with(&[(freq_key.as_str(), f), (args.vary.as_str(), p)])
+                .with_context(|| format!("the scene at {freq_key} = {}, {} = {}{at}", fmt_num(f), args.vary, fmt_num(p)))?;
+            check_scene(&scene, criterion).with_context(|| format!("stability of {}{at}", args.scene.display()))?;
+        }
+    }
+    Ok(Plan { freqs, lo, hi, shard, freq_key, families })
+}
+
+/// Column (in the sweep's fields, after the frequency) of the outcome.
+const OUTCOME_FIELD: usize = 2;
+
+/// A row whose point failed: computed again on resume, never kept as done.
+fn is_error_row(fields: &[String]) -> bool {
+    fields.get(OUTCOME_FIELD).is_some_and(|o| o == "error")
+}
+
+pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
+    let Plan { freqs, lo, hi, shard, freq_key, families } = plan(args)?;
     let scene_text = std::fs::read_to_string(&args.scene).with_context(|| format!("reading {}", args.scene.display()))?;
     let mut plotted: Vec<(String, PathBuf)> = Vec::new();
-    for (fkey, fval) in family {
+    let mut failed = Vec::new();
+    for (fkey, fval, template) in families {
         let mut set = args.set.clone();
         if !fkey.is_empty() {
             set.push(format!("{fkey}={fval}"));
         }
-        let base = super::floquet::load_scene(&args.scene, &set)?;
         let opts = CriticalOptions {
-            criterion: args.method,
+            criterion: args.method.into(),
             lo,
             hi,
             scan: args.scan,
@@ -173,15 +206,19 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         let meta = SweepMeta {
             fingerprint: format!(
                 "scene={scene_text:?} set={set:?} vary={} freq_key={freq_key} freq={} method={:?} range={lo}:{hi} tol={} scan={}",
-                args.vary, args.freq, args.method, args.tol, args.scan
+                args.vary, args.freq, Criterion::from(args.method), args.tol, args.scan
             ),
             total: freqs.len(),
             shard,
             header,
         };
-        let report = sweep::run(&csv, &meta, true, |i| {
+        let report = sweep::run_retrying(&csv, &meta, true, is_error_row, |i| {
             let f = freqs[i];
-            let at = |p: f64| scene_with(&args.scene, &set, &base, &[(freq_key.as_str(), f), (args.vary.as_str(), p)]);
+            let at = |p: f64| {
+                template
+                    .with(&[(freq_key.as_str(), f), (args.vary.as_str(), p)])
+                    .map_err(|e| StabilityError::Scene(e.to_string()))
+            };
             let mut row = vec![format!("{f:.8e}")];
             match critical_point(&at, &opts) {
                 Ok(c) => row.extend(c.fields()),
@@ -194,27 +231,39 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             }
             row
         })?;
-        eprintln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
+        noteln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
+        let errors: Vec<&(usize, Vec<String>)> = report.rows.iter().filter(|(_, r)| is_error_row(r)).collect();
+        if let Some((_, first)) = errors.first() {
+            failed.push(format!(
+                "{}: {} of {} points failed (first at {freq_key} = {}: {}); a rerun computes them again",
+                csv.display(),
+                errors.len(),
+                report.rows.len(),
+                first[0],
+                first[first.len() - 1]
+            ));
+        }
         let label = if fkey.is_empty() { args.method_label() } else { format!("{fkey} = {fval}") };
         plotted.push((label, csv));
     }
     if args.plot {
         if shard != Shard::ALL {
-            eprintln!("--plot: skipped for a shard; plot the merged CSV");
+            noteln!("--plot: skipped for a shard; plot the merged CSV");
         } else {
             let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
             let saved = crate::plot::stability_plot(&plotted, &args.out, "stability", &y_label, false)
                 .with_context(|| format!("plotting the stability diagram into {}", args.out.display()))?;
             for s in saved {
-                eprintln!("wrote {} and {}", s.svg.display(), s.png.display());
+                noteln!("wrote {} and {}", s.svg.display(), s.png.display());
             }
         }
     }
+    anyhow::ensure!(failed.is_empty(), "{}", failed.join("\n"));
     Ok(())
 }
 
 pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
     let meta = sweep::merge(&args.inputs, &args.out)?;
-    eprintln!("{}: {} points merged from {} files", args.out.display(), meta.total, args.inputs.len());
+    noteln!("{}: {} points merged from {} files", args.out.display(), meta.total, args.inputs.len());
     Ok(())
 }

@@ -279,7 +279,7 @@ mod tests {
     use crate::scene::{Coil, Current, Field, MembraneForm, Oscillation, Shell};
 
     fn source(current: Current, osc: Option<Oscillation>) -> FieldSource {
-        let shell = Shell { c1: 0.1, c2: 0.12, thickness: 20e-9, susceptibility: 1.0, form: MembraneForm::Paper };
+        let shell = Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper);
         let coil = Coil {
             turns: 1000.0,
             distance: 0.1,

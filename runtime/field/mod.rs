@@ -11,8 +11,6 @@ pub mod appendix;
 pub mod coil;
 pub mod dipole;
 pub mod loads;
-pub mod quadrature;
-pub mod quadrature_h4;
 
 use crate::coefficients::{FieldTable, COIL, COIL_H4, DIPOLE};
 use crate::scene::{Current, Field, Shell};

@@ -2,6 +2,7 @@
 
 use super::explicit::{ExplicitRk, Rk4};
 use super::radau::Radau5;
+use super::rosenbrock::Rosenbrock23;
 use super::tableau::ButcherTableau;
 use super::{Control, IntegrateError, Method, OdeSystem, Output, Solution, Stats};
 
@@ -26,7 +27,7 @@ pub trait Stepper {
 
 /// Builds the stepper of `method` at (t0, y0). `t_end` bounds the initial step of the adaptive
 /// methods. Evaluates f(t0, y0) (and, adaptive methods, one more rhs for the initial step).
-pub fn stepper(sys: &dyn OdeSystem, method: &Method, t0: f64, y0: &[f64], t_end: f64) -> Result<Box<dyn Stepper>, IntegrateError> {
+pub fn stepper<'a>(sys: &dyn OdeSystem, method: &Method, t0: f64, y0: &[f64], t_end: f64) -> Result<Box<dyn Stepper + 'a>, IntegrateError> {
     method.validate()?;
     if y0.len() != sys.dim() {
         return Err(IntegrateError::DimensionMismatch { expected: sys.dim(), got: y0.len() });
@@ -42,6 +43,7 @@ pub fn stepper(sys: &dyn OdeSystem, method: &Method, t0: f64, y0: &[f64], t_end:
         Method::Dopri5 { rtol, atol } => Box::new(ExplicitRk::new(sys, ButcherTableau::dopri5(), t0, y0, t_end, rtol, atol)?),
         Method::Dop853 { rtol, atol } => Box::new(ExplicitRk::new(sys, ButcherTableau::dop853(), t0, y0, t_end, rtol, atol)?),
         Method::Radau5 { rtol, atol } => Box::new(Radau5::new(sys, t0, y0, t_end, rtol, atol)?),
+        Method::Rosenbrock23 { rtol, atol } => Box::new(Rosenbrock23::new(sys, t0, y0, t_end, rtol, atol)?),
     })
 }
 
@@ -63,12 +65,32 @@ pub fn solve(
     max_steps: u64,
     observer: &mut dyn FnMut(f64, &[f64]) -> Control,
 ) -> Result<Solution, IntegrateError> {
-    if let Output::Every(d) = output {
+    if let Output::Every(d) | Output::Landing(d) = output {
         if !(d > 0.0 && d.is_finite()) {
             return Err(IntegrateError::InvalidSetting { what: "output interval", value: d, reason: "must be positive and finite" });
         }
     }
     let mut st = stepper(sys, method, t0, y0, t_end)?;
+    drive(&mut *st, sys, t_end, output, max_steps, observer)
+}
+
+/// [`solve`] with a stepper built elsewhere (e.g. a scheme outside this module), from its
+/// current (t, y). On an error, the stepper keeps its statistics.
+pub fn drive(
+    st: &mut dyn Stepper,
+    sys: &dyn OdeSystem,
+    t_end: f64,
+    output: Output,
+    max_steps: u64,
+    observer: &mut dyn FnMut(f64, &[f64]) -> Control,
+) -> Result<Solution, IntegrateError> {
+    if let Output::Every(d) | Output::Landing(d) = output {
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(IntegrateError::InvalidSetting { what: "output interval", value: d, reason: "must be positive and finite" });
+        }
+    }
+    let (t0, y0) = (st.t(), st.y().to_vec());
+    let y0 = &y0[..];
     let done = |t: f64, y: &[f64], stats: Stats, stopped: bool| Solution { t, y: y.to_vec(), stats, stopped };
     if observer(t0, y0) == Control::Stop {
         return Ok(done(t0, y0, st.stats(), true));
@@ -79,8 +101,20 @@ pub fn solve(
         if st.stats().steps >= max_steps {
             return Err(IntegrateError::MaxSteps { t: st.t(), steps: st.stats().steps });
         }
-        st.step(sys, t_end)?;
+        let t_stop = match output {
+            Output::Landing(d) if t0 + sample as f64 * d < t_end - 1e-9 * d => t0 + sample as f64 * d,
+            _ => t_end,
+        };
+        st.step(sys, t_stop)?;
         match output {
+            Output::Landing(_) => {
+                if st.t() >= t_stop {
+                    sample += 1;
+                    if observer(st.t(), st.y()) == Control::Stop {
+                        return Ok(done(st.t(), st.y(), st.stats(), true));
+                    }
+                }
+            }
             Output::Steps => {
                 if observer(st.t(), st.y()) == Control::Stop {
                     return Ok(done(st.t(), st.y(), st.stats(), true));

@@ -7,6 +7,7 @@
 //! error, sc_i = atol + rtol · max(|y_i|, |y_new,i|). The initial step follows `hinit` of the
 //! same codes (HNW I, sec. II.4) with RMS norms.
 
+use super::control::StepController;
 use super::tableau::{ButcherTableau, DenseOutput, ErrorEstimator};
 use super::{first_non_finite, IntegrateError, OdeSystem, Stats};
 
@@ -218,7 +219,8 @@ pub struct ExplicitRk {
     k: Vec<Vec<f64>>,
     /// Dopri5 dense-output coefficients of the last step (r1..r5 of `contd5`).
     rcont: Vec<Vec<f64>>,
-    err_old: f64,
+    /// PI step control (dopri5.f: β = 0.04, safe = 0.9).
+    control: StepController,
     /// Fixed step (no error control) when set; see [`ExplicitRk::with_fixed_step`].
     fixed: Option<f64>,
     stats: Stats,
@@ -262,7 +264,7 @@ impl ExplicitRk {
             f_new,
             k,
             rcont: vec![vec![0.0; n]; nd],
-            err_old: 1e-4,
+            control: StepController::pi(tab.controller_order, 0.04, tab.step_ratio),
             fixed: None,
             stats,
             tab,
@@ -366,9 +368,6 @@ impl super::Stepper for ExplicitRk {
 
     fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
         const SAFE: f64 = 0.9;
-        const BETA: f64 = 0.04;
-        let expo1 = 1.0 / self.tab.controller_order - 0.75 * BETA;
-        let (ratio_min, ratio_max) = self.tab.step_ratio;
         let mut rejected_once = false;
         let mut non_finite_run = 0u32;
         loop {
@@ -399,15 +398,12 @@ impl super::Stepper for ExplicitRk {
                 rejected_once = true;
                 continue;
             }
-            let fac11 = err.powf(expo1);
             if err <= 1.0 || self.fixed.is_some() {
-                // PI controller (dopri5.f): fac = fac11 / err_old^β, bounded.
-                let fac = (fac11 / self.err_old.powf(BETA) / SAFE).clamp(1.0 / ratio_max, 1.0 / ratio_min);
-                let mut h_new = self.fixed.unwrap_or(h / fac);
+                let proposed = self.control.accept(h, err, SAFE);
+                let mut h_new = self.fixed.unwrap_or(proposed);
                 if rejected_once {
                     h_new = h_new.min(h);
                 }
-                self.err_old = err.max(1e-4);
                 let t_new = if last { t_stop } else { self.t + h };
                 // Dense output of the step, from the stages before they are overwritten.
                 if let DenseOutput::Dopri5 { d } = &self.tab.dense {
@@ -445,7 +441,7 @@ impl super::Stepper for ExplicitRk {
             non_finite_run = 0;
             rejected_once = true;
             self.stats.rejected += 1;
-            self.h = h / (fac11 / SAFE).min(1.0 / ratio_min);
+            self.h = self.control.reject(h, err, SAFE);
         }
     }
 

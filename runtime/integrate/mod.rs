@@ -12,17 +12,21 @@
 //! its variational equations (state and fundamental matrix) for Floquet analysis.
 //! See `docs/integrators.md` for the choices and the measurements.
 
+mod control;
 mod driver;
 mod explicit;
 mod jacobian;
 mod linalg;
+pub mod linear;
 mod radau;
+mod rosenbrock;
 pub mod tableau;
 mod variational;
 
-pub use driver::{solve, stepper, Stepper};
+pub use driver::{drive, solve, stepper, Stepper};
 pub use explicit::{rk4_step, ExplicitRk, Rk4, Rk4Workspace};
 pub use radau::Radau5;
+pub use rosenbrock::Rosenbrock23;
 pub use variational::Variational;
 
 use serde::Serialize;
@@ -47,6 +51,12 @@ pub trait OdeSystem {
     fn jacobian(&self, _t: f64, _y: &[f64], _jac: &mut [f64]) -> bool {
         false
     }
+    /// Optional structured Jacobian at (t, y) with its own solve of σI − J (the linear-solver
+    /// hook of the implicit steppers, [`linear`]). `None` (the default): the steppers use
+    /// [`OdeSystem::jacobian`] or finite differences and a dense or banded LU.
+    fn structured_jacobian(&self, _t: f64, _y: &[f64]) -> Option<Box<dyn linear::StructuredJacobian>> {
+        None
+    }
 }
 
 /// Which integrator, with its settings (in the model's nondimensional time).
@@ -58,30 +68,21 @@ pub enum Method {
     Dopri5 { rtol: f64, atol: f64 },
     /// Dormand–Prince 8(5,3) (Hairer's DOP853 error estimator), cubic Hermite dense output.
     Dop853 { rtol: f64, atol: f64 },
-    /// Radau IIA order 5, simplified Newton, finite-difference (dense or banded) Jacobian.
+    /// Radau IIA order 5, simplified Newton; J analytic, structured or finite-difference.
     Radau5 { rtol: f64, atol: f64 },
+    /// Rosenbrock ode23s (Shampine & Reichelt 1997), order 2(3), linearly implicit.
+    Rosenbrock23 { rtol: f64, atol: f64 },
 }
 
 impl Method {
-    /// Maps the scene's integrator settings; `time_scale` [s] is the model's unit of time
-    /// (the model is nondimensional, §4.5), so RK4's `dt` [s] becomes `dt / time_scale`.
-    pub fn from_settings(s: &crate::scene::IntegratorSettings, time_scale: f64) -> Method {
-        use crate::scene::Method as M;
-        match s.method {
-            M::Rk4 => Method::Rk4 { dt: s.dt / time_scale },
-            M::Dopri5 => Method::Dopri5 { rtol: s.rtol, atol: s.atol },
-            M::Dop853 => Method::Dop853 { rtol: s.rtol, atol: s.atol },
-            M::Radau5 => Method::Radau5 { rtol: s.rtol, atol: s.atol },
-        }
-    }
-
-    /// Short name ("rk4", "dopri5", "dop853", "radau5").
+    /// Short name ("rk4", "dopri5", "dop853", "radau5", "rosenbrock23").
     pub fn name(&self) -> &'static str {
         match self {
             Method::Rk4 { .. } => "rk4",
             Method::Dopri5 { .. } => "dopri5",
             Method::Dop853 { .. } => "dop853",
             Method::Radau5 { .. } => "radau5",
+            Method::Rosenbrock23 { .. } => "rosenbrock23",
         }
     }
 
@@ -92,7 +93,10 @@ impl Method {
         };
         match *self {
             Method::Rk4 { dt } if !(dt > 0.0 && dt.is_finite()) => bad("dt", dt, "must be positive and finite"),
-            Method::Dopri5 { rtol, atol } | Method::Dop853 { rtol, atol } | Method::Radau5 { rtol, atol } => {
+            Method::Dopri5 { rtol, atol }
+            | Method::Dop853 { rtol, atol }
+            | Method::Radau5 { rtol, atol }
+            | Method::Rosenbrock23 { rtol, atol } => {
                 if !(rtol > 0.0 && rtol.is_finite()) {
                     bad("rtol", rtol, "must be positive and finite")
                 } else if !(atol >= 0.0 && atol.is_finite()) {
@@ -120,6 +124,9 @@ pub enum Output {
     Steps,
     /// At t0 + i·Δ (dense output, not a step constraint) and at t_end.
     Every(f64),
+    /// At t0 + i·Δ and t_end, every step ending no later than the next sample (for schemes
+    /// without a dense output of their order, e.g. the staggered vorticity scheme).
+    Landing(f64),
 }
 
 /// Cost counters of a run.
@@ -159,6 +166,8 @@ pub enum IntegrateError {
     NonFinite { t: f64, component: usize },
     #[error("Newton iteration of the implicit method failed repeatedly at t = {t:e} (singular or divergent)")]
     NewtonFailed { t: f64 },
+    #[error("singular linear system of the method at t = {t:e}")]
+    SingularMatrix { t: f64 },
     #[error("invalid integrator setting {what} = {value}: {reason}")]
     InvalidSetting { what: &'static str, value: f64, reason: &'static str },
     #[error("initial state has {got} components, the system has dimension {expected}")]

@@ -22,9 +22,37 @@ pub fn classify(y: &[f64], orders: &[usize], threshold: f64) -> Option<String> {
     worst.map(|w| w.1)
 }
 
+/// The event function of the blow-up: g(y) = max(max_k max(|a_k|, |b_k|)/R0 − threshold, −R̄),
+/// +∞ for a non-finite state. `classify` reports a blow-up exactly when g > 0 (or R̄ = 0); the
+/// run executor root-finds g = 0 on the dense output to time the crossing.
+pub fn margin(y: &[f64], orders: &[usize], threshold: f64) -> f64 {
+    if y.iter().any(|v| !v.is_finite()) {
+        return f64::INFINITY;
+    }
+    let mut g = -y[0];
+    for m in 0..orders.len() {
+        g = g.max(y[2 + 3 * m].abs() - threshold).max(y[4 + 3 * m].abs() - threshold);
+    }
+    g
+}
+
 #[cfg(test)]
 mod tests {
-    use super::classify;
+    use super::{classify, margin};
+
+    #[test]
+    fn margin_is_positive_exactly_when_classified() {
+        let orders = [2, 4];
+        let mut y = vec![1.0, 0.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0];
+        assert!((margin(&y, &orders, 0.5) - (-0.49)).abs() < 1e-15);
+        y[7] = -0.7;
+        assert!(margin(&y, &orders, 0.5) > 0.0 && classify(&y, &orders, 0.5).is_some());
+        y[7] = 0.0;
+        y[0] = -1e-3;
+        assert!(margin(&y, &orders, 0.5) > 0.0 && classify(&y, &orders, 0.5).is_some());
+        y[1] = f64::NAN;
+        assert_eq!(margin(&y, &orders, 0.5), f64::INFINITY);
+    }
 
     #[test]
     fn classifies_modes_radius_and_nan() {

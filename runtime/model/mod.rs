@@ -12,12 +12,14 @@
 
 pub mod blow_up;
 pub mod boundary_layer;
+pub mod dispersion;
 pub mod effects;
 pub mod equations;
 pub mod keller_miksis;
 pub mod linearize;
 pub mod params;
 pub mod radial;
+mod executor;
 mod simulate;
 pub mod vorticity;
 
@@ -26,7 +28,7 @@ pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};
 pub use radial::{RadialForm, RadialSystem};
-pub use simulate::{simulate, RunReport, RunStatus};
+pub use simulate::{method_of, simulate, Failure, RunReport, RunStatus};
 
 use crate::coefficients::KMAX;
 use crate::field::{loads::MagneticLoads, FieldError, FieldSource};
@@ -106,11 +108,13 @@ impl Model {
             terms.push(Box::new(effects::membrane::MembraneTerm {
                 law: params.membrane,
                 r0: params.r0,
-                c1: params.c1,
-                c2: params.c2,
+                c1: params.membrane_args.0,
+                c2: params.membrane_args.1,
                 orders: kf.clone(),
             }));
         }
+        // issue 11 / issue 10 part 2: only the shell effects the scene switches on
+        terms.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
         }
@@ -298,6 +302,11 @@ impl Model {
     /// The blow-up classifier ([`blow_up::classify`]) at this scene's threshold.
     pub fn blow_up(&self, y: &[f64]) -> Option<String> {
         blow_up::classify(y, &self.orders, self.blow_up_threshold)
+    }
+
+    /// The blow-up event function ([`blow_up::margin`]) at this scene's threshold.
+    pub fn blow_up_margin(&self, y: &[f64]) -> f64 {
+        blow_up::margin(y, &self.orders, self.blow_up_threshold)
     }
 }
 

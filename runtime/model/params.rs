@@ -13,7 +13,7 @@
 use serde::Serialize;
 
 use crate::coefficients::membrane;
-use crate::scene::{MembraneForm, Scene};
+use crate::scene::{MembraneForm, Scene, ShellLaw};
 
 /// The scales that convert between SI and the model's nondimensional numbers.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -64,6 +64,40 @@ impl std::fmt::Debug for Membrane {
 }
 
 impl Membrane {
+    /// The tables of the scene's elastic law (`shell.law`) in its `shell.form`. The Skalak
+    /// functions take (G_s, C) where Mooney–Rivlin takes (c1, c2): same signature.
+    pub fn for_law(law: ShellLaw, form: MembraneForm) -> Self {
+        use membrane::skalak;
+        match (law, form) {
+            (ShellLaw::MooneyRivlin, form) => Self::new(form),
+            (ShellLaw::Skalak { .. }, MembraneForm::Paper) => Self {
+                s0: skalak::paper::s0,
+                s1: skalak::paper::s1,
+                s2: skalak::paper::s2,
+                s11: skalak::paper::s11,
+                s12: skalak::paper::s12,
+                s0_dr: skalak::paper::s0_dr,
+                s1_dr: skalak::paper::s1_dr,
+                s2_dr: skalak::paper::s2_dr,
+                s11_dr: skalak::paper::s11_dr,
+                s12_dr: skalak::paper::s12_dr,
+            },
+            (ShellLaw::Skalak { .. }, MembraneForm::Tension) => Self {
+                s0: skalak::tension::s0,
+                s1: skalak::tension::s1,
+                s2: skalak::tension::s2,
+                s11: skalak::tension::s11,
+                s12: skalak::tension::s12,
+                s0_dr: skalak::tension::s0_dr,
+                s1_dr: skalak::tension::s1_dr,
+                s2_dr: skalak::tension::s2_dr,
+                s11_dr: skalak::tension::s11_dr,
+                s12_dr: skalak::tension::s12_dr,
+            },
+        }
+    }
+
+    /// The paper's Mooney–Rivlin tables in `form`.
     pub fn new(form: MembraneForm) -> Self {
         match form {
             MembraneForm::Paper => Self {
@@ -115,6 +149,8 @@ pub struct Params {
     /// (ε_p p̄0, ω_d t*) when driven; `None`: p∞ = p0, no drive term.
     pub drive: Option<(f64, f64)>,
     pub membrane: Membrane,
+    /// The two constants the membrane tables take: (c̄1, c̄2) for Mooney–Rivlin, (Ḡ_s, C) for Skalak.
+    pub membrane_args: (f64, f64),
 }
 
 impl Params {
@@ -146,7 +182,11 @@ impl Params {
             sound_speed: s.liquid.sound_speed.map(|c| c * sc.time / sc.length),
             three_kappa: 3.0 * s.gas.polytropic_exponent,
             drive,
-            membrane: Membrane::new(s.shell.form),
+            membrane: Membrane::for_law(s.shell.law, s.shell.form),
+            membrane_args: match s.shell.law {
+                ShellLaw::MooneyRivlin => (c(s.shell.c1), c(s.shell.c2)),
+                ShellLaw::Skalak { shear_modulus, area_dilatation } => (c(shear_modulus), area_dilatation),
+            },
         }
     }
 

@@ -1,11 +1,13 @@
-//! Running a scene: the integrator loop, SI output, blow-up detection and the run report.
+//! Running a scene: the run report, typed stop reasons, and [`Model::run`] on the one run
+//! executor ([`super::executor`]).
 
 use serde::Serialize;
 use std::time::Instant;
 
+use super::executor::{execute, Plan};
 use super::{Groups, Model, ModelError};
-use crate::scene::{Run, Scene};
-use crate::integrate::{solve, Control, IntegrateError, Method, Output, Stats};
+use crate::integrate::{stepper, IntegrateError, Method, Stats};
+use crate::scene::{IntegratorSettings, Run, Scene};
 
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -15,26 +17,101 @@ pub enum RunStatus {
     /// A shape mode exceeded the blow-up threshold (or R left (0, ∞), or the state became
     /// non-finite) at time t [s]; a result, not an error (FORMULATION §5).
     BlowUp { t: f64, mode: String },
-    /// The integrator gave up (e.g. step size too small, step budget exhausted).
-    Failed { reason: String },
+    /// The integrator gave up (serialised as its message, a string, as before).
+    Failed { reason: Failure },
+}
+
+/// Why a run failed (times in seconds).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Failure {
+    /// The step size fell below round-off at t (h the last step tried) [s].
+    StepSizeTooSmall { t: f64, h: f64 },
+    /// `run.integrator.max_steps` accepted steps were taken by t [s].
+    StepLimit { t: f64, steps: u64 },
+    /// The simplified Newton iteration of an implicit method failed repeatedly at t [s].
+    NewtonFailed { t: f64 },
+    /// A linear system of the method was singular at t [s].
+    Singular { t: f64 },
+    /// The integrator refused its settings or the initial state before the first step.
+    Setup(String),
+}
+
+impl Failure {
+    /// The failure as a report, from an integrator error in units of the model's `time_scale` [s].
+    pub fn from_integrate(e: &IntegrateError, time_scale: f64) -> Failure {
+        match *e {
+            IntegrateError::StepSizeTooSmall { t, h } => Failure::StepSizeTooSmall { t: t * time_scale, h: h * time_scale },
+            IntegrateError::MaxSteps { t, steps } => Failure::StepLimit { t: t * time_scale, steps },
+            IntegrateError::NewtonFailed { t } => Failure::NewtonFailed { t: t * time_scale },
+            IntegrateError::SingularMatrix { t } => Failure::Singular { t: t * time_scale },
+            IntegrateError::NonFinite { .. } | IntegrateError::InvalidSetting { .. } | IntegrateError::DimensionMismatch { .. } => {
+                Failure::Setup(e.to_string())
+            }
+        }
+    }
+
+    /// Time of the failure [s] (`None` before the first step).
+    pub fn t(&self) -> Option<f64> {
+        match *self {
+            Failure::StepSizeTooSmall { t, .. } | Failure::StepLimit { t, .. } | Failure::NewtonFailed { t } | Failure::Singular { t } => Some(t),
+            Failure::Setup(_) => None,
+        }
+    }
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::StepSizeTooSmall { t, h } => write!(
+                f,
+                "step size too small at t = {t:e} s: h = {h:e} s (the solution may blow up or the problem is too stiff for this method)"
+            ),
+            Failure::StepLimit { t, steps } => write!(f, "step limit run.integrator.max_steps = {steps} reached at t = {t:e} s"),
+            Failure::NewtonFailed { t } => {
+                write!(f, "Newton iteration of the implicit method failed repeatedly at t = {t:e} s (singular or divergent)")
+            }
+            Failure::Singular { t } => write!(f, "singular linear system in the integrator at t = {t:e} s"),
+            Failure::Setup(what) => write!(f, "{what}"),
+        }
+    }
+}
+
+impl Serialize for Failure {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
 }
 
 /// The summary of one run (SI units).
 #[derive(Debug, Clone, Serialize)]
 pub struct RunReport {
     pub status: RunStatus,
-    /// Time of the last output sample [s].
+    /// Time of the last output row [s] (at a blow-up: the located crossing).
     pub t_end: f64,
+    /// Work of the integrator up to the end of the run, also after a failure or a blow-up.
     pub stats: Stats,
     pub wall_seconds: f64,
-    /// max |x| over the output samples, per output column (R, a2, b2, …) [m].
+    /// max |x| over the output rows, per output column (R, a2, b2, …) [m].
     pub max_abs: Vec<(String, f64)>,
-    /// The last output sample (R, a2, b2, …) [m].
+    /// The last output row (R, a2, b2, …) [m].
     pub final_state: Vec<(String, f64)>,
     pub active_effects: Vec<String>,
     /// Dimension of the integrated state (2 + 3M).
     pub state_dimension: usize,
     pub groups: Groups,
+}
+
+/// The integrator of a scene's settings; `time_scale` [s] is the model's unit of time (the model
+/// is nondimensional, FORMULATION §4.5), so RK4's `dt` [s] becomes `dt / time_scale`.
+pub fn method_of(s: &IntegratorSettings, time_scale: f64) -> Method {
+    use crate::scene::Method as M;
+    match s.method {
+        M::Rk4 => Method::Rk4 { dt: s.dt / time_scale },
+        M::Dopri5 => Method::Dopri5 { rtol: s.rtol, atol: s.atol },
+        M::Dop853 => Method::Dop853 { rtol: s.rtol, atol: s.atol },
+        M::Radau5 => Method::Radau5 { rtol: s.rtol, atol: s.atol },
+        M::Rosenbrock23 => Method::Rosenbrock23 { rtol: s.rtol, atol: s.atol },
+    }
 }
 
 /// Builds the model of `scene` and runs it; `observer` gets (t [s], row R, a2, b2, … [m]) at
@@ -65,63 +142,35 @@ impl Model {
     pub fn run(&self, run: &Run, observer: &mut dyn FnMut(f64, &[f64])) -> RunReport {
         let start = Instant::now();
         let ts = self.time_scale();
+        let method = method_of(&run.integrator, ts);
+        let t_end = run.duration / ts;
+        let sys = self.system();
+        let plan = Plan {
+            sys,
+            t_end,
+            sample: run.sample_interval / ts,
+            max_steps: run.integrator.max_steps,
+            land_on_samples: false,
+            layout: &|y: &[f64], z: &mut [f64]| z.copy_from_slice(y),
+            component_mode: &|c| self.component_mode(c),
+        };
+        let st = stepper(sys, &method, 0.0, self.initial_state(), t_end);
+        let out = execute(self, &plan, st, observer);
+        self.report(out, start, self.active_effects(), sys.dim())
+    }
+
+    /// The report of an executed run.
+    pub(crate) fn report(&self, out: super::executor::Outcome, start: Instant, active_effects: Vec<String>, dim: usize) -> RunReport {
         let names = self.state_names();
-        let mut row = vec![0.0; names.len()];
-        let mut max_abs = vec![0.0f64; names.len()];
-        let mut last_t = 0.0;
-        let mut blow: Option<(f64, String)> = None;
-        let method = Method::from_settings(&run.integrator, ts);
-        let mut obs = |t: f64, y: &[f64]| -> Control {
-            self.to_si_into(y, &mut row);
-            last_t = t * ts;
-            for (m, v) in max_abs.iter_mut().zip(&row) {
-                *m = m.max(v.abs());
-            }
-            observer(t * ts, &row);
-            match self.blow_up(y) {
-                Some(mode) => {
-                    blow = Some((t * ts, mode));
-                    Control::Stop
-                }
-                None => Control::Continue,
-            }
-        };
-        let result = solve(
-            self.system(),
-            0.0,
-            self.initial_state(),
-            run.duration / ts,
-            &method,
-            Output::Every(run.sample_interval / ts),
-            run.integrator.max_steps,
-            &mut obs,
-        );
-        let (status, stats) = match result {
-            Ok(sol) => (
-                match blow.take() {
-                    Some((t, mode)) => RunStatus::BlowUp { t, mode },
-                    None => RunStatus::Completed,
-                },
-                sol.stats,
-            ),
-            // A state that turns non-finite between two output samples is, by the definition of
-            // `blow_up::classify`, a blow-up: report it as one (with the mode of the offending
-            // component and the time it went non-finite, an upper bound of the threshold crossing)
-            // rather than as an integrator failure (docs/hard-cases.md).
-            Err(IntegrateError::NonFinite { t, component }) => {
-                (RunStatus::BlowUp { t: t * ts, mode: self.component_mode(component) }, Stats::default())
-            }
-            Err(e) => (RunStatus::Failed { reason: e.to_string() }, Stats::default()),
-        };
         RunReport {
-            status,
-            t_end: last_t,
-            stats,
+            status: out.status,
+            t_end: out.t_last,
+            stats: out.stats,
             wall_seconds: start.elapsed().as_secs_f64(),
-            max_abs: names.iter().cloned().zip(max_abs).collect(),
-            final_state: names.iter().cloned().zip(row.iter().copied()).collect(),
-            active_effects: self.active_effects(),
-            state_dimension: self.system().dim(),
+            max_abs: names.iter().cloned().zip(out.max_abs).collect(),
+            final_state: names.iter().cloned().zip(out.row).collect(),
+            active_effects,
+            state_dimension: dim,
             groups: self.groups(),
         }
     }

@@ -7,11 +7,18 @@
 //! failed run leaves nothing behind.
 
 mod atomic;
+#[macro_use]
+mod console;
 mod csv;
+#[cfg(unix)]
+mod interrupt;
 mod progress;
 
 pub use atomic::{AtomicFile, OutputDir};
+pub use console::{flush_out, write_err, write_out, StdoutError};
 pub use csv::CsvWriter;
+#[cfg(unix)]
+pub use interrupt::clean_up_on_signal;
 pub use progress::Progress;
 
 use std::path::Path;

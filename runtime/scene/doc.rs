@@ -219,6 +219,14 @@ pub fn markdown_reference() -> String {
 }
 
 /// A short human description of a resolved scene (`scene check`).
+/// A choice as the scene file spells it (`"boundary-layer"`, `"radau5"`), not the Rust name.
+fn spelled<T: serde::Serialize>(v: &T) -> String {
+    match serde_json::to_value(v) {
+        Ok(serde_json::Value::String(s)) => s,
+        _ => "?".into(),
+    }
+}
+
 pub fn summary(s: &Scene) -> String {
     let mut o = String::new();
     let i = &s.bubble.initial;
@@ -241,12 +249,12 @@ pub fn summary(s: &Scene) -> String {
     let sh = &s.shell;
     let _ = writeln!(
         o,
-        "shell:     c1 = {} N/m, c2 = {} N/m, eps = {} m, chi = {}, form {:?}",
+        "shell:     c1 = {} N/m, c2 = {} N/m, eps = {} m, chi = {}, form \"{}\"",
         fmt_num(sh.c1),
         fmt_num(sh.c2),
         fmt_num(sh.thickness),
         fmt_num(sh.susceptibility),
-        sh.form
+        spelled(&sh.form)
     );
     let _ = writeln!(
         o,
@@ -296,7 +304,7 @@ pub fn summary(s: &Scene) -> String {
                 "field:     coil, N1 = {}, a = {} m, theta_c = {} rad, {current}{}{}",
                 fmt_num(c.turns),
                 fmt_num(c.distance),
-                fmt_num(c.angle),
+                schema::fmt_sig(c.angle),
                 c.distance_oscillation
                     .as_ref()
                     .map_or(String::new(), |d| format!(
@@ -319,40 +327,41 @@ pub fn summary(s: &Scene) -> String {
     let m = &s.modes;
     let _ = writeln!(
         o,
-        "modes:     k = 2..{} ({} modes), {:?} viscous closure, delta_k frequency {:?}",
+        "modes:     k = 2..{} ({} modes), viscous = \"{}\", boundary_layer_frequency = \"{}\"",
         m.max_order,
         m.count(),
-        m.viscous,
-        m.boundary_layer_frequency
+        spelled(&m.viscous),
+        spelled(&m.boundary_layer_frequency)
     );
     if m.viscous == Viscous::Vorticity {
         let v = &s.vorticity;
         let _ = writeln!(
             o,
-            "vorticity: y_max = {}, {} points, stretching {}, {:?}",
+            "vorticity: y_max = {}, {} points, stretching {}, scheme \"{}\"",
             fmt_num(v.y_max),
             v.points,
             fmt_num(v.stretching),
-            v.scheme
+            spelled(&v.scheme)
         );
     }
     let r = &s.run;
     let it = &r.integrator;
     let _ = writeln!(
         o,
-        "run:       {} s, sampled every {} s ({} rows), blow-up at |a_k|/R0 > {}",
+        "run:       {} s, sampled every {} s ({} rows, about {} of series.csv), blow-up at |a_k|/R0 > {}",
         fmt_num(r.duration),
         fmt_num(r.sample_interval),
-        (r.duration / r.sample_interval).floor() as u64 + 1,
+        super::output_estimate(s).0,
+        super::human_bytes(super::output_estimate(s).1),
         fmt_num(r.blow_up_threshold)
     );
     let _ = writeln!(
         o,
-        "           {:?}, rtol {}, atol {}, dt {} s, max {} steps",
-        it.method,
+        "           method \"{}\", rtol {}, atol {}, dt {} s, max {} steps",
+        spelled(&it.method),
         fmt_num(it.rtol),
         fmt_num(it.atol),
-        fmt_num(it.dt),
+        schema::fmt_sig(it.dt),
         it.max_steps
     );
     o

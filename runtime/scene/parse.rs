@@ -30,13 +30,17 @@ pub fn load_str<S: AsRef<str>>(
     origin: &str,
     overrides: &[S],
 ) -> Result<Scene, SceneError> {
-    let mut table = parse_toml(text, origin)?;
-    let mut issues = Vec::new();
-    for o in overrides {
-        if let Err(issue) = apply_override(&mut table, o.as_ref()) {
-            issues.push(issue);
-        }
-    }
+    Ok(super::SceneTemplate::from_str(text, origin, overrides)?.into_scene())
+}
+
+/// Validates a scene tree (overrides already applied; `issues` found so far, e.g. by `--set`):
+/// the schema walk, serde, then ranges and cross-key rules. The one path from a TOML tree to a
+/// [`Scene`], used by [`load_str`] and by [`super::SceneTemplate`].
+pub(crate) fn validate_table(
+    mut table: Table,
+    origin: &str,
+    mut issues: Vec<Issue>,
+) -> Result<Scene, SceneError> {
     walk(&mut table, "", &mut issues);
     let raw = match RawScene::deserialize(Value::Table(table)) {
         Ok(raw) => Some(raw),
@@ -129,6 +133,14 @@ pub fn apply_override(table: &mut Table, spec: &str) -> Result<(), Issue> {
             "--set: not a TOML value (a number, true/false, \"string\" or inline table { k = v })",
         )
     })?;
+    set_path(table, path, value)
+}
+
+/// Puts `value` at the dotted `path` of the tree (creating the tables on the way); an error
+/// when a parent on the way is a value, not a table (`field.coil.current.amplitude` on a static
+/// `current = 100e3`).
+pub(crate) fn set_path(table: &mut Table, path: &str, value: Value) -> Result<(), Issue> {
+    let shown = value.to_string();
     let segments: Vec<&str> = path.split('.').collect();
     let (last, parents) = segments
         .split_last()
@@ -143,7 +155,7 @@ pub fn apply_override(table: &mut Table, spec: &str) -> Result<(), Issue> {
             other => {
                 return Err(Issue::new(
                     path,
-                    Some(text.to_string()),
+                    Some(shown),
                     format!(
                         "--set: `{}` is a {} in the scene, not a table; set `{}` as a whole",
                         segments[..=i].join("."),

@@ -48,6 +48,13 @@ pub struct RawShell {
     pub thickness: Option<f64>,
     pub susceptibility: Option<f64>,
     pub form: Option<String>,
+    pub law: Option<String>,
+    pub shear_modulus: Option<f64>,
+    pub area_dilatation: Option<f64>,
+    pub bending_modulus: Option<f64>,
+    pub shear_viscosity: Option<f64>,
+    pub dilatational_viscosity: Option<f64>,
+    pub surface_tension: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
@@ -138,6 +145,7 @@ pub struct RawRun {
     pub duration: Option<f64>,
     pub sample_interval: Option<f64>,
     pub blow_up_threshold: Option<f64>,
+    pub max_output_bytes: Option<f64>,
     pub integrator: Option<RawIntegrator>,
 }
 

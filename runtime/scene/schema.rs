@@ -221,6 +221,26 @@ pub static SCHEMA: &[Param] = &[
     p("shell.form", K::Choice(&["paper", "tension"]), "", D::Str("paper"), Rg::None, "eqs 2.26-2.29",
       "Membrane load: `paper` = divergence of the Cauchy stress (the paper's); `tension` = divergence of \
        the tension eps sigma/alpha (FORMULATION sec 2, audit 9)."),
+    p("shell.law", K::Choice(&["mooney-rivlin", "skalak"]), "", D::Str("mooney-rivlin"), Rg::None, "eq 2.24 / Skalak 1973",
+      "Elastic law of the membrane (derivations/shell/): `mooney-rivlin` with c1, c2, or `skalak` with \
+       shear_modulus and area_dilatation (c1 still sets the time scale t*)."),
+    p("shell.shear_modulus", K::Float, "N/m", D::Derived("2 (c1 + c2), the small-strain shear modulus of the Mooney-Rivlin membrane"),
+      Rg::Positive, "G_s", "Skalak shear modulus (shell.law = \"skalak\" only)."),
+    p("shell.area_dilatation", K::Float, "", D::Float(1.0), Rg::NonNegative, "C",
+      "Skalak area-dilatation parameter: small-strain area modulus K = G_s (1 + 2C); C = 1 gives the \
+       Mooney-Rivlin K = 6 (c1 + c2) when G_s = 2 (c1 + c2) (shell.law = \"skalak\" only)."),
+    p("shell.bending_modulus", K::Float, "J", D::Float(0.0), Rg::NonNegative, "k_b",
+      "Helfrich bending stiffness (zero spontaneous curvature): normal load (k-1)k(k+1)(k+2) k_b a_k/R^4 \
+       on each mode, no radial load. 0 = off."),
+    p("shell.shear_viscosity", K::Float, "Pa s m", D::Float(0.0), Rg::NonNegative, "mu_s",
+      "Surface shear viscosity of a Kelvin-Voigt shell. Its loads act on the shape modes only; they are \
+       derived (membrane::viscous) but not wired into the mode equations yet, so a value > 0 is rejected. 0 = off."),
+    p("shell.dilatational_viscosity", K::Float, "kg/s", D::Float(0.0), Rg::NonNegative, "kappa_s",
+      "Surface dilatational viscosity (Marmottant-type): radial load 4 kappa_s (dR/dt)/R^2. Radial runs \
+       only (modes.max_order = 0): its shape-mode loads are derived but not wired yet. 0 = off."),
+    p("shell.surface_tension", K::Float, "N/m", D::Float(0.0), Rg::NonNegative, "gamma",
+      "Isotropic surface tension: 2 gamma/R in the radial balance, Lamb's (k-1)(k+2) gamma/R^2 a_k on \
+       each mode (tension form, derivations/shell/surface_tension.rs). 0 = off."),
     section("gas", D::Present, "Polytropic gas and vapour: p_in = p_v + p_g0 (R0/R)^(3 kappa)."),
     p("gas.polytropic_exponent", K::Float, "", D::Float(1.4), Rg::Positive, "kappa",
       "Polytropic exponent (1 = isothermal, 1.4 = adiabatic air)."),
@@ -301,12 +321,15 @@ pub static SCHEMA: &[Param] = &[
     p("run.duration", K::Float, "s", D::Float(100e-6), Rg::Positive, "", "Simulated time."),
     p("run.sample_interval", K::Float, "s", D::Float(1e-8), Rg::Positive, "",
       "Interval between rows of series.csv (must not exceed run.duration)."),
+    p("run.max_output_bytes", K::Float, "bytes", D::Float(1e9), Rg::Positive, "",
+      "Largest estimated size of series.csv ((duration/sample_interval + 1) rows of max_order + 2 numbers, \
+       24 bytes each); a scene above it is refused before running."),
     p("run.blow_up_threshold", K::Float, "", D::Float(0.5), Rg::Positive, "",
       "The run stops as `blow_up` when max_k |a_k|/R0 or |b_k|/R0 exceeds this (or R leaves (0, inf))."),
     section("run.integrator", D::Present, "The time integrator and its settings."),
-    p("run.integrator.method", K::Choice(&["radau5", "rk4", "dopri5", "dop853"]), "", D::Str("radau5"),
+    p("run.integrator.method", K::Choice(&["radau5", "rk4", "dopri5", "dop853", "rosenbrock23"]), "", D::Str("radau5"),
       Rg::None, "", "`radau5` (implicit Radau IIA, stiff), `rk4` (fixed step, the paper's), `dopri5` / \
-       `dop853` (adaptive explicit Dormand-Prince)."),
+       `dop853` (adaptive explicit Dormand-Prince), `rosenbrock23` (linearly implicit ode23s, order 2)."),
     p("run.integrator.rtol", K::Float, "", D::Float(1e-6),
       Rg::Between { lo: 1e-14, hi: 0.1, lo_incl: true, hi_incl: true }, "",
       "Relative tolerance (adaptive methods)."),
@@ -343,6 +366,25 @@ pub fn fmt_num(x: f64) -> String {
         format!("{x:?}")
     } else {
         format!("{x:e}")
+    }
+}
+
+/// A computed number to 6 significant digits, trailing zeros dropped (`10.1325`, `4.47214e-310`,
+/// `1e14`): for derived quantities, where the last bits of a float are noise.
+pub fn fmt_sig(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x:?}");
+    }
+    let e = x.abs().log10().floor();
+    if (-3.0..6.0).contains(&e) {
+        let decimals = (5.0 - e).max(0.0) as usize;
+        let t = format!("{x:.decimals$}");
+        if t.contains('.') { t.trim_end_matches('0').trim_end_matches('.').to_string() } else { t }
+    } else {
+        let t = format!("{x:.5e}");
+        let (m, exp) = t.split_once('e').expect("exponent form");
+        let m = if m.contains('.') { m.trim_end_matches('0').trim_end_matches('.') } else { m };
+        format!("{m}e{exp}")
     }
 }
 

@@ -65,6 +65,64 @@ pub struct Shell {
     /// χ (dimensionless); χ_s = ε χ [m] enters the loads.
     pub susceptibility: f64,
     pub form: MembraneForm,
+    /// The elastic law (`shell.law`, issue 11). Mooney–Rivlin (c1, c2) by default.
+    #[serde(skip_serializing_if = "ShellLaw::is_mooney_rivlin")]
+    pub law: ShellLaw,
+    /// k_b [J]: Helfrich bending stiffness (0 = off).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub bending_modulus: f64,
+    /// μ_s [Pa s m]: surface shear viscosity (0 = off).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub shear_viscosity: f64,
+    /// κ_s [kg/s]: surface dilatational viscosity (0 = off).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub dilatational_viscosity: f64,
+    /// γ [N/m]: isotropic surface tension (0 = off).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub surface_tension: f64,
+}
+
+impl Shell {
+    /// A Mooney–Rivlin shell with no other shell effect (hand-built scenes, tests).
+    pub fn mooney_rivlin(c1: f64, c2: f64, thickness: f64, susceptibility: f64, form: MembraneForm) -> Self {
+        Shell {
+            c1,
+            c2,
+            thickness,
+            susceptibility,
+            form,
+            law: ShellLaw::MooneyRivlin,
+            bending_modulus: 0.0,
+            shear_viscosity: 0.0,
+            dilatational_viscosity: 0.0,
+            surface_tension: 0.0,
+        }
+    }
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+/// The elastic law of the shell (derivations/shell/, `shell.law`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "name")]
+pub enum ShellLaw {
+    /// Eq 2.24 with `shell.c1`, `shell.c2`.
+    MooneyRivlin,
+    /// Skalak et al. 1973: W = (G_s/4)[I1² + 2I1 − 2I2 + C I2²].
+    Skalak {
+        /// G_s [N/m]
+        shear_modulus: f64,
+        /// C [–]; small strain: K = G_s(1 + 2C).
+        area_dilatation: f64,
+    },
+}
+
+impl ShellLaw {
+    pub fn is_mooney_rivlin(&self) -> bool {
+        matches!(self, ShellLaw::MooneyRivlin)
+    }
 }
 
 impl Shell {
@@ -235,6 +293,8 @@ pub enum Method {
     Dop853,
     /// Radau IIA, 3 stages, order 5, implicit (stiff).
     Radau5,
+    /// Rosenbrock ode23s (Shampine & Reichelt), order 2, linearly implicit (stiff).
+    Rosenbrock23,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -257,4 +317,6 @@ pub struct Run {
     pub integrator: IntegratorSettings,
     /// A run is classified `blow_up` when max_k |a_k|/R0 or |b_k|/R0 exceeds this (or R leaves (0, ∞)).
     pub blow_up_threshold: f64,
+    /// Largest estimated size of series.csv [bytes] (checked by validation, `scene::derived`).
+    pub max_output_bytes: f64,
 }

@@ -14,6 +14,10 @@ impl TryFrom<RawScene> for Scene {
         let mut c = Check::default();
         let scene = build(&mut c, raw);
         if c.issues.is_empty() {
+            // Each key is valid on its own: now what they give together.
+            c.issues = super::derived::check(&scene);
+        }
+        if c.issues.is_empty() {
             Ok(scene)
         } else {
             Err(Issues(c.issues))
@@ -200,9 +204,22 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     };
 
     let rs = raw.shell.unwrap_or_default();
+    let (c1, c2) = (c.float("shell.c1", rs.c1), c.float("shell.c2", rs.c2));
+    let law = match c.choice("shell.law", rs.law.as_deref()) {
+        "skalak" => ShellLaw::Skalak {
+            shear_modulus: c.float_or("shell.shear_modulus", rs.shear_modulus, 2.0 * (c1 + c2)),
+            area_dilatation: c.float("shell.area_dilatation", rs.area_dilatation),
+        },
+        _ => {
+            // range-checked, but unused by the Mooney–Rivlin law (`scene new` writes every key)
+            c.float_or("shell.shear_modulus", rs.shear_modulus, 0.0);
+            c.float("shell.area_dilatation", rs.area_dilatation);
+            ShellLaw::MooneyRivlin
+        }
+    };
     let shell = Shell {
-        c1: c.float("shell.c1", rs.c1),
-        c2: c.float("shell.c2", rs.c2),
+        c1,
+        c2,
         thickness: c.float("shell.thickness", rs.thickness),
         susceptibility: c.float("shell.susceptibility", rs.susceptibility),
         form: match c.choice("shell.form", rs.form.as_deref()) {
@@ -210,6 +227,11 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             "paper" => MembraneForm::Paper,
             other => unreachable!("schema choice {other}"),
         },
+        law,
+        bending_modulus: c.float("shell.bending_modulus", rs.bending_modulus),
+        shear_viscosity: c.float("shell.shear_viscosity", rs.shear_viscosity),
+        dilatational_viscosity: c.float("shell.dilatational_viscosity", rs.dilatational_viscosity),
+        surface_tension: c.float("shell.surface_tension", rs.surface_tension),
     };
 
     let rl = raw.liquid.unwrap_or_default();
@@ -232,8 +254,8 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     let rg = raw.gas.unwrap_or_default();
     let vapour_pressure = c.float("gas.vapour_pressure", rg.vapour_pressure);
     // Equilibrium at rest at R0 (docs/model.md, "Liquid and gas effects"): p_g0 = p0 − p_v
-    // (+ 2γ/R0 + Ŝ0(R0); the membrane prestress is added by the model).
-    let equilibrium = liquid.ambient_pressure - vapour_pressure;
+    // + 2γ/R0 (+ Ŝ0(R0); the membrane prestress is added by the model).
+    let equilibrium = liquid.ambient_pressure - vapour_pressure + 2.0 * shell.surface_tension / r0;
     let gas = Gas {
         polytropic_exponent: c.float("gas.polytropic_exponent", rg.polytropic_exponent),
         reference_pressure: c.float_or("gas.reference_pressure", rg.reference_pressure, equilibrium),
@@ -245,7 +267,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             "gas.vapour_pressure",
             Some(fmt_num(vapour_pressure)),
             format!(
-                "the equilibrium gas pressure p0 - p_v = {} Pa is not positive (lower p_v or give gas.reference_pressure)",
+                "the equilibrium gas pressure p0 - p_v + 2 gamma/R0 = {} Pa is not positive (lower p_v or give gas.reference_pressure)",
                 fmt_num(equilibrium)
             ),
         );
@@ -270,6 +292,23 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     }
     let vorticity = build_vorticity(c, raw.vorticity);
     let run = build_run(c, raw.run, &bubble, &shell, &liquid);
+
+    // Shell viscosity (issue 11 part 3): the shape-mode viscous loads multiply ḃ_k, an output of
+    // the tangential balance, and are derived (membrane::viscous) but not wired yet.
+    for (key, v) in [("shell.shear_viscosity", shell.shear_viscosity), ("shell.dilatational_viscosity", shell.dilatational_viscosity)] {
+        let radial_only = key == "shell.dilatational_viscosity";
+        if v > 0.0 && (!radial_only || modes.max_order > 0) {
+            c.push(
+                key,
+                Some(fmt_num(v)),
+                if radial_only {
+                    "with shape modes (modes.max_order > 0): the shell-viscous shape-mode loads are derived but not wired yet; use it with modes.max_order = 0 (radial: 4 kappa_s (dR/dt)/R^2)"
+                } else {
+                    "the surface shear viscosity acts on the shape modes only, whose viscous loads are derived but not wired yet"
+                },
+            );
+        }
+    }
 
     // Cross-key rules on the initial state.
     for (name, map) in [("a", &bubble.initial.a), ("b", &bubble.initial.b)] {
@@ -399,7 +438,25 @@ fn build_run(
     // t* = sqrt(rho R0^3 / (2 c1)), FORMULATION sec 4.5 (free bubble: R0 sqrt(rho/p0)).
     let t_star = time_scale(liquid, bubble.radius, shell);
     let dt = c.float_or("run.integrator.dt", ri.dt, schema::DT_OVER_TSTAR * t_star);
-    if dt > duration && duration > 0.0 {
+    if ri.dt.is_none() && !(t_star.is_finite() && t_star > 0.0) {
+        // Not the user's run.integrator.dt: the time scale it defaults to (scene::derived says which key).
+    } else if ri.dt.is_none() && dt > duration && duration > 0.0 {
+        // The default step is longer than the run: blame the key that made it so.
+        c.issues.push(super::derived::blame(
+            &[
+                ("run.duration", duration),
+                ("bubble.radius", bubble.radius),
+                ("liquid.density", liquid.density),
+                ("shell.c1", shell.c1),
+            ],
+            format!(
+                "gives the default run.integrator.dt = 1e-3 t* = {} s (t* = sqrt(rho R0^3/(2 c1))), longer than \
+                 run.duration = {} s; set run.integrator.dt",
+                schema::fmt_sig(dt),
+                fmt_num(duration)
+            ),
+        ));
+    } else if dt > duration && duration > 0.0 {
         c.push(
             "run.integrator.dt",
             Some(fmt_num(dt)),
@@ -412,6 +469,7 @@ fn build_run(
             "dopri5" => Method::Dopri5,
             "dop853" => Method::Dop853,
             "radau5" => Method::Radau5,
+            "rosenbrock23" => Method::Rosenbrock23,
             other => unreachable!("schema choice {other}"),
         },
         rtol: c.float("run.integrator.rtol", ri.rtol),
@@ -424,5 +482,6 @@ fn build_run(
         sample_interval,
         integrator,
         blow_up_threshold,
+        max_output_bytes: c.float("run.max_output_bytes", rr.max_output_bytes),
     }
 }

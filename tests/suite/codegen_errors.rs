@@ -2,11 +2,12 @@
 
 use std::path::Path;
 
-/// Run codegen on the fixture kinematics + membrane and one field spec with text `field`.
+/// Run codegen on the fixture kinematics + mechanics + one shell law and one field spec with text `field`.
 fn error_for(field: &str) -> String {
     let dir = tempfile::tempdir().expect("tempdir");
     let spec = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/spec");
-    for f in ["kinematics.rs", "membrane.rs"] {
+    std::fs::create_dir(dir.path().join("shell")).expect("mkdir");
+    for f in ["kinematics.rs", "membrane.rs", "hyperelastic.rs", "shell/neo_hookean.rs"] {
         std::fs::copy(spec.join(f), dir.path().join(f)).expect("copy spec");
     }
     std::fs::write(dir.path().join("bad.rs"), field).expect("write spec");

@@ -3,10 +3,10 @@
 //!   list of disagreeing entries is asserted (a new or a vanished disagreement fails), and
 //!   docs/derivation-notes.md explains each one;
 //! - an independent f64 quadrature of the force on a finitely perturbed surface
-//!   (`field::quadrature`) against the exact generated tables, ≤ 1e-9 relative for k ≤ 32.
+//!   (`tests/suite/support/quadrature.rs`) against the exact generated tables, ≤ 1e-9 relative for k ≤ 32.
 
 use magbubble::field::appendix::{self, PaperField, COUPLINGS};
-use magbubble::field::quadrature::{self, Setting};
+use crate::support::quadrature::{self, Setting};
 
 /// (field, coupling) entries whose printed formula differs from the derivation for some
 /// k = 2…64. Each is explained, with both closed forms, in docs/derivation-notes.md.

@@ -1,12 +1,12 @@
 //! The general-angle coil (issue 7 part 4), end to end: spec derivations/coil_h4.rs → generated
 //! table COIL_H4 → runtime selection (field.coil.include_h4) → scenes/coil_h4.toml → a run and a
 //! stability curve. The table is checked against the paper's coil (its H2² part) and against an
-//! independent f64 quadrature of the Boridy field with H2 and H4 (runtime/field/quadrature_h4.rs).
+//! independent f64 quadrature of the Boridy field with H2 and H4 (tests/suite/support/quadrature_h4.rs).
 
 use magbubble::analysis::bisect::Outcome;
 use magbubble::analysis::stability::{critical_point, Criterion, CriticalOptions, FloquetOptions, SeriesOptions};
 use magbubble::coefficients::{Amp, Component, Load, COIL, COIL_H4};
-use magbubble::field::quadrature_h4::{linear_response, zero_order, H4Component, SettingH4};
+use crate::support::quadrature_h4::{linear_response, zero_order, H4Component, SettingH4};
 use magbubble::field::FieldSource;
 use magbubble::model::{simulate, RunStatus};
 use magbubble::scene::{self, Field, Scene};

@@ -119,13 +119,16 @@ fn drive_just_below_critical_is_bounded_and_just_above_blows_up() {
         }
         other => panic!("above critical: {other:?}"),
     }
-    // Samples too coarse to see the threshold crossing (one per 500 µs): the state turns
-    // non-finite between samples, and that is still classified as a blow-up of a8, not a failure.
+    // Samples too coarse to see the threshold crossing (one per 500 µs): the crossing happens
+    // between samples — with the finite-difference Jacobian the state even turned non-finite
+    // there; with the exact Jacobian (issue 16) Radau5 carries the growing state to the sample —
+    // and either way it is classified as a blow-up of a8 (at the first sample after the
+    // crossing, or where the state went non-finite), not a failure.
     let mut coarse = scene_at(0.35).unwrap();
     coarse.run.sample_interval = 500e-6;
     let (report, _) = run_rows(&coarse);
     match &report.status {
-        RunStatus::BlowUp { t, mode } => assert!(mode == "a8" && *t > 0.0 && *t < 500e-6, "{mode} at {t}"),
+        RunStatus::BlowUp { t, mode } => assert!(mode == "a8" && *t > 0.0 && *t <= 500e-6, "{mode} at {t}"),
         other => panic!("coarse sampling: {other:?}"),
     }
 }

@@ -24,7 +24,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
             radius: R0,
             initial: Initial { radius: R0, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new() },
         },
-        shell: Shell { c1: C1, c2: C2, thickness: 20e-9, susceptibility: 1.0, form: MembraneForm::Paper },
+        shell: Shell::mooney_rivlin(C1, C2, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: KAPPA, reference_pressure: P0, reference_pressure_given: true, vapour_pressure: 0.0 },
         liquid: Liquid { density: RHO, viscosity: ETA, ambient_pressure: P0, sound_speed: None },
         drive: None,
@@ -36,6 +36,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
             sample_interval: sample,
             integrator: IntegratorSettings { method: Method::Rk4, rtol: 1e-8, atol: 1e-12, dt, max_steps: 100_000_000 },
             blow_up_threshold: 0.5,
+            max_output_bytes: 1e9,
         },
     }
 }

@@ -18,7 +18,7 @@ fn scene(amplitude: f64, a2: f64, points: usize) -> Scene {
     }
     Scene {
         bubble: Bubble { radius: r0, initial: Initial { radius: r0, velocity: 0.0, a, a_velocity: BTreeMap::new(), b: BTreeMap::new() } },
-        shell: Shell { c1: 0.1, c2: 0.12, thickness: 20e-9, susceptibility: 1.0, form: MembraneForm::Paper },
+        shell: Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: 1.4, reference_pressure: p0, reference_pressure_given: true, vapour_pressure: 0.0 },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: p0, sound_speed: None },
         drive: Some(Drive { amplitude, frequency_hz: 1e6 }),
@@ -30,6 +30,7 @@ fn scene(amplitude: f64, a2: f64, points: usize) -> Scene {
             sample_interval: 1e-7,
             integrator: IntegratorSettings { method: Method::Radau5, rtol: 1e-6, atol: 1e-9, dt: 2.236e-9, max_steps: 50_000_000 },
             blow_up_threshold: 0.5,
+            max_output_bytes: 1e9,
         },
     }
 }

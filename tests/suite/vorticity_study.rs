@@ -145,7 +145,7 @@ fn mode_nd(k: usize) -> LinearMode {
 #[test]
 #[ignore]
 fn monolithic_timing() {
-    use magbubble::model::vorticity::implicit::{integrate, ImplicitSettings};
+    use magbubble::integrate::{solve, Control, Method, Output};
     use magbubble::model::vorticity::monolithic::Monolithic;
     for pts in [100usize, 200] {
         let g = Grid::new(3.0, pts, 30.0).unwrap();
@@ -156,9 +156,9 @@ fn monolithic_timing() {
         let st = Staggered::new(&c, g.clone(), 1.0).unwrap();
         let init = st.initial_state(0.0, 1.0, 0.0, a0, vec![0.0; 8], vec![0.0; 8]);
         for rtol in [1e-4, 1e-6] {
-            let mut y = sys.pack(&init);
             let t0 = std::time::Instant::now();
-            let stats = integrate(&sys, 0.0, &mut y, 44.72, &ImplicitSettings { rtol, atol: 1e-10, h0: 0.0, max_steps: 1_000_000, output_interval: 0.0 }, |_, _| true).unwrap();
+            let sol = solve(&sys, 0.0, &sys.pack(&init), 44.72, &Method::Radau5 { rtol, atol: 1e-10 }, Output::Steps, 1_000_000, &mut |_, _| Control::Continue).unwrap();
+            let (stats, y) = (sol.stats, sol.y);
             let el = t0.elapsed().as_secs_f64();
             // reference: staggered at small dt
             println!("points {pts} rtol {rtol:e}: {stats:?} in {el:.3} s; a2(end) = {:.6e}", y[2]);

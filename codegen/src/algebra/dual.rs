@@ -2,7 +2,7 @@
 //! amplitudes a_k, b_k. The first-order part carries the amplitude symbols `#a`/`#b`, so
 //! ε² terms are dropped by construction (ε e · ε e' is never formed).
 
-use super::poly::{Mono, Poly};
+use super::poly::{Mono, Poly, VIRTUAL};
 use super::{rat, Rat};
 use num_traits::Signed;
 use std::collections::BTreeMap;
@@ -40,7 +40,8 @@ impl Dual {
     pub fn scale(&self, k: &Rat) -> Dual {
         Dual::new(self.z.scale(k), self.e.scale(k))
     }
-    /// (z + εe)^n = z^n + ε n z^(n−1) e. For n ≤ 0, z must be a single monomial.
+    /// (z + εe)^n = z^n + ε n z^(n−1) e. For n ≤ 0, z must be a single monomial (plus, inside
+    /// `vary`, a first-order virtual part #v·z1).
     pub fn powi(&self, n: i32) -> Result<Dual, String> {
         if n == 0 {
             return Ok(Dual::constant(rat(1)));
@@ -49,13 +50,23 @@ impl Dual {
             if p >= 0 {
                 Ok(self.z.powi(p as u32))
             } else {
-                let (m, c) = self.monomial("raise to a negative power")?;
-                Ok(Poly::term(m.pow(p), rat_pow(&c, p)))
+                self.neg_power(p)
             }
         };
         let zn = zp(n)?;
         let e = if self.e.is_zero() { Poly::zero() } else { zp(n - 1)?.mul(&self.e).scale(&rat(n as i64)) };
         Ok(Dual::new(zn, e))
+    }
+    /// z^p for p < 0: (m + #v z1)^p = m^p + #v p m^(p−1) z1.
+    fn neg_power(&self, p: i32) -> Result<Poly, String> {
+        let (z0, z1) = self.z.split_virtual();
+        let (m, c) = Dual::zero_order(z0).monomial("raise to a negative power")?;
+        let base = Poly::term(m.pow(p), rat_pow(&c, p));
+        if z1.is_zero() {
+            return Ok(base);
+        }
+        let prev = Poly::term(m.pow(p - 1), rat_pow(&c, p - 1)).scale(&rat(p as i64));
+        Ok(base.add(&prev.mul(&z1).mul(&Poly::var(VIRTUAL))))
     }
     fn monomial(&self, what: &str) -> Result<(Mono, Rat), String> {
         match self.z.single() {
@@ -73,9 +84,11 @@ impl Dual {
     pub fn div(&self, o: &Dual) -> Result<Dual, String> {
         Ok(self.mul(&o.inv()?))
     }
-    /// √(z + εe) = √z + ε e/(2√z); z must be a monomial with even powers and a square coefficient.
+    /// √(z + εe) = √z + ε e/(2√z); z must be a monomial with even powers and a square coefficient
+    /// (plus, inside `vary`, a virtual part: √(m + #v z1) = √m + #v z1/(2√m)).
     pub fn sqrt(&self) -> Result<Dual, String> {
-        let (m, c) = self.monomial("take the square root")?;
+        let (z0, z1) = self.z.split_virtual();
+        let (m, c) = Dual::zero_order(z0).monomial("take the square root")?;
         let bad = || format!("cannot take the square root of `{}`: not an exact square", m.text());
         if m.0.iter().any(|(_, p)| p % 2 != 0) || c.is_negative() {
             return Err(bad());
@@ -84,9 +97,18 @@ impl Dual {
         if &(&n * &n) != c.numer() || &(&d * &d) != c.denom() {
             return Err(bad());
         }
-        let root = Poly::term(Mono(m.0.iter().map(|(s, p)| (s.clone(), p / 2)).collect()), Rat::new(n, d));
+        let root0 = Poly::term(Mono(m.0.iter().map(|(s, p)| (s.clone(), p / 2)).collect()), Rat::new(n, d));
+        let half_inv0 = Dual::zero_order(root0.clone()).inv()?.z.scale(&super::ratio(1, 2));
+        let root = root0.add(&z1.mul(&half_inv0).mul(&Poly::var(VIRTUAL)));
         let inv2 = Dual::zero_order(root.clone()).inv()?.scale(&super::ratio(1, 2));
         Ok(Dual::new(root, self.e.mul(&inv2.z)))
+    }
+    /// Time derivative at fixed Θ: R → Ṙ (`Rd`), a_k → ȧ_k (`#ad`), b_k → ḃ_k (`#bd`); every
+    /// other symbol is constant. ε-parts stay first order (ȧ, ḃ and Ṙ·a, Ṙ·b).
+    pub fn rate(&self) -> Dual {
+        let rd = Poly::var(RATE_R);
+        let e = self.e.diff("R").mul(&rd).add(&self.e.diff("#a").mul(&Poly::var("#ad"))).add(&self.e.diff("#b").mul(&Poly::var("#bd")));
+        Dual::new(self.z.diff("R").mul(&rd), e)
     }
     /// ∂/∂name of both parts (name is a plain symbol).
     pub fn diff(&self, name: &str) -> Dual {
@@ -105,6 +127,19 @@ impl Dual {
     }
 }
 
+
+/// The symbol of Ṙ in loads that depend on rates (emitted as the argument `rd`).
+pub const RATE_R: &str = "Rd";
+
+/// Name of the i-th Θ-derivative of the test function of `vary`.
+pub fn jet(i: u32) -> String {
+    format!("#h{i}")
+}
+
+/// Derivative order of a test-function symbol.
+pub fn jet_order(name: &str) -> Option<u32> {
+    name.strip_prefix("#h").and_then(|d| d.parse().ok())
+}
 
 /// Name of the mode-shape marker for the i-th x-derivative of P_k.
 pub fn marker(i: u32) -> String {
@@ -126,6 +161,13 @@ fn d_theta(p: &Poly) -> Poly {
     for i in markers {
         let next = Poly::var(&marker(i + 1)).mul(&s).neg();
         r = r.add(&p.diff(&marker(i)).mul(&next));
+    }
+    // the test function of `vary`: d η^(i)/dΘ = η^(i+1)
+    let mut jets: Vec<u32> = p.terms.keys().flat_map(|m| m.0.iter().filter_map(|(n, _)| jet_order(n))).collect();
+    jets.sort();
+    jets.dedup();
+    for i in jets {
+        r = r.add(&p.diff(&jet(i)).mul(&Poly::var(&jet(i + 1))));
     }
     r
 }

@@ -3,12 +3,17 @@
 //! Symbols are names. Internal symbols start with `#` (never a spec identifier):
 //! `#x` = cos Θ, `#s` = sin Θ (material angle); `#r`, `#ct`, `#st` = r, cos θ, sin θ (field
 //! point); `#P0`, `#P1`, … = the i-th x-derivative of P_k(x) (mode-shape markers); `#a`, `#b` =
-//! the amplitudes a_k, b_k. Canonical form: for each trigonometric pair (c, s) the exponent of c
+//! the amplitudes a_k, b_k; `#ad`, `#bd` = their rates ȧ_k, ḃ_k; `#v` = the virtual variation of
+//! `vary` (terms of order #v² are dropped), `#h0`, `#h1`, … = its test function η and η', η'', ….
+//! Canonical form: for each trigonometric pair (c, s) the exponent of c
 //! is 0 or 1 (c² is rewritten as 1 − s²); s may carry any integer power.
 
 use super::{rat, Rat};
 use num_traits::{One, Zero};
 use std::collections::BTreeMap;
+
+/// The infinitesimal of a first variation (`vary`): kept to first order.
+pub const VIRTUAL: &str = "#v";
 
 /// Trigonometric pairs (cos, sin) reduced with cos² = 1 − sin².
 pub const TRIG_PAIRS: [(&str, &str); 2] = [("#x", "#s"), ("#ct", "#st")];
@@ -133,7 +138,10 @@ impl Poly {
     pub fn mul_mono(&self, m: &Mono, c: &Rat) -> Poly {
         let mut r = Poly::zero();
         for (tm, tc) in &self.terms {
-            r.add_term(tm.mul(m), tc * c);
+            let p = tm.mul(m);
+            if p.power(VIRTUAL) < 2 {
+                r.add_term(p, tc * c);
+            }
         }
         r.normalize()
     }
@@ -141,7 +149,11 @@ impl Poly {
         let mut r = Poly::zero();
         for (m1, c1) in &self.terms {
             for (m2, c2) in &o.terms {
-                r.add_term(m1.mul(m2), c1 * c2);
+                let m = m1.mul(m2);
+                // first order in the virtual variation of `vary`
+                if m.power(VIRTUAL) < 2 {
+                    r.add_term(m, c1 * c2);
+                }
             }
         }
         r.normalize()
@@ -195,5 +207,20 @@ impl Poly {
             self = r;
         }
         self
+    }
+}
+
+impl Poly {
+    /// (p0, p1) with self = p0 + #v·p1 (first order in the virtual variation).
+    pub fn split_virtual(&self) -> (Poly, Poly) {
+        let mut p0 = Poly::zero();
+        let mut p1 = Poly::zero();
+        for (m, c) in &self.terms {
+            match m.power(VIRTUAL) {
+                0 => p0.add_term(m.clone(), c.clone()),
+                _ => p1.add_term(m.with(VIRTUAL, 0), c.clone()),
+            }
+        }
+        (p0, p1)
     }
 }

@@ -1,12 +1,13 @@
 //! Interpreter of a validated spec over exact dual numbers.
 
-use crate::algebra::dual::marker;
+use crate::algebra::dual::{jet, jet_order, marker};
+use crate::algebra::poly::VIRTUAL;
 use crate::algebra::{rat, Dual, Poly};
 use crate::error::CodegenError;
 use crate::spec::ast::{BinOp, Expr, ExprKind, Pos, Spec};
 use crate::spec::parse::err;
 use crate::spec::validate::int_literal;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// A spec value.
 #[derive(Clone, Debug)]
@@ -26,6 +27,8 @@ pub enum Value {
 pub struct Env {
     pub values: BTreeMap<String, Value>,
     asts: BTreeMap<String, Expr>,
+    /// Names defined by `let`, in evaluation order (across specs): `vary` re-evaluates them.
+    order: Vec<String>,
 }
 
 impl Env {
@@ -40,6 +43,10 @@ impl Env {
             Some(Value::Scalar(d)) => Ok(d.clone()),
             _ => Err(err(&spec.path, pos, format!("expected `{name}` to be a scalar quantity"))),
         }
+    }
+    /// Every name defined by a `let` so far, in evaluation order.
+    pub fn defined(&self) -> &[String] {
+        &self.order
     }
     pub fn names(&self, name: &str) -> Vec<String> {
         match self.values.get(name) {
@@ -89,6 +96,8 @@ pub fn eval_spec(spec: &Spec, mut env: Env) -> Result<Env, CodegenError> {
             _ => eval(spec, &env, &l.value)?,
         };
         env.asts.insert(l.name.clone(), l.value.clone());
+        env.order.retain(|n| n != &l.name);
+        env.order.push(l.name.clone());
         env.bind(&l.name, v);
     }
     Ok(env)
@@ -160,6 +169,8 @@ pub fn eval(spec: &Spec, env: &Env, e: &Expr) -> Result<Value, CodegenError> {
                 v => Ok(Value::Scalar(scalar(spec, v, args[0].pos)?.d_theta())),
             },
             "diff" => diff(spec, env, &args[0], &args[1]),
+            "vary" => vary(spec, env, &args[0], &args[1]),
+            "rate" => Ok(Value::Scalar(scalar(spec, eval(spec, env, &args[0])?, args[0].pos)?.rate())),
             _ => Err(err(path, e.pos, format!("unsupported function `{f}`"))),
         },
     }
@@ -186,13 +197,121 @@ fn diff(spec: &Spec, env: &Env, f: &Expr, v: &Expr) -> Result<Value, CodegenErro
     let (ExprKind::Name(fname), ExprKind::Name(vname)) = (&f.kind, &v.kind) else {
         return Err(err(path, f.pos, "expected `diff(name, variable)`"));
     };
-    let ast = env.asts.get(fname).ok_or_else(|| err(path, f.pos, format!("`{fname}` is not defined by a `let` in this spec")))?;
+    if !env.asts.contains_key(fname) {
+        return Err(err(path, f.pos, format!("`{fname}` is not defined by a `let` in this spec")));
+    }
     let value = scalar(spec, env.values.get(vname).cloned().unwrap_or(Value::Mode), v.pos)?;
     let mut local = env.clone();
     let free = "#free";
     local.bind(vname, Value::Scalar(Dual::zero_order(Poly::var(free))));
-    let expr = scalar(spec, eval(spec, &local, ast)?, f.pos)?;
+    for name in env.chain(vname, fname) {
+        let val = eval(spec, &local, &env.asts[&name])?;
+        local.bind(&name, val);
+    }
+    let expr = scalar(spec, local.values[fname.as_str()].clone(), f.pos)?;
     let derivative = expr.diff(free);
     let map = BTreeMap::from([(free.to_string(), value)]);
     derivative.subst(&map).map(Value::Scalar).map_err(|m| err(path, f.pos, m))
+}
+
+/// Names a spec expression refers to.
+fn refs(e: &Expr, out: &mut BTreeSet<String>) {
+    match &e.kind {
+        ExprKind::Num(_) => {}
+        ExprKind::Name(n) => {
+            out.insert(n.clone());
+        }
+        ExprKind::Neg(x) => refs(x, out),
+        ExprKind::Bin(_, a, b) => {
+            refs(a, out);
+            refs(b, out);
+        }
+        ExprKind::Call(_, args) | ExprKind::List(args) => args.iter().for_each(|a| refs(a, out)),
+        ExprKind::Method(r, _, args) => {
+            refs(r, out);
+            args.iter().for_each(|a| refs(a, out));
+        }
+    }
+}
+
+impl Env {
+    /// The `let`s after `var` up to and including `target` that depend on `var` and that
+    /// `target` depends on, in evaluation order: what `diff` and `vary` re-evaluate, so that a
+    /// derivative goes through intermediate definitions (W of I1(λ1, λ2), …).
+    fn chain(&self, var: &str, target: &str) -> Vec<String> {
+        let (Some(iv), Some(it)) = (self.order.iter().position(|n| n == var), self.order.iter().position(|n| n == target)) else {
+            return Vec::new();
+        };
+        if it <= iv {
+            return Vec::new();
+        }
+        let span = &self.order[iv + 1..=it];
+        let uses = |n: &String| {
+            let mut r = BTreeSet::new();
+            refs(&self.asts[n], &mut r);
+            r
+        };
+        let mut affected: BTreeSet<String> = BTreeSet::from([var.to_string()]);
+        for n in span {
+            if uses(n).iter().any(|r| affected.contains(r)) {
+                affected.insert(n.clone());
+            }
+        }
+        let mut needed: BTreeSet<String> = BTreeSet::from([target.to_string()]);
+        for n in span.iter().rev() {
+            if needed.contains(n) {
+                needed.extend(uses(n));
+            }
+        }
+        span.iter().filter(|n| affected.contains(*n) && needed.contains(*n) && !matches!(self.asts[*n].kind, ExprKind::List(_))).cloned().collect()
+    }
+}
+
+/// `vary(L, q)`: the Euler–Lagrange expression ∂L/∂q − d/dΘ ∂L/∂q' + d²/dΘ² ∂L/∂q'' − … of the
+/// density L (per dΘ) under a variation q → q + δ·η(Θ) of the earlier definition q. Every `let`
+/// between q and L on which L depends through q is re-evaluated with q varied (d(·, Theta) of η gives η', η'', …); the part of L
+/// linear in δ is Σ_i c_i η^(i), and the result is Σ_i (−d/dΘ)^i c_i (integration by parts; no
+/// boundary terms on the closed meridian 0 ≤ Θ ≤ π, where sin Θ vanishes).
+fn vary(spec: &Spec, env: &Env, f: &Expr, q: &Expr) -> Result<Value, CodegenError> {
+    let path = spec.path.as_str();
+    let (ExprKind::Name(fname), ExprKind::Name(qname)) = (&f.kind, &q.kind) else {
+        return Err(err(path, f.pos, "expected `vary(density, variable)` with two defined names"));
+    };
+    let at = |n: &str| env.order.iter().position(|o| o == n);
+    let (Some(iq), Some(il)) = (at(qname), at(fname)) else {
+        return Err(err(path, f.pos, format!("`vary({fname}, {qname})`: both must be defined by a `let`")));
+    };
+    if il <= iq {
+        return Err(err(path, f.pos, format!("`vary({fname}, {qname})`: `{fname}` must be defined after `{qname}`")));
+    }
+    let base = scalar(spec, env.values.get(qname).cloned().unwrap_or(Value::Mode), q.pos)?;
+    if base.z.has(VIRTUAL) || base.e.has(VIRTUAL) {
+        return Err(err(path, f.pos, "nested `vary` is not supported"));
+    }
+    let mut local = env.clone();
+    let delta = Poly::var(VIRTUAL).mul(&Poly::var(&jet(0)));
+    local.bind(qname, Value::Scalar(base.add(&Dual::zero_order(delta))));
+    for name in env.chain(qname, fname) {
+        let v = eval(spec, &local, &env.asts[&name])?;
+        local.bind(&name, v);
+    }
+    let first = scalar(spec, local.values[fname].clone(), f.pos)?.diff(VIRTUAL);
+    let mut orders: Vec<u32> = [&first.z, &first.e]
+        .iter()
+        .flat_map(|p| p.terms.keys().flat_map(|m| m.0.iter().filter_map(|(n, _)| jet_order(n))).collect::<Vec<_>>())
+        .collect();
+    orders.sort();
+    orders.dedup();
+    let mut out = Dual::default();
+    for i in orders {
+        let mut c = first.diff(&jet(i));
+        if c.z.terms.keys().chain(c.e.terms.keys()).any(|m| m.0.iter().any(|(n, _)| jet_order(n).is_some())) {
+            return Err(err(path, f.pos, format!("`vary({fname}, {qname})`: the density is not linear in the variation")));
+        }
+        for _ in 0..i {
+            c = c.d_theta();
+        }
+        out = if i % 2 == 0 { out.add(&c) } else { out.sub(&c) };
+    }
+    Ok(Value::Scalar(out))
 }

@@ -15,12 +15,17 @@ pub enum Load {
     Tangential,
 }
 
-/// Which amplitude a first-order term multiplies.
+/// Which amplitude a first-order term multiplies: a_k, b_k, or their rates ȧ_k, ḃ_k (viscous laws).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Amp {
     A,
     B,
+    Ad,
+    Bd,
 }
+
+/// The amplitude symbols of the engine, with their [`Amp`].
+pub const AMPLITUDES: [(&str, Amp); 4] = [("#a", Amp::A), ("#b", Amp::B), ("#ad", Amp::Ad), ("#bd", Amp::Bd)];
 
 /// Projections keyed by (amplitude or None for zero order, the remaining symbolic monomial);
 /// the series holds the coefficient on P_j (normal) or P^1_j (tangential) at index j.
@@ -37,11 +42,10 @@ struct Piece {
 pub fn project(p: &Poly, load: Load, k: usize, basis: &mut Basis) -> Result<Projected, String> {
     let mut groups: BTreeMap<(Option<Amp>, Mono), Vec<Piece>> = BTreeMap::new();
     for (m, c) in &p.terms {
-        let (a, b) = (m.power("#a"), m.power("#b"));
-        let amp = match (a, b) {
-            (0, 0) => None,
-            (1, 0) => Some(Amp::A),
-            (0, 1) => Some(Amp::B),
+        let powers: Vec<(i32, Amp)> = AMPLITUDES.iter().map(|(n, a)| (m.power(n), *a)).filter(|(p, _)| *p != 0).collect();
+        let amp = match powers.as_slice() {
+            [] => None,
+            [(1, a)] => Some(*a),
             _ => return Err(format!("term `{}` is not linear in the amplitudes", m.text())),
         };
         let markers: Vec<(u32, i32)> = m.0.iter().filter_map(|(n, pw)| marker_order(n).map(|i| (i, *pw))).collect();
@@ -52,10 +56,13 @@ pub fn project(p: &Poly, load: Load, k: usize, basis: &mut Basis) -> Result<Proj
             (_, None) => return Err("a mode shape P(k)/P1(k) appears without an amplitude a_k/b_k".into()),
             _ => return Err(format!("term `{}` is not linear in the mode shape", m.text())),
         };
-        for bad in ["#r", "#ct", "#st", "#free"] {
+        for bad in ["#r", "#ct", "#st", "#free", "#v"] {
             if m.power(bad) != 0 {
                 return Err(format!("internal variable {bad} left in a load"));
             }
+        }
+        if m.0.iter().any(|(n, _)| crate::algebra::dual::jet_order(n).is_some()) {
+            return Err("the test function of `vary` left in a load".into());
         }
         let x = m.power("#x");
         if x < 0 {

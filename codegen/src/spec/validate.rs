@@ -14,8 +14,14 @@ pub enum SpecKind {
     Kinematics,
     /// A magnetic field (`coil.rs`, `dipole.rs`, …).
     Field,
-    /// `membrane.rs`: eqs (2.24)–(2.28).
+    /// `membrane.rs`: the membrane equilibrium, σ → loads (eqs 2.26–2.28, FORMULATION §1–2).
     Membrane,
+    /// `hyperelastic.rs`: the stresses of a strain energy W (eq 2.25).
+    Hyperelastic,
+    /// `shape.rs`: the loads of an energy per deformed area that depends on the shape only.
+    Shape,
+    /// A shell law `shell/NAME.rs`: `symbols` and one of `W`, (`sigma1`, `sigma2`) or `w_area`.
+    Law,
 }
 
 /// Built-in names of the kinematics spec.
@@ -25,9 +31,16 @@ pub const KINEMATIC_REQUIRED: [&str; 9] = ["r", "theta", "lambda1", "lambda2", "
 /// Built-in names of a field spec (the field point).
 pub const FIELD_BUILTINS: [&str; 3] = ["r", "cos_t", "sin_t"];
 pub const FIELD_REQUIRED: [&str; 6] = ["symbols", "amplitudes", "h_r", "h_theta", "susceptibility", "unit"];
-pub const MEMBRANE_REQUIRED: [&str; 5] = ["symbols", "paper_n", "paper_t", "tension_n", "tension_t"];
+pub const MEMBRANE_REQUIRED: [&str; 4] = ["paper_n", "paper_t", "tension_n", "tension_t"];
+pub const HYPERELASTIC_REQUIRED: [&str; 2] = ["sigma1", "sigma2"];
+pub const LAW_REQUIRED: [&str; 1] = ["symbols"];
+/// What a shell law may define to say what it is (exactly one).
+pub const LAW_KINDS: [&str; 3] = ["W", "sigma1", "w_area"];
 
-const FUNCTIONS: [(&str, usize); 7] = [("sqrt", 1), ("sin", 1), ("cos", 1), ("d", 2), ("diff", 2), ("P", 1), ("P1", 1)];
+const FUNCTIONS: [(&str, usize); 9] =
+    [("sqrt", 1), ("sin", 1), ("cos", 1), ("d", 2), ("diff", 2), ("P", 1), ("P1", 1), ("vary", 2), ("rate", 1)];
+/// Functions of the shell specs only (a field is static and has no variation).
+const SHELL_FUNCTIONS: [&str; 2] = ["vary", "rate"];
 
 /// Check `spec`; `outer` are names visible from another spec (the kinematics, for the membrane).
 pub fn validate(spec: &Spec, kind: SpecKind, outer: &[String]) -> Result<(), CodegenError> {
@@ -36,7 +49,7 @@ pub fn validate(spec: &Spec, kind: SpecKind, outer: &[String]) -> Result<(), Cod
     let builtins: Vec<&str> = match kind {
         SpecKind::Kinematics => KINEMATIC_BUILTINS.to_vec(),
         SpecKind::Field => FIELD_BUILTINS.to_vec(),
-        SpecKind::Membrane => KINEMATIC_BUILTINS.to_vec(),
+        _ => KINEMATIC_BUILTINS.to_vec(),
     };
     known.extend(builtins.iter().map(|s| s.to_string()));
     known.extend(outer.iter().cloned());
@@ -68,18 +81,34 @@ pub fn validate(spec: &Spec, kind: SpecKind, outer: &[String]) -> Result<(), Cod
             // the tabulation unit: a plain number
             check_number(path, &l.value)?;
         }
-        check(path, &l.value, &known, &builtin_list)?;
+        check(path, &l.value, &known, &builtin_list, kind != SpecKind::Field)?;
         known.insert(l.name.clone());
     }
     let required: &[&str] = match kind {
         SpecKind::Kinematics => &KINEMATIC_REQUIRED,
         SpecKind::Field => &FIELD_REQUIRED,
-        SpecKind::Membrane => &MEMBRANE_REQUIRED,
+        SpecKind::Membrane | SpecKind::Shape => &MEMBRANE_REQUIRED,
+        SpecKind::Hyperelastic => &HYPERELASTIC_REQUIRED,
+        SpecKind::Law => &LAW_REQUIRED,
     };
     for r in required {
         if spec.get(r).is_none() {
             let end = super::Pos { line: 1, column: 1 };
             return Err(err(path, end, format!("missing `let {r} = …;` (required in a {} spec)", format!("{kind:?}").to_lowercase())));
+        }
+    }
+    if kind == SpecKind::Law {
+        let defined: Vec<&str> = LAW_KINDS.iter().copied().filter(|n| spec.get(n).is_some()).collect();
+        if defined.len() != 1 {
+            let p = defined.get(1).and_then(|n| spec.get(n)).map_or(super::Pos { line: 1, column: 1 }, |l| l.pos);
+            return Err(err(
+                path,
+                p,
+                "a shell law defines exactly one of `W` (strain energy per reference area), `sigma1` and `sigma2` (stresses σ_i = λ1λ2 τ_i), or `w_area` (energy per deformed area of the shape)",
+            ));
+        }
+        if spec.get("sigma1").is_some() != spec.get("sigma2").is_some() {
+            return Err(err(path, super::Pos { line: 1, column: 1 }, "a shell law that defines `sigma1` must define `sigma2` too"));
         }
     }
     Ok(())
@@ -94,7 +123,7 @@ fn check_number(path: &str, e: &Expr) -> Result<(), CodegenError> {
     }
 }
 
-fn check(path: &str, e: &Expr, known: &BTreeSet<String>, builtins: &str) -> Result<(), CodegenError> {
+fn check(path: &str, e: &Expr, known: &BTreeSet<String>, builtins: &str, shell: bool) -> Result<(), CodegenError> {
     match &e.kind {
         ExprKind::Num(_) => Ok(()),
         ExprKind::Name(n) => {
@@ -108,7 +137,7 @@ fn check(path: &str, e: &Expr, known: &BTreeSet<String>, builtins: &str) -> Resu
                 ))
             }
         }
-        ExprKind::Neg(x) => check(path, x, known, builtins),
+        ExprKind::Neg(x) => check(path, x, known, builtins, shell),
         ExprKind::Bin(op, a, b) => {
             if *op == super::ast::BinOp::Div {
                 if let ExprKind::Num(z) = &b.kind {
@@ -117,14 +146,17 @@ fn check(path: &str, e: &Expr, known: &BTreeSet<String>, builtins: &str) -> Resu
                     }
                 }
             }
-            check(path, a, known, builtins)?;
-            check(path, b, known, builtins)
+            check(path, a, known, builtins, shell)?;
+            check(path, b, known, builtins, shell)
         }
         ExprKind::List(_) => Err(err(path, e.pos, "unsupported construct: a list is only allowed for `symbols` and `amplitudes`")),
         ExprKind::Call(f, args) => {
             let Some((_, arity)) = FUNCTIONS.iter().find(|(n, _)| n == f) else {
-                return Err(err(path, e.pos, format!("unsupported function `{f}`: expected one of sqrt, sin, cos, d, diff, P, P1")));
+                return Err(err(path, e.pos, format!("unsupported function `{f}`: expected one of sqrt, sin, cos, d, diff, P, P1, vary, rate")));
             };
+            if !shell && SHELL_FUNCTIONS.contains(&f.as_str()) {
+                return Err(err(path, e.pos, format!("`{f}` is only available in shell specs (derivations/shell/, membrane.rs)")));
+            }
             if args.len() != *arity {
                 return Err(err(path, e.pos, format!("`{f}` takes {arity} argument(s), found {}", args.len())));
             }
@@ -138,9 +170,9 @@ fn check(path: &str, e: &Expr, known: &BTreeSet<String>, builtins: &str) -> Resu
                         ExprKind::Name(t) if t == "Theta" => {}
                         _ => return Err(err(path, args[1].pos, "expected `Theta`: only d(…, Theta) is supported")),
                     }
-                    check(path, &args[0], known, builtins)
+                    check(path, &args[0], known, builtins, shell)
                 }
-                "diff" => {
+                "diff" | "vary" => {
                     for a in args {
                         match &a.kind {
                             ExprKind::Name(n) if known.contains(n) => {}
@@ -149,11 +181,11 @@ fn check(path: &str, e: &Expr, known: &BTreeSet<String>, builtins: &str) -> Resu
                     }
                     Ok(())
                 }
-                _ => args.iter().try_for_each(|a| check(path, a, known, builtins)),
+                _ => args.iter().try_for_each(|a| check(path, a, known, builtins, shell)),
             }
         }
         ExprKind::Method(recv, m, args) => {
-            check(path, recv, known, builtins)?;
+            check(path, recv, known, builtins, shell)?;
             match (m.as_str(), args.as_slice()) {
                 ("powi", [a]) => match int_literal(a) {
                     Some(_) => Ok(()),

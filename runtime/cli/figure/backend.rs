@@ -9,7 +9,7 @@ use crate::analysis::stability::{
 };
 use crate::model::{simulate, RunStatus};
 use crate::plot::paper::{Analyzer, CriticalRow, ModeRow, RunOutput, Simulator, Sweep};
-use crate::scene::{self, Scene};
+use crate::scene::{self, Scene, SceneTemplate};
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::Instant;
@@ -63,13 +63,13 @@ pub struct ModelAnalyzer {
 impl ModelAnalyzer {
     /// The scene with the quick overrides first and the family's after (so a family's own
     /// `modes.max_order`, fig 5, wins).
-    fn load(&self, path: &Path, overrides: &[String]) -> Result<Scene, String> {
+    fn load(&self, path: &Path, overrides: &[String]) -> Result<SceneTemplate, String> {
         let mut all: Vec<String> = Vec::new();
         if self.quick && !overrides.iter().any(|o| o.starts_with("modes.max_order")) {
             all.extend(QUICK_STABILITY.iter().map(|s| s.to_string()));
         }
         all.extend(overrides.iter().cloned());
-        scene::load(path, &all).map_err(|e| e.to_string())
+        SceneTemplate::load(path, &all).map_err(|e| e.to_string())
     }
 
     fn floquet_options(&self) -> FloquetOptions {
@@ -81,8 +81,6 @@ impl ModelAnalyzer {
         o
     }
 }
-
-use crate::cli::stability::set_fast;
 
 /// `a12` → 12.
 fn mode_number(mode: &str) -> Option<usize> {
@@ -96,8 +94,8 @@ impl Analyzer for ModelAnalyzer {
         overrides: &[String],
         kmax: usize,
     ) -> Result<(Vec<ModeRow>, f64), String> {
-        let scene = self.load(path, overrides)?;
-        let f = natural_frequencies(&scene, kmax).map_err(|e| e.to_string())?;
+        let template = self.load(path, overrides)?;
+        let f = natural_frequencies(template.scene(), kmax).map_err(|e| e.to_string())?;
         let rows = f
             .shape
             .iter()
@@ -129,14 +127,8 @@ impl Analyzer for ModelAnalyzer {
         };
         let one = |&f: &f64| -> Result<CriticalRow, String> {
             let at = |p: f64| -> Result<Scene, StabilityError> {
-                let mut s = base.clone();
-                if set_fast(&mut s, sweep.freq_key, f) && set_fast(&mut s, sweep.vary, p) {
-                    return Ok(s);
-                }
-                let mut all = overrides.to_vec();
-                all.push(format!("{}={f:e}", sweep.freq_key));
-                all.push(format!("{}={p:e}", sweep.vary));
-                self.load(path, &all).map_err(StabilityError::Scene)
+                base.with(&[(sweep.freq_key, f), (sweep.vary, p)])
+                    .map_err(|e| StabilityError::Scene(e.to_string()))
             };
             let c = critical_point(&at, &opts)
                 .map_err(|e| format!("at {} = {f:e} Hz: {e}", sweep.freq_key))?;
@@ -163,12 +155,7 @@ impl Analyzer for ModelAnalyzer {
         freqs_hz
             .par_iter()
             .map(|&f| {
-                let mut s = base.clone();
-                if !set_fast(&mut s, freq_key, f) {
-                    let mut all = overrides.to_vec();
-                    all.push(format!("{freq_key}={f:e}"));
-                    s = self.load(path, &all)?;
-                }
+                let s = base.with(&[(freq_key, f)]).map_err(|e| e.to_string())?;
                 // No periodic orbit (collapse, blow-up) is drawn as a gap, not an error.
                 Ok(floquet(&s, &opts).map_or(f64::NAN, |r| r.max_multiplier))
             })

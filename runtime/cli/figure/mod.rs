@@ -30,7 +30,7 @@ pub struct FigureArgs {
 pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
     if args.figure == "list" {
         for f in paper::FIGURES {
-            println!("{:>2}  {:<32} {}", f.number, f.scene, f.shows);
+            outln!("{:>2}  {:<32} {}", f.number, f.scene, f.shows);
         }
         return Ok(());
     }
@@ -49,17 +49,17 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
     let mut done = Vec::new();
     let mut failed = Vec::new();
     for fig in figures {
-        eprintln!("figure {}: {}", fig.number, fig.shows);
+        noteln!("figure {}: {}", fig.number, fig.shows);
         match make(fig, &scenes, &args.out, args.quick) {
             Ok(report) => {
-                eprintln!("figure {}: done in {:.2} s", fig.number, report.seconds);
+                noteln!("figure {}: done in {:.2} s", fig.number, report.seconds);
                 for (label, status, wall) in &report.runs {
-                    eprintln!("  {label}: {status} ({wall:.2} s)");
+                    noteln!("  {label}: {status} ({wall:.2} s)");
                 }
                 done.push(report);
             }
             Err(e) => {
-                eprintln!("{e}");
+                noteln!("{e}");
                 failed.push((fig.number, e));
             }
         }

@@ -10,6 +10,7 @@
 //!        + kρṘJ/R − 2ηk(k+1)Ĩ/R + G_n]                                              (N, 2.64 × (k+1)/(ρR), audit 5)
 
 use super::ModeCoupling;
+use nalgebra::DMatrix;
 
 /// Everything the mode equations need at one instant, for all M modes (index m ↔ k = orders[m]).
 pub struct ModeInputs<'a> {
@@ -92,6 +93,55 @@ pub fn mode_rates(orders: &[usize], rho: f64, eta: f64, x: &ModeInputs<'_>, out:
     }
 }
 
+/// The exact ∂(f_z, T_w)/∂z ((nz + M) × nz) and ∂(f_z, T_w)/∂p ((nz + M) × 2M) of the reduced
+/// function of the monolithic system ([`super::monolithic::Monolithic::reduced`]): z = [R, Ṙ,
+/// (a, ȧ, b)_k], p = [Ĩ_int,k (M), ∫(y⁻³−1)y^{−k}T dy (M)], rows f_z then T_w,k. From the
+/// coupling's load gradients, the closure's partials and [`crate::model::equations::mode_partials`].
+pub fn reduced_jacobian(c: &dyn ModeCoupling, t: f64, z: &[f64], p: &[f64], w0: f64, gz: &mut DMatrix<f64>, gp: &mut DMatrix<f64>) {
+    use eqs::var::*;
+    let orders = c.orders();
+    let m = orders.len();
+    let nz = 2 + 3 * m;
+    let (rho, eta) = (c.density(), c.viscosity());
+    let (r, rd) = (z[0], z[1]);
+    let pick = |o: usize| (0..m).map(|i| z[2 + 3 * i + o]).collect::<Vec<f64>>();
+    let (a, ad, b) = (pick(0), pick(1), pick(2));
+    let mut ls = LoadScratch::new(m);
+    let rdd = ls.eval(c, t, r, rd, &a, &ad, &b);
+    let mut lj = crate::model::effects::LoadJacobian::new(m);
+    let mut drdd = vec![0.0; nz];
+    c.linearize(t, z, &mut drdd, &mut lj);
+    gz.fill(0.0);
+    gp.fill(0.0);
+    gz[(0, 1)] = 1.0;
+    for j in 0..nz {
+        gz[(1, j)] = drdd[j];
+    }
+    for (mi, &k) in orders.iter().enumerate() {
+        let kf = k as f64;
+        let i = 2 + 3 * mi;
+        gz[(i, i + 1)] = 1.0;
+        let (gn, gt) = (ls.gn[mi], ls.gt[mi]);
+        let src = wall_source(kf, eta, r, rd, a[mi], ad[mi], gt);
+        let d_src = eqs::wall_source_partials(kf, eta, r, rd, a[mi], gt);
+        let w = wall_linear(r, src, &d_src, p[mi], p[m + mi], w0);
+        let (da, db) = eqs::mode_partials(kf, rho, eta, r, rd, rdd, a[mi], ad[mi], b[mi], gn, &w);
+        let (gn_row, gt_row) = (lj.gn_row(mi), lj.gt_row(mi));
+        for (row, d) in [(i + 1, &da), (i + 2, &db), (nz + mi, &w.d_tw)] {
+            for j in 0..nz {
+                gz[(row, j)] = d[RDD] * drdd[j] + d[GN] * gn_row[j] + d[GT] * gt_row[j];
+            }
+            gz[(row, 0)] += d[R];
+            gz[(row, 1)] += d[RD];
+            gz[(row, i)] += d[A];
+            gz[(row, i + 1)] += d[AD];
+            gz[(row, i + 2)] += d[B];
+            gp[(row, mi)] = d[IINT];
+            gp[(row, m + mi)] = d[JR];
+        }
+    }
+}
+
 /// Scratch for one evaluation of the loads (avoids allocation in right-hand sides).
 #[derive(Debug, Clone, Default)]
 pub struct LoadScratch {
@@ -103,8 +153,9 @@ impl LoadScratch {
     pub fn new(m: usize) -> Self {
         Self { gn: vec![0.0; m], gt: vec![0.0; m] }
     }
-    /// R̈ and the loads at (t, R, Ṙ, a, b) (one evaluation of the terms).
-    pub fn eval(&mut self, c: &dyn ModeCoupling, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64 {
-        c.loads(t, r, rdot, a, b, &mut self.gn, &mut self.gt)
+    /// R̈ and the loads at (t, R, Ṙ, a, ȧ, b) (one evaluation of the terms).
+    #[allow(clippy::too_many_arguments)]
+    pub fn eval(&mut self, c: &dyn ModeCoupling, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> f64 {
+        c.loads(t, r, rdot, a, adot, b, &mut self.gn, &mut self.gt)
     }
 }

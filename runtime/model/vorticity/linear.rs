@@ -1,6 +1,6 @@
 //! The full model linearised at rest at R0 (Ṙ = R̈ = 0, a = b = 0): per mode k the states
 //! (a, ȧ, b, T-nodes). Its eigenvalues are the roots of the determinant of
-//! [`crate::analysis::dispersion`] with φ_d(s) = Ĩ/T_w of the *discretised* vorticity operator:
+//! [`crate::model::dispersion`] with φ_d(s) = Ĩ/T_w of the *discretised* vorticity operator:
 //! φ_d(s) = w_0 + Σ_{i≥1} W_i g_i with (sI − L) g = L_{1,wall} e_1 (one complex Thomas solve).
 //! This gives the damped spectrum of the method-of-lines system exactly without a dense
 //! eigen-decomposition of the (3 + n − 2)-square matrix.
@@ -10,7 +10,7 @@
 
 use super::operator::{thomas, ModeOperator, Rows};
 use super::{Grid, ModeCoupling};
-use crate::analysis::dispersion::{secant, LinearMode, C64};
+use crate::model::dispersion::{secant, LinearMode, C64};
 
 /// One damped shape mode s = −γ ± iω (time unit of the coupling, SI for scenes).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -29,27 +29,12 @@ impl DampedMode {
 }
 
 /// Linear coefficients (S1, S2, S11, S12 with the magnetic diagonal) of every mode of a coupling
-/// at (t, R0), by differencing its loads in a_k and b_k (they are linear in a, b, so one
-/// difference is exact up to rounding).
+/// at (t, R0), from its exact linear structure ([`ModeCoupling::mode_stiffness`]).
 pub fn linear_modes(c: &dyn ModeCoupling, t: f64, r0: f64) -> Vec<LinearMode> {
-    let m = c.orders().len();
-    let zero = vec![0.0; m];
-    let (mut gn0, mut gt0) = (vec![0.0; m], vec![0.0; m]);
-    c.shape_loads(t, r0, &zero, &zero, &mut gn0, &mut gt0);
-    let h = 1e-3 * r0;
-    let (mut gn, mut gt) = (vec![0.0; m], vec![0.0; m]);
     c.orders()
         .iter()
-        .enumerate()
-        .map(|(mi, &k)| {
-            let mut a = zero.clone();
-            a[mi] = h;
-            c.shape_loads(t, r0, &a, &zero, &mut gn, &mut gt);
-            let (s1, s11) = ((gn[mi] - gn0[mi]) / h, (gt[mi] - gt0[mi]) / h);
-            c.shape_loads(t, r0, &zero, &a, &mut gn, &mut gt);
-            let (s2, s12) = ((gn[mi] - gn0[mi]) / h, (gt[mi] - gt0[mi]) / h);
-            LinearMode { k, rho: c.density(), eta: c.viscosity(), r0, s1, s2, s11, s12 }
-        })
+        .zip(c.mode_stiffness(t, r0))
+        .map(|(&k, [s1, s2, s11, s12])| LinearMode { k, rho: c.density(), eta: c.viscosity(), r0, s1, s2, s11, s12 })
         .collect()
 }
 
@@ -153,10 +138,25 @@ impl ModeCoupling for LinearCoupling {
     fn viscosity(&self) -> f64 {
         self.modes.first().map_or(1.0, |m| m.eta)
     }
-    fn radial_acceleration(&self, _t: f64, _r: f64, _rdot: f64, _a: &[f64], _b: &[f64]) -> f64 {
+    fn radial_acceleration(&self, _t: f64, _r: f64, _rdot: f64, _a: &[f64], _adot: &[f64], _b: &[f64]) -> f64 {
         0.0
     }
-    fn shape_loads(&self, _t: f64, _r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
+    fn linearize(&self, _t: f64, _z: &[f64], drdd: &mut [f64], jac: &mut crate::model::effects::LoadJacobian) {
+        drdd.fill(0.0);
+        jac.clear();
+        let n = jac.n;
+        for (m, md) in self.modes.iter().enumerate() {
+            let ia = crate::model::effects::a_index(m);
+            jac.gn[m * n + ia] = md.s1;
+            jac.gn[m * n + ia + 2] = md.s2;
+            jac.gt[m * n + ia] = md.s11;
+            jac.gt[m * n + ia + 2] = md.s12;
+        }
+    }
+    fn mode_stiffness(&self, _t: f64, _r: f64) -> Vec<[f64; 4]> {
+        self.modes.iter().map(|m| [m.s1, m.s2, m.s11, m.s12]).collect()
+    }
+    fn shape_loads(&self, _t: f64, _r: f64, _rdot: f64, a: &[f64], _adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
         for (m, md) in self.modes.iter().enumerate() {
             gn[m] = md.s1 * a[m] + md.s2 * b[m];
             gt[m] = md.s11 * a[m] + md.s12 * b[m];

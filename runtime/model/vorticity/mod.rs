@@ -10,7 +10,7 @@
 //!   algebraically, as one [`crate::integrate::OdeSystem`] for an implicit integrator.
 //!
 //! [`linear`] linearises the full model at R0 (the damped spectrum) and compares it with the
-//! exact dispersion relation of [`crate::analysis::dispersion`].
+//! exact dispersion relation of [`crate::model::dispersion`].
 //!
 //! The vorticity part only needs, from the rest of the model, R̈ and the loads G_n,k, G_t,k at a
 //! state: the [`ModeCoupling`] trait. Units are whatever the coupling uses consistently (SI, or
@@ -18,7 +18,6 @@
 
 pub mod equations;
 pub mod grid;
-pub mod implicit;
 pub mod linear;
 pub mod monolithic;
 pub mod operator;
@@ -39,16 +38,26 @@ pub trait ModeCoupling {
     fn density(&self) -> f64;
     /// η of the liquid (in the coupling's units).
     fn viscosity(&self) -> f64;
-    /// R̈ from the corrected radial equation (2.62, FORMULATION §4.1).
-    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64;
-    /// G_n,k = Ŝ1 a_k + Ŝ2 b_k − M_n,k and G_t,k = Ŝ11 a_k + Ŝ12 b_k − M_t,k (FORMULATION §4.1).
-    fn shape_loads(&self, t: f64, r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]);
+    /// R̈ from the corrected radial equation (2.62, FORMULATION §4.1). The whole state is passed
+    /// (a term may depend on any of it, e.g. quadratic couplings on ȧ_k).
+    #[allow(clippy::too_many_arguments)]
+    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> f64;
+    /// G_n,k = Ŝ1 a_k + Ŝ2 b_k − M_n,k and G_t,k = Ŝ11 a_k + Ŝ12 b_k − M_t,k (FORMULATION §4.1),
+    /// plus any further term (they may depend on Ṙ and ȧ_k, e.g. shell viscosity).
+    #[allow(clippy::too_many_arguments)]
+    fn shape_loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]);
+    /// ∂G_n,k/∂a_k, ∂G_n,k/∂b_k, ∂G_t,k/∂a_k, ∂G_t,k/∂b_k of every mode at (t, R) — the diagonal
+    /// of the loads' exact linear structure (membrane and magnetic diagonal), for the per-k spectra.
+    fn mode_stiffness(&self, t: f64, r: f64) -> Vec<[f64; 4]>;
+    /// Exact gradients over z = [R, Ṙ, (a, ȧ, b)_k]: ∂R̈/∂z into `drdd` (length 2 + 3M) and
+    /// ∂G_n, ∂G_t/∂z into `jac` (the structured Jacobian of the monolithic system).
+    fn linearize(&self, t: f64, z: &[f64], drdd: &mut [f64], jac: &mut crate::model::effects::LoadJacobian);
     /// Both at once: writes the loads and returns R̈ (a coupling built on the model's terms
     /// evaluates them once).
     #[allow(clippy::too_many_arguments)]
-    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
-        self.shape_loads(t, r, a, b, gn, gt);
-        self.radial_acceleration(t, r, rdot, a, b)
+    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        self.shape_loads(t, r, rdot, a, adot, b, gn, gt);
+        self.radial_acceleration(t, r, rdot, a, adot, b)
     }
 }
 
@@ -61,6 +70,8 @@ pub enum VorticityError {
     TimeStep(f64),
     #[error("non-finite state at t = {t} ({what}); the scheme is unstable at this time step or the solution blew up")]
     NonFinite { t: f64, what: String },
+    #[error(transparent)]
+    Integrate(#[from] crate::integrate::IntegrateError),
     #[error("singular tridiagonal system in the vorticity update of mode k = {k} at t = {t}")]
     Singular { k: usize, t: f64 },
 }

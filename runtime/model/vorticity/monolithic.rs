@@ -127,7 +127,7 @@ impl Monolithic<'_> {
             sc.adot[mi] = z[3 + 3 * mi];
             sc.b[mi] = z[4 + 3 * mi];
         }
-        let rddot = sc.loads.eval(self.coupling, t, r, rdot, &sc.a, &sc.b);
+        let rddot = sc.loads.eval(self.coupling, t, r, rdot, &sc.a, &sc.adot, &sc.b);
         fz[0] = rdot;
         fz[1] = rddot;
         let inputs = ModeInputs {
@@ -187,6 +187,12 @@ impl Monolithic<'_> {
 impl OdeSystem for Monolithic<'_> {
     fn dim(&self) -> usize {
         2 + self.ops.len() * self.block()
+    }
+
+    /// The bordered-tridiagonal structure of J ([`super::structured`]): implicit steppers solve
+    /// σI − J in O(M·n).
+    fn structured_jacobian(&self, t: f64, y: &[f64]) -> Option<Box<dyn crate::integrate::linear::StructuredJacobian>> {
+        Some(Box::new(super::structured::Hook(super::structured::StructuredJacobian::new(self, t, y))))
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {

@@ -91,6 +91,42 @@ impl ModeOperator {
         }
     }
 
+    /// The exact ∂/∂R and ∂/∂Ṙ of [`rows`](Self::rows) (for the structured Jacobian). |Ṙ| in the
+    /// artificial diffusion has no derivative at Ṙ = 0; there the one-sided (Ṙ → 0⁺) one is used.
+    pub fn rows_derivatives(&self, r: f64, rdot: f64, nu: f64, d_r: &mut Rows, d_rd: &mut Rows) {
+        let m = self.interior();
+        for o in [&mut *d_r, &mut *d_rd] {
+            o.lower.resize(m, 0.0);
+            o.diag.resize(m, 0.0);
+            o.upper.resize(m, 0.0);
+        }
+        let kk = (self.k * (self.k + 1)) as f64;
+        let rr = rdot / r;
+        // (∂/∂R, ∂/∂Ṙ) of ν/R² and of Ṙ/R
+        let nu_r2_d = [-2.0 * nu / (r * r * r), 0.0];
+        let rr_d = [-rdot / (r * r), 1.0 / r];
+        for i in 0..m {
+            let c = rr * self.conv[i];
+            let [a2, b2, c2] = self.d2[i];
+            let [a1, b1, c1] = self.d1[i];
+            for (v, out) in [&mut *d_r, &mut *d_rd].into_iter().enumerate() {
+                let dc = rr_d[v] * self.conv[i];
+                let dabs = if c > 0.0 {
+                    dc
+                } else if c < 0.0 {
+                    -dc
+                } else {
+                    dc.abs()
+                };
+                let ddiff = nu_r2_d[v] + 0.5 * dabs * self.dy[i];
+                let dreact = nu_r2_d[v] * kk * self.inv_y2[i] - 2.0 * rr_d[v] * self.inv_y3[i];
+                out.lower[i] = ddiff * a2 + dc * a1;
+                out.diag[i] = ddiff * b2 + dc * b1 - dreact;
+                out.upper[i] = ddiff * c2 + dc * c1;
+            }
+        }
+    }
+
     /// Ĩ_int = Σ_{i≥1} W_i T_i over the interior nodes `t` (T_{n−1} = 0 contributes nothing).
     pub fn i_interior(&self, t: &[f64]) -> f64 {
         t.iter().zip(&self.wi[1..]).map(|(t, w)| t * w).sum()

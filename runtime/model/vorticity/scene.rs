@@ -3,13 +3,13 @@
 //! nondimensional parameters, FORMULATION §4.5), the viscous closure is replaced by the
 //! vorticity PDE on the scene's grid, integrated by the scene's `vorticity.scheme`.
 
-use super::implicit::{integrate, ImplicitSettings};
 use super::linear::{damped_spectrum_boundary_layer, damped_spectrum_full, DampedMode};
 use super::monolithic::Monolithic;
-use super::staggered::Staggered;
+use super::staggered::{Staggered, StaggeredStepper};
 use super::{FullState, Grid, GridError, ModeCoupling, VorticityError};
-use crate::integrate::Stats;
-use crate::model::{BoundaryLayerSystem, Model, ModelError, RunReport, RunStatus};
+use crate::integrate::{drive, stepper, Control, IntegrateError, Method, OdeSystem, Output, Stats, Stepper};
+use crate::model::executor::{execute, Plan};
+use crate::model::{method_of, BoundaryLayerSystem, Model, ModelError, RunReport};
 use crate::scene::{Run, Scene, Viscous, VorticityScheme};
 use serde::Serialize;
 use std::cell::RefCell;
@@ -34,14 +34,14 @@ pub struct SceneCoupling<'m> {
 }
 
 impl SceneCoupling<'_> {
-    /// Fills the boundary-layer state layout [R, Ṙ, (a, ȧ, b)_k] the load code reads.
-    fn fill(&self, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> std::cell::RefMut<'_, Vec<f64>> {
+    /// Fills the boundary-layer state layout z = [R, Ṙ, (a, ȧ, b)_k] the terms read.
+    fn fill(&self, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> std::cell::RefMut<'_, Vec<f64>> {
         let mut y = self.y.borrow_mut();
         y[0] = r;
         y[1] = rdot;
         for m in 0..a.len() {
             y[2 + 3 * m] = a[m];
-            y[3 + 3 * m] = 0.0;
+            y[3 + 3 * m] = adot[m];
             y[4 + 3 * m] = b[m];
         }
         y
@@ -58,17 +58,37 @@ impl ModeCoupling for SceneCoupling<'_> {
     fn viscosity(&self) -> f64 {
         self.bl.params().eta
     }
-    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64]) -> f64 {
-        let y = self.fill(r, rdot, a, b);
+    fn radial_acceleration(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> f64 {
+        let y = self.fill(r, rdot, a, adot, b);
         self.bl.radial_acceleration(t, &y)
     }
     /// G_n,k, G_t,k from the scene's terms (FORMULATION §4.1; [`crate::model::effects`]).
-    fn shape_loads(&self, t: f64, r: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
-        let y = self.fill(r, 0.0, a, b);
+    fn shape_loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) {
+        let y = self.fill(r, rdot, a, adot, b);
         self.bl.equations().loads(t, &y, gn, gt);
     }
-    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
-        let y = self.fill(r, rdot, a, b);
+    fn mode_stiffness(&self, t: f64, r: f64) -> Vec<[f64; 4]> {
+        let m = self.orders.len();
+        let zero = vec![0.0; m];
+        let y = self.fill(r, 0.0, &zero, &zero, &zero);
+        let mut lj = crate::model::effects::LoadJacobian::new(m);
+        self.bl.equations().load_jacobian(t, &y, &mut lj);
+        (0..m)
+            .map(|i| {
+                let ia = crate::model::effects::a_index(i);
+                let (gn, gt) = (lj.gn_row(i), lj.gt_row(i));
+                [gn[ia], gn[ia + 2], gt[ia], gt[ia + 2]]
+            })
+            .collect()
+    }
+    fn linearize(&self, t: f64, z: &[f64], drdd: &mut [f64], jac: &mut crate::model::effects::LoadJacobian) {
+        let eq = self.bl.equations();
+        eq.load_jacobian(t, z, jac);
+        let p = eq.loads(t, z, &mut [], &mut []);
+        eq.acceleration_gradient(z[0], z[1], p, &jac.pressure, drdd);
+    }
+    fn loads(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        let y = self.fill(r, rdot, a, adot, b);
         let eq = self.bl.equations();
         let p = eq.loads(t, &y, gn, gt);
         eq.acceleration_at(t, &y, p)
@@ -81,7 +101,7 @@ pub struct SchemeSettings {
     pub scheme: VorticityScheme,
     /// Fixed step of the staggered scheme.
     pub dt: f64,
-    /// Tolerances of the monolithic scheme.
+    /// Tolerances of the monolithic scheme (integrated by Radau5 through the structured solve).
     pub rtol: f64,
     pub atol: f64,
     pub t_end: f64,
@@ -141,102 +161,83 @@ impl FullModel {
         z
     }
 
+    /// The stepper of `scheme` at the initial state, on the monolithic layout of `sys`; `true`:
+    /// it must land on the samples.
+    fn scheme_stepper<'c>(
+        &self,
+        c: &'c SceneCoupling<'_>,
+        sys: &Monolithic<'_>,
+        scheme: VorticityScheme,
+        method: &Method,
+        dt: f64,
+        t_end: f64,
+    ) -> (Result<Box<dyn Stepper + 'c>, IntegrateError>, bool) {
+        let init = self.initial_state();
+        match scheme {
+            VorticityScheme::Staggered => match Staggered::new(c, self.grid.clone(), dt) {
+                Ok(st) => (Ok(Box::new(StaggeredStepper::new(st, init))), true),
+                Err(_) => (Err(IntegrateError::InvalidSetting { what: "dt", value: dt, reason: "must be positive and finite" }), true),
+            },
+            VorticityScheme::Monolithic => (stepper(sys, method, 0.0, &sys.pack(&init), t_end), false),
+        }
+    }
+
     /// Runs with `settings` (nondimensional times): `observer(state)` at t = 0 and every
     /// multiple of `sample` up to `t_end`; it returns `false` to stop.
     pub fn run_nondim(&self, settings: &SchemeSettings, observer: &mut dyn FnMut(&FullState) -> bool) -> Result<Stats, VorticityError> {
         let SchemeSettings { scheme, dt, rtol, atol, t_end, sample, max_steps } = *settings;
         let c = self.coupling();
-        let init = self.initial_state();
-        if !observer(&init) {
-            return Ok(Stats::default());
-        }
-        match scheme {
-            VorticityScheme::Staggered => {
-                let mut st = Staggered::new(&c, self.grid.clone(), dt)?;
-                let mut s = init;
-                let mut steps = 0u64;
-                let mut n = 1u64;
-                while s.t < t_end * (1.0 - 1e-12) {
-                    let target = (n as f64 * sample).min(t_end);
-                    steps += st.run(&mut s, target, |_, _| true)?;
-                    n += 1;
-                    if steps > max_steps {
-                        return Err(VorticityError::NonFinite { t: s.t, what: format!("step limit {max_steps} reached") });
-                    }
-                    if !observer(&s) {
-                        break;
-                    }
-                }
-                let m = c.orders().len() as u64;
-                Ok(Stats { steps, rejected: 0, rhs_evals: 4 * steps, jac_evals: 0, lu_decompositions: steps * m })
-            }
-            VorticityScheme::Monolithic => {
-                let sys = Monolithic::new(&c, self.grid.clone());
-                let mut y = sys.pack(&init);
-                let settings = ImplicitSettings { rtol, atol, h0: 0.0, max_steps, output_interval: sample };
-                let st = integrate(&sys, 0.0, &mut y, t_end, &settings, |t, y| observer(&sys.unpack(t, y)))?;
-                Ok(Stats {
-                    steps: st.accepted,
-                    rejected: st.rejected,
-                    rhs_evals: st.rhs_evals,
-                    jac_evals: st.accepted + st.rejected,
-                    lu_decompositions: st.factorizations,
-                })
-            }
-        }
+        let sys = Monolithic::new(&c, self.grid.clone());
+        let method = Method::Radau5 { rtol, atol };
+        let (st, land) = self.scheme_stepper(&c, &sys, scheme, &method, dt, t_end);
+        let mut st = st?;
+        let mut obs = |t: f64, y: &[f64]| if observer(&sys.unpack(t, y)) { Control::Continue } else { Control::Stop };
+        // the staggered scheme steps to every sample
+        let output = if land { Output::Landing(sample) } else { Output::Every(sample) };
+        Ok(drive(&mut *st, &sys, t_end, output, max_steps, &mut obs)?.stats)
     }
 
-    /// Runs with the scene's run settings, like [`Model::run`]: `observer(t [s], row)` with
-    /// row = (R, a2, b2, …) [m] at every sample; blow-up is classified by the same rule.
+    /// Runs with the scene's run settings on the run executor, like [`Model::run`]:
+    /// `observer(t [s], row)` with row = (R, a2, b2, …) [m] at every sample; the monolithic
+    /// scheme with the scene's `run.integrator` (Radau5 by default, through the structured solve).
     pub fn run(&self, run: &Run, observer: &mut dyn FnMut(f64, &[f64])) -> RunReport {
         let start = Instant::now();
         let ts = self.model.time_scale();
-        let names = self.model.state_names();
-        let mut row = vec![0.0; names.len()];
-        let mut max_abs = vec![0.0f64; names.len()];
-        let mut last_t = 0.0;
-        let mut blow: Option<(f64, String)> = None;
-        let mut obs = |s: &FullState| -> bool {
-            let z = Self::bl_layout(s);
-            self.model.to_si_into(&z, &mut row);
-            last_t = s.t * ts;
-            for (m, v) in max_abs.iter_mut().zip(&row) {
-                *m = m.max(v.abs());
+        let c = self.coupling();
+        let sys = Monolithic::new(&c, self.grid.clone());
+        let (nb, orders) = (sys.block(), self.model.orders());
+        let t_end = run.duration / ts;
+        let method = method_of(&run.integrator, ts);
+        let (st, land) = self.scheme_stepper(&c, &sys, self.scheme, &method, run.integrator.dt / ts, t_end);
+        let layout = |y: &[f64], z: &mut [f64]| {
+            z[0] = y[0];
+            z[1] = y[1];
+            for mi in 0..orders.len() {
+                z[2 + 3 * mi..5 + 3 * mi].copy_from_slice(&y[2 + mi * nb..5 + mi * nb]);
             }
-            observer(s.t * ts, &row);
-            match self.model.blow_up(&z) {
-                Some(mode) => {
-                    blow = Some((s.t * ts, mode));
-                    false
+        };
+        let component_mode = |c: usize| match c {
+            0 | 1 => "R".to_string(),
+            c => {
+                let (mi, pos) = ((c - 2) / nb, (c - 2) % nb);
+                let k = orders.get(mi).copied().unwrap_or(0);
+                match pos {
+                    0 | 1 => format!("a{k}"),
+                    2 => format!("b{k}"),
+                    _ => format!("nonfinite (vorticity of mode k = {k})"),
                 }
-                None => true,
             }
         };
-        let it = &run.integrator;
-        let settings = SchemeSettings {
-            scheme: self.scheme,
-            dt: it.dt / ts,
-            rtol: it.rtol,
-            atol: it.atol,
-            t_end: run.duration / ts,
+        let plan = Plan {
+            sys: &sys,
+            t_end,
             sample: run.sample_interval / ts,
-            max_steps: it.max_steps,
+            max_steps: run.integrator.max_steps,
+            land_on_samples: land,
+            layout: &layout,
+            component_mode: &component_mode,
         };
-        let result = self.run_nondim(&settings, &mut obs);
-        let (status, stats) = match result {
-            Ok(stats) => (
-                match blow.take() {
-                    Some((t, mode)) => RunStatus::BlowUp { t, mode },
-                    None => RunStatus::Completed,
-                },
-                stats,
-            ),
-            // a non-finite state is a blow-up (a result), other failures are failures
-            Err(VorticityError::NonFinite { t, what }) if !what.contains("limit") => {
-                (RunStatus::BlowUp { t: t * ts, mode: format!("nonfinite ({what})") }, Stats::default())
-            }
-            Err(e) => (RunStatus::Failed { reason: e.to_string() }, Stats::default()),
-        };
+        let out = execute(&self.model, &plan, st, observer);
         let mut effects = self.model.active_effects();
         for e in effects.iter_mut() {
             *e = e.replace("(boundary layer)", "(vorticity)");
@@ -249,17 +250,7 @@ impl FullModel {
             (y[n - 1] - y[n - 2]) / self.grid.h0(),
             self.scheme
         ));
-        RunReport {
-            status,
-            t_end: last_t,
-            stats,
-            wall_seconds: start.elapsed().as_secs_f64(),
-            max_abs: names.iter().cloned().zip(max_abs).collect(),
-            final_state: names.iter().cloned().zip(row.iter().copied()).collect(),
-            active_effects: effects,
-            state_dimension: 2 + self.model.orders().len() * (3 + self.grid.interior()),
-            groups: self.model.groups(),
-        }
+        self.model.report(out, start, effects, sys.dim())
     }
 }
 

@@ -14,6 +14,56 @@
 use super::equations::{mode_rates, wall_source, LoadScratch, ModeInputs, ModeRates};
 use super::operator::{backward_euler_pair, ModeOperator, Rows};
 use super::{FullState, Grid, ModeCoupling, VorticityError};
+use crate::integrate::{rk4_step, IntegrateError, OdeSystem, Rk4Workspace, Stats, Stepper};
+use std::cell::RefCell;
+
+/// Step 1's ODE: u = [R, Ṙ, a(M), ȧ(M), b(M)] with the integrals lagged at T^n (and T_w too
+/// with [`WallCoupling::Lagged`]); T_w of the last evaluation is left in `tw`.
+struct LaggedOde<'a> {
+    coupling: &'a dyn ModeCoupling,
+    i_int: &'a [f64],
+    j_over_r: &'a [f64],
+    w0: f64,
+    tw_fixed: Option<&'a [f64]>,
+    loads: RefCell<&'a mut LoadScratch>,
+    tw: RefCell<&'a mut Vec<f64>>,
+}
+
+impl OdeSystem for LaggedOde<'_> {
+    fn dim(&self) -> usize {
+        2 + 3 * self.i_int.len()
+    }
+    fn rhs(&self, t: f64, u: &[f64], du: &mut [f64]) {
+        let m = self.i_int.len();
+        let (r, rdot) = (u[0], u[1]);
+        let a = &u[2..2 + m];
+        let adot = &u[2 + m..2 + 2 * m];
+        let b = &u[2 + 2 * m..2 + 3 * m];
+        let mut loads = self.loads.borrow_mut();
+        let rddot = loads.eval(self.coupling, t, r, rdot, a, adot, b);
+        du[0] = rdot;
+        du[1] = rddot;
+        du[2..2 + m].copy_from_slice(adot);
+        let (_, rest) = du.split_at_mut(2 + m);
+        let (add, bdot) = rest.split_at_mut(m);
+        let inputs = ModeInputs {
+            r,
+            rdot,
+            rddot,
+            a,
+            adot,
+            b,
+            gn: &loads.gn,
+            gt: &loads.gt,
+            i_int: self.i_int,
+            j_over_r: self.j_over_r,
+            w0: self.w0,
+            tw_fixed: self.tw_fixed,
+        };
+        let mut tw = self.tw.borrow_mut();
+        mode_rates(self.coupling.orders(), self.coupling.density(), self.coupling.viscosity(), &inputs, ModeRates { add, bdot, tw: &mut tw[..] });
+    }
+}
 
 /// How step 1 treats the wall vorticity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -41,7 +91,9 @@ pub struct Staggered<'c> {
     rhs: Vec<f64>,
     z: Vec<f64>,
     scratch: Vec<f64>,
-    stage: [Vec<f64>; 5],
+    u0: Vec<f64>,
+    u1: Vec<f64>,
+    rk4: Rk4Workspace,
     tw: Vec<f64>,
     tw_lagged: Vec<f64>,
     wall: WallCoupling,
@@ -69,7 +121,9 @@ impl<'c> Staggered<'c> {
             rhs: vec![0.0; ni],
             z: vec![0.0; ni],
             scratch: vec![0.0; ni],
-            stage: std::array::from_fn(|_| vec![0.0; dim]),
+            u0: vec![0.0; dim],
+            u1: vec![0.0; dim],
+            rk4: Rk4Workspace::new(dim),
             tw: vec![0.0; m],
             tw_lagged: vec![0.0; m],
             wall: WallCoupling::InRhs,
@@ -96,45 +150,6 @@ impl<'c> Staggered<'c> {
         &self.tw
     }
 
-    /// f(u) for u = [R, Ṙ, a(M), ȧ(M), b(M)] with the lagged integrals.
-    fn ode_rhs(&mut self, t: f64, u: &[f64], du: &mut [f64]) {
-        let m = self.ops.len();
-        let (r, rdot) = (u[0], u[1]);
-        let a = &u[2..2 + m];
-        let adot = &u[2 + m..2 + 2 * m];
-        let b = &u[2 + 2 * m..2 + 3 * m];
-        let rddot = self.loads.eval(self.coupling, t, r, rdot, a, b);
-        du[0] = rdot;
-        du[1] = rddot;
-        du[2..2 + m].copy_from_slice(adot);
-        let (_, rest) = du.split_at_mut(2 + m);
-        let (add, bdot) = rest.split_at_mut(m);
-        let inputs = ModeInputs {
-            r,
-            rdot,
-            rddot,
-            a,
-            adot,
-            b,
-            gn: &self.loads.gn,
-            gt: &self.loads.gt,
-            i_int: &self.i_int,
-            j_over_r: &self.j_over_r,
-            w0: self.ops.first().map_or(0.0, |o| o.w0()),
-            tw_fixed: match self.wall {
-                WallCoupling::InRhs => None,
-                WallCoupling::Lagged => Some(&self.tw_lagged),
-            },
-        };
-        mode_rates(
-            self.coupling.orders(),
-            self.coupling.density(),
-            self.coupling.viscosity(),
-            &inputs,
-            ModeRates { add, bdot, tw: &mut self.tw },
-        );
-    }
-
     /// One step t_n → t_n + dt.
     pub fn step(&mut self, s: &mut FullState) -> Result<(), VorticityError> {
         let m = self.ops.len();
@@ -144,46 +159,45 @@ impl<'c> Staggered<'c> {
             self.i_int[mi] = op.i_interior(&s.t_nodes[mi]);
             self.j_over_r[mi] = op.j_over_r(&s.t_nodes[mi]);
         }
-        // step 1: classical RK4 on the ODE part
+        // step 1: classical RK4 (the shared one) on the ODE part
         let dim = 2 + 3 * m;
-        let mut u0 = vec![0.0; dim];
+        let mut u0 = std::mem::take(&mut self.u0);
+        let mut u1 = std::mem::take(&mut self.u1);
         u0[0] = s.r;
         u0[1] = s.rdot;
         u0[2..2 + m].copy_from_slice(&s.a);
         u0[2 + m..2 + 2 * m].copy_from_slice(&s.adot);
         u0[2 + 2 * m..].copy_from_slice(&s.b);
-        let mut stage = std::mem::take(&mut self.stage);
-        let [k1, k2, k3, k4, tmp] = &mut stage;
-        self.ode_rhs(s.t, &u0, k1);
-        for i in 0..dim {
-            tmp[i] = u0[i] + 0.5 * dt * k1[i];
-        }
-        self.ode_rhs(s.t + 0.5 * dt, tmp, k2);
-        for i in 0..dim {
-            tmp[i] = u0[i] + 0.5 * dt * k2[i];
-        }
-        self.ode_rhs(s.t + 0.5 * dt, tmp, k3);
-        for i in 0..dim {
-            tmp[i] = u0[i] + dt * k3[i];
-        }
-        self.ode_rhs(s.t + dt, tmp, k4);
-        for i in 0..dim {
-            u0[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
-        self.stage = stage;
+        debug_assert_eq!(u0.len(), dim);
+        let ode = LaggedOde {
+            coupling: self.coupling,
+            i_int: &self.i_int,
+            j_over_r: &self.j_over_r,
+            w0: self.ops.first().map_or(0.0, |o| o.w0()),
+            tw_fixed: match self.wall {
+                WallCoupling::InRhs => None,
+                WallCoupling::Lagged => Some(&self.tw_lagged),
+            },
+            loads: RefCell::new(&mut self.loads),
+            tw: RefCell::new(&mut self.tw),
+        };
+        rk4_step(&ode, s.t, &u0, dt, &mut u1, &mut self.rk4);
+        std::mem::swap(&mut u0, &mut u1);
         s.t += dt;
         s.r = u0[0];
         s.rdot = u0[1];
         s.a.copy_from_slice(&u0[2..2 + m]);
         s.adot.copy_from_slice(&u0[2 + m..2 + 2 * m]);
         s.b.copy_from_slice(&u0[2 + 2 * m..]);
+        self.u0 = u0;
+        self.u1 = u1;
         if let Some(what) = s.non_finite() {
             return Err(VorticityError::NonFinite { t: s.t, what });
         }
         // step 2: backward Euler for T with the new R, Ṙ, a, ȧ, b
         let eta = self.coupling.viscosity();
         let nu = eta / self.coupling.density();
-        self.coupling.shape_loads(s.t, s.r, &s.a, &s.b, &mut self.loads.gn, &mut self.loads.gt);
+        self.coupling.shape_loads(s.t, s.r, s.rdot, &s.a, &s.adot, &s.b, &mut self.loads.gn, &mut self.loads.gt);
         for mi in 0..m {
             let op = &self.ops[mi];
             let kf = op.k as f64;
@@ -245,5 +259,88 @@ impl<'c> Staggered<'c> {
             }
         }
         Ok(steps)
+    }
+}
+
+/// The staggered scheme as a [`Stepper`] for the run executor, on the monolithic state layout
+/// `[R, Ṙ, (a_k, ȧ_k, b_k, T_k,1 … T_k,n−2)_k]` ([`super::monolithic`]). Steps of `dt` (the last
+/// one shortened to land on `t_stop`); the interpolant between two steps is linear (the
+/// executor lands on every sample, so it is used only to time a blow-up inside a step).
+/// Cost counted per step: 4 evaluations of the ODE part, M tridiagonal factorisations.
+pub struct StaggeredStepper<'c> {
+    st: Staggered<'c>,
+    s: FullState,
+    t_prev: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    stats: Stats,
+}
+
+impl<'c> StaggeredStepper<'c> {
+    pub fn new(st: Staggered<'c>, s: FullState) -> Self {
+        let mut me = StaggeredStepper { t_prev: s.t, y: vec![], y_prev: vec![], stats: Stats::default(), st, s };
+        me.y = me.packed();
+        me.y_prev = me.y.clone();
+        me
+    }
+
+    fn packed(&self) -> Vec<f64> {
+        let s = &self.s;
+        let mut y = vec![s.r, s.rdot];
+        for m in 0..s.a.len() {
+            y.extend_from_slice(&[s.a[m], s.adot[m], s.b[m]]);
+            y.extend_from_slice(&s.t_nodes[m]);
+        }
+        y
+    }
+}
+
+impl Stepper for StaggeredStepper<'_> {
+    fn t(&self) -> f64 {
+        self.s.t
+    }
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+    fn step(&mut self, _sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
+        let dt = self.st.dt;
+        let h = (t_stop - self.s.t).min(dt);
+        if !(h > 1e-12 * dt) {
+            return Err(IntegrateError::StepSizeTooSmall { t: self.s.t, h });
+        }
+        let t0 = self.s.t;
+        self.st.dt = h;
+        let res = self.st.step(&mut self.s);
+        self.st.dt = dt;
+        self.stats.steps += 1;
+        self.stats.rhs_evals += 4;
+        self.stats.lu_decompositions += self.s.a.len() as u64;
+        let y = self.packed();
+        match res {
+            Ok(()) => {}
+            Err(VorticityError::Singular { t, .. }) => return Err(IntegrateError::SingularMatrix { t }),
+            Err(_) => {
+                let component = y.iter().position(|v| !v.is_finite()).unwrap_or(0);
+                return Err(IntegrateError::NonFinite { t: t0, component });
+            }
+        }
+        if t_stop - self.s.t <= 1e-12 * dt {
+            self.s.t = t_stop;
+        }
+        self.t_prev = t0;
+        self.y_prev = std::mem::replace(&mut self.y, y);
+        Ok(())
+    }
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let th = (t - self.t_prev) / (self.s.t - self.t_prev).max(f64::MIN_POSITIVE);
+        for i in 0..out.len() {
+            out[i] = (1.0 - th) * self.y_prev[i] + th * self.y[i];
+        }
     }
 }

@@ -8,14 +8,17 @@
 //! π = P x_T as unknowns, x_T,k = D_k⁻¹(b_T,k + c_k s_k + r_R,k x_R + r_Ṙ,k x_Ṙ) with D_k = σI − L_k,
 //! c_k = l_0 e_1 and s_k = δT_w,k; what is left is a dense system of size (2 + 3M) + 2M in (x_z, π).
 //!
-//! The pieces of J come from the model itself: the reduced function (f_z, T_w)(z, p) is
-//! differenced in z and p (2 + 5M evaluations, each O(M)), L_k is the operator, and its R, Ṙ
-//! derivatives are differenced (2 evaluations per mode, O(n)).
+//! The pieces of J come from the model itself, exactly: the derivatives of the reduced function
+//! (f_z, T_w)(z, p) in z and p from the terms' gradients and the closure's partials
+//! ([`super::equations::reduced_jacobian`]), L_k from the operator and its R, Ṙ derivatives from
+//! [`super::operator::ModeOperator::rows_derivatives`]. Nothing is differenced.
 
+use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
 use super::operator::Rows;
+use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
-use nalgebra::{ComplexField, DMatrix, DVector};
+use nalgebra::{Complex, ComplexField, DMatrix, DVector};
 use std::rc::Rc;
 
 /// J at one (t, y), in structured form.
@@ -96,36 +99,13 @@ impl StructuredJacobian {
         let mut z = vec![0.0; nz];
         let mut p = vec![0.0; 2 * m];
         sys.split(y, &mut z, &mut p);
-        let eval = |z: &[f64], p: &[f64]| -> Vec<f64> {
-            let mut fz = vec![0.0; nz];
-            let mut tw = vec![0.0; m];
-            sys.reduced(t, z, p, &mut fz, &mut tw);
-            fz.extend_from_slice(&tw);
-            fz
-        };
-        let f0 = eval(&z, &p);
         let mut gz = DMatrix::zeros(nz + m, nz);
-        for j in 0..nz {
-            let mut zz = z.clone();
-            let d = (f64::EPSILON * z[j].abs().max(1e-5)).sqrt();
-            zz[j] += d;
-            let d = zz[j] - z[j];
-            let f = eval(&zz, &p);
-            for i in 0..nz + m {
-                gz[(i, j)] = (f[i] - f0[i]) / d;
-            }
-        }
         let mut gp = DMatrix::zeros(nz + m, 2 * m);
-        for j in 0..2 * m {
-            let mut pp = p.clone();
-            let d = (f64::EPSILON * p[j].abs().max(1e-5)).sqrt();
-            pp[j] += d;
-            let d = pp[j] - p[j];
-            let f = eval(&z, &pp);
-            for i in 0..nz + m {
-                gp[(i, j)] = (f[i] - f0[i]) / d;
-            }
-        }
+        let w0 = ops.first().map_or(0.0, |o| o.w0());
+        reduced_jacobian(sys.coupling(), t, &z, &p, w0, &mut gz, &mut gp);
+        let mut tw_all = vec![0.0; m];
+        let mut fz = vec![0.0; nz];
+        sys.reduced(t, &z, &p, &mut fz, &mut tw_all);
         let c = sys.coupling();
         let nu = c.viscosity() / c.density();
         let (r, rd) = (y[0], y[1]);
@@ -144,21 +124,14 @@ impl StructuredJacobian {
         };
         for (mi, op) in ops.iter().enumerate() {
             let tn = &y[2 + mi * nb + 3..2 + (mi + 1) * nb];
-            let tw = f0[nz + mi];
+            let tw = tw_all[mi];
             let mut base = Rows::default();
             op.rows(r, rd, nu, &mut base);
-            let f_base = apply(&base, tw, tn);
-            let mut pert = Rows::default();
-            let dr = (f64::EPSILON * r.abs().max(1e-5)).sqrt();
-            op.rows(r + dr, rd, nu, &mut pert);
-            let fr: Vec<f64> = apply(&pert, tw, tn).iter().zip(&f_base).map(|(a, b)| (a - b) / dr).collect();
-            let drd = (f64::EPSILON * rd.abs().max(1e-5)).sqrt();
-            op.rows(r, rd + drd, nu, &mut pert);
-            // |Ṙ| in the artificial diffusion is not differentiable at 0; a one-sided difference is fine
-            let frd: Vec<f64> = apply(&pert, tw, tn).iter().zip(&f_base).map(|(a, b)| (a - b) / drd).collect();
+            let (mut d_r, mut d_rd) = (Rows::default(), Rows::default());
+            op.rows_derivatives(r, rd, nu, &mut d_r, &mut d_rd);
             rows.push(base);
-            r_r.push(fr);
-            r_rd.push(frd);
+            r_r.push(apply(&d_r, tw, tn));
+            r_rd.push(apply(&d_rd, tw, tn));
             pw.push([op.wi[1..=ni].to_vec(), op.wj[1..=ni].to_vec()]);
         }
         Rc::new(Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw })
@@ -267,6 +240,30 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
                 b[o + i] += uc[i] * sk + ur[i] * x[0] + urd[i] * x[1];
             }
         }
+    }
+}
+
+/// The structured Jacobian as the integrators' linear-solver hook
+/// ([`crate::integrate::linear`]): Radau5 and the Rosenbrock pair factor σI − J through it.
+pub struct Hook(pub Rc<StructuredJacobian>);
+
+impl<T: ComplexField<RealField = f64> + Copy> Factorization<T> for StructuredLu<T> {
+    fn solve(&self, b: &mut [T]) {
+        StructuredLu::solve(self, b);
+    }
+}
+
+impl linear::StructuredJacobian for Hook {
+    /// 1 + (2 + 3M) + 2M evaluations of the reduced function (each O(M), cheaper than one rhs)
+    /// and 2 of the operator rows per mode.
+    fn rhs_equivalents(&self) -> u64 {
+        (3 + 5 * self.0.m) as u64
+    }
+    fn factor(&self, sigma: f64) -> Option<Box<dyn Factorization<f64>>> {
+        self.0.factor(sigma).map(|f| Box::new(f) as Box<dyn Factorization<f64>>)
+    }
+    fn factor_complex(&self, sigma: Complex<f64>) -> Option<Box<dyn Factorization<Complex<f64>>>> {
+        self.0.factor(sigma).map(|f| Box::new(f) as Box<dyn Factorization<Complex<f64>>>)
     }
 }
 

@@ -14,7 +14,7 @@ pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
             radius: R0,
             initial: Initial { radius: R0, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new() },
         },
-        shell: Shell { c1: C1, c2: C2, thickness: 20e-9, susceptibility: 1.0, form: MembraneForm::Paper },
+        shell: Shell::mooney_rivlin(C1, C2, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0 },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None },
         drive: Some(Drive { amplitude: eps_p, frequency_hz: f_hz }),
@@ -26,6 +26,7 @@ pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
             sample_interval: 1e-7,
             integrator: IntegratorSettings { method: Method::Dopri5, rtol: 1e-8, atol: 1e-12, dt: 1e-9, max_steps: 100_000_000 },
             blow_up_threshold: 0.5,
+            max_output_bytes: 1e9,
         },
     }
 }

@@ -1,1 +1,4 @@
 pub mod prony;
+pub mod shell_energy;
+pub mod quadrature;
+pub mod quadrature_h4;

@@ -24,7 +24,7 @@
 //! ℋ = μ0χ_sH2²R0²/(4a²R²), dipole ℋ = −36μ0χ_sM²R0²/(z⁸R²) (the appendix's, dimension
 //! corrected). Both forces are ∝ r (m = 1): zero-order loads are ℋR·value, couplings ℋ·value.
 
-use super::appendix::{CouplingId, PaperField};
+use magbubble::field::appendix::{CouplingId, PaperField};
 
 /// Amplitude step for the 6-point central difference, in units of R/(k+1) (a_k) and
 /// R/(k(k+1)+2) (b_k).

@@ -20,7 +20,7 @@
 //!
 //! whose roots s = −γ ± iω are the damped shape modes. The same determinant with φ from the
 //! discretised vorticity operator gives the eigenvalues of the method-of-lines system exactly
-//! (see `model::vorticity::linear`), and with φ = δ_k/R it is the boundary-layer closure.
+//! (see [`super::vorticity::linear`]), and with φ = δ_k/R it is the boundary-layer closure.
 
 use nalgebra::Complex;
 

@@ -1,0 +1,174 @@
+//! The shell effects beyond the elastic law, each off unless its scene key is set (issue 11,
+//! issue 10 part 2). Every coefficient is generated (`coefficients::membrane::<law>`, from
+//! derivations/shell/):
+//!
+//! * surface tension γ (`surface_tension.rs`, tension form): −2γ/R in the radial balance,
+//!   (k−1)(k+2)γ/R² a_k on G_n,k, nothing on b_k or G_t;
+//! * Helfrich bending k_b (`bending.rs`, first variation of (k_b/2)∫(κ1+κ2)² dA):
+//!   (k−1)k(k+1)(k+2)k_b/R⁴ a_k on G_n,k, no radial load;
+//! * surface dilatational viscosity κ_s (`viscous.rs`): −4κ_sṘ/R² in the radial balance. Its
+//!   shape-mode loads (and all of the shear viscosity's) multiply ḃ_k too, which is not a state
+//!   variable but an output of (NS) and its closure: they are derived and tested but not wired
+//!   (the scene validation rejects them with shape modes; docs/derivation-notes.md).
+//!
+//! Nondimensional as everything else (FORMULATION §4.5): γ like c1 (N/m), k_b in units of
+//! pressure·length³, κ_s of pressure·length·time.
+
+use super::{a_index, At, LoadJacobian, Loads, Term};
+use crate::coefficients::membrane::{bending, surface_tension, viscous};
+use crate::model::params::Scales;
+use crate::scene::Shell;
+
+type S0 = fn(f64, f64, f64) -> f64;
+type Sk = fn(f64, f64, f64, f64) -> f64;
+
+/// A one-constant shell law's generated loads (S0, S1, S2, S11, S12 and their R-derivatives).
+#[derive(Clone, Copy)]
+pub struct Table {
+    pub s: (S0, [Sk; 4]),
+    pub dr: (S0, [Sk; 4]),
+}
+
+impl std::fmt::Debug for Table {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Table")
+    }
+}
+
+/// Surface tension, tension form (the paper's form gives it a spurious tangential load).
+pub fn surface_tension_table() -> Table {
+    use surface_tension::tension as t;
+    Table { s: (t::s0, [t::s1, t::s2, t::s11, t::s12]), dr: (t::s0_dr, [t::s1_dr, t::s2_dr, t::s11_dr, t::s12_dr]) }
+}
+
+/// Helfrich bending (both forms are the same: a shape energy has no tangential load).
+pub fn bending_table() -> Table {
+    use bending::tension as t;
+    Table { s: (t::s0, [t::s1, t::s2, t::s11, t::s12]), dr: (t::s0_dr, [t::s1_dr, t::s2_dr, t::s11_dr, t::s12_dr]) }
+}
+
+/// A shell effect with one constant: −S0 in P, S1 a + S2 b in G_n, S11 a + S12 b in G_t.
+#[derive(Debug, Clone)]
+pub struct OneConstant {
+    pub name: &'static str,
+    pub label: String,
+    pub table: Table,
+    /// the constant, nondimensional
+    pub value: f64,
+    pub r0: f64,
+    pub orders: Vec<f64>,
+}
+
+impl Term for OneConstant {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn label(&self) -> Option<String> {
+        Some(self.label.clone())
+    }
+    #[inline]
+    fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
+        let (r, v, r0) = (at.r(), self.value, self.r0);
+        let (s0, [s1, s2, s11, s12]) = self.table.s;
+        loads.pressure -= s0(r, r0, v);
+        for m in 0..loads.gn.len() {
+            let k = self.orders[m];
+            let (a, b) = (at.a(m), at.b(m));
+            loads.gn[m] += s1(r, r0, v, k) * a + s2(r, r0, v, k) * b;
+            loads.gt[m] += s11(r, r0, v, k) * a + s12(r, r0, v, k) * b;
+        }
+    }
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
+        let (r, v, r0, n) = (at.r(), self.value, self.r0, jac.n);
+        let (s0, [s1, s2, s11, s12]) = self.table.s;
+        let (d0, [d1, d2, d11, d12]) = self.table.dr;
+        let _ = s0;
+        jac.pressure[0] -= d0(r, r0, v);
+        for m in 0..jac.modes() {
+            let k = self.orders[m];
+            let (a, b) = (at.a(m), at.b(m));
+            let ia = a_index(m);
+            let gn = &mut jac.gn[m * n..(m + 1) * n];
+            gn[0] += d1(r, r0, v, k) * a + d2(r, r0, v, k) * b;
+            gn[ia] += s1(r, r0, v, k);
+            gn[ia + 2] += s2(r, r0, v, k);
+            let gt = &mut jac.gt[m * n..(m + 1) * n];
+            gt[0] += d11(r, r0, v, k) * a + d12(r, r0, v, k) * b;
+            gt[ia] += s11(r, r0, v, k);
+            gt[ia + 2] += s12(r, r0, v, k);
+        }
+    }
+}
+
+/// The dilatational viscosity's radial load −Ŝ0 = −4κ_sṘ/R² (generated: viscous::tension::s0).
+#[derive(Debug, Clone, Copy)]
+pub struct DilatationalViscosity {
+    pub kappa_s: f64,
+    pub r0: f64,
+}
+
+impl Term for DilatationalViscosity {
+    fn name(&self) -> &'static str {
+        "shell viscosity"
+    }
+    fn label(&self) -> Option<String> {
+        Some("shell dilatational viscosity (radial)".into())
+    }
+    #[inline]
+    fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
+        loads.pressure -= viscous::tension::s0(at.r(), self.r0, at.rdot(), 0.0, self.kappa_s);
+    }
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
+        jac.pressure[0] -= viscous::tension::s0_dr(at.r(), self.r0, at.rdot(), 0.0, self.kappa_s);
+        // S0 is linear in Ṙ (every monomial carries Rd once)
+        jac.pressure[1] -= viscous::tension::s0(at.r(), self.r0, 1.0, 0.0, self.kappa_s);
+    }
+}
+
+/// The shell effects `shell` switches on, in a fixed order (none by default).
+pub fn terms(shell: &Shell, sc: &Scales, r0: f64, orders: &[f64]) -> Vec<Box<dyn Term>> {
+    let tension = |v: f64| v / (sc.pressure * sc.length);
+    let mut out: Vec<Box<dyn Term>> = Vec::new();
+    if shell.surface_tension != 0.0 {
+        out.push(Box::new(OneConstant {
+            name: "surface tension",
+            label: format!("surface tension gamma = {} N/m", shell.surface_tension),
+            table: surface_tension_table(),
+            value: tension(shell.surface_tension),
+            r0,
+            orders: orders.to_vec(),
+        }));
+    }
+    if shell.bending_modulus != 0.0 {
+        out.push(Box::new(OneConstant {
+            name: "bending",
+            label: format!("bending k_b = {} J", shell.bending_modulus),
+            table: bending_table(),
+            value: shell.bending_modulus / (sc.pressure * sc.length.powi(3)),
+            r0,
+            orders: orders.to_vec(),
+        }));
+    }
+    if shell.dilatational_viscosity != 0.0 {
+        out.push(Box::new(DilatationalViscosity { kappa_s: shell.dilatational_viscosity / (sc.pressure * sc.length * sc.time), r0 }));
+    }
+    out
+}
+
+/// (Ŝ1, Ŝ2, Ŝ11, Ŝ12) of the shell effects `shell` switches on (γ, k_b), for any mode k at R
+/// (the odd modes of `modes`, which the model does not assemble).
+pub fn extra_stiffness(shell: &Shell, sc: &Scales, r0: f64, r: f64, k: f64) -> [f64; 4] {
+    let mut out = [0.0; 4];
+    let mut add = |table: Table, v: f64| {
+        for (o, f) in out.iter_mut().zip(table.s.1) {
+            *o += f(r, r0, v, k);
+        }
+    };
+    if shell.surface_tension != 0.0 {
+        add(surface_tension_table(), shell.surface_tension / (sc.pressure * sc.length));
+    }
+    if shell.bending_modulus != 0.0 {
+        add(bending_table(), shell.bending_modulus / (sc.pressure * sc.length.powi(3)));
+    }
+    out
+}
