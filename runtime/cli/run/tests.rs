@@ -169,7 +169,7 @@ fn invalid_scene_creates_nothing() {
     )
     .unwrap_err();
     assert!(
-        err.to_string().contains("`shell.c1` = -1.0: must be > 0"),
+        err.to_string().contains("`shell.c1` = -1.0: must be >= 0"),
         "{err}"
     );
     assert!(!out.exists());
