@@ -11,8 +11,9 @@
 //! B_b = diag(Ŝ12) − ∂M_t/∂b (the paper prints B_a⁻¹ and omits 𝒟). The magnetic couplings of the
 //! even modes are read from the model's loads (the generated tables); eigenvalues are matched to
 //! k by the largest component of their eigenvector. Odd k decouple from the even ones; they are
-//! computed from the membrane terms alone (their field couplings are not assembled by the model,
-//! which simulates even modes only: `field_couplings = false` in the output says so).
+//! computed from the membrane law plus the shell effects (surface tension, bending) mode by mode
+//! (their field couplings are not assembled by the model, which simulates even modes only:
+//! `field_couplings = false` in the output says so).
 //! Without a field: ω_k² = 12(c1+c2)(k−1)(k+1)(k+2)/[ρR0³(2k²+2k−1)].
 
 use crate::model::effects::{a_index, LoadJacobian};
@@ -136,7 +137,7 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
         let m = weights.iter().enumerate().fold(0, |best, (i, &v)| if v > weights[best] { i } else { best });
         shape.push(wrap(mu.re, 2 * (m + 1), true));
     }
-    // Odd modes: membrane only (see the module doc).
+    // Odd modes: the membrane law plus surface tension and bending (see the module doc).
     let coupled_field = !eq.has("magnetic");
     let (c1, c2) = p.membrane_args;
     let sc = crate::model::Scales::from_scene(&s);
@@ -150,7 +151,9 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
             (mem.s11)(r, p.r0, c1, c2, kf) + x[2],
             (mem.s12)(r, p.r0, c1, c2, kf) + x[3],
         );
-        let s_eff = if !eq.has("membrane") { 0.0 } else { s1 - s2 * s11 / s12 };
+        // No tangential load (a free bubble, G_t ≡ 0 as for the even modes above): b does not
+        // feed back, ω² = (k+1)Ŝ1/(ρR0) — Lamb's ω_k² with surface tension, zero without it.
+        let s_eff = if s2 == 0.0 && s11 == 0.0 && s12 == 0.0 { s1 } else { s1 - s2 * s11 / s12 };
         shape.push(wrap((kf + 1.0) / (p.rho * p.r0) * s_eff, k, coupled_field));
     }
     shape.sort_by(|x, y| x.k.cmp(&y.k).then(x.omega_sq_nondim.total_cmp(&y.omega_sq_nondim)));
