@@ -25,6 +25,7 @@ mod floquet_mathieu;
 mod floquet_orbits;
 mod floquet_periodic;
 mod hard_cases;
+mod lamb_km;
 mod lamb_modes;
 mod integrators;
 mod liquid_gas;

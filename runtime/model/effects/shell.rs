@@ -14,7 +14,7 @@
 //! Nondimensional as everything else (FORMULATION §4.5): γ like c1 (N/m), k_b in units of
 //! pressure·length³, κ_s of pressure·length·time.
 
-use super::{a_index, At, LoadJacobian, Loads, Term};
+use super::{a_index, At, LoadJacobian, Loads, PressureRate, Term};
 use crate::coefficients::membrane::{bending, surface_tension, viscous};
 use crate::model::params::Scales;
 use crate::scene::Shell;
@@ -97,6 +97,17 @@ impl Term for OneConstant {
             gt[ia] += s11(r, r0, v, k);
             gt[ia + 2] += s12(r, r0, v, k);
         }
+    }
+    /// P ∋ −Ŝ0(R): q = −Ŝ0′(R) Ṙ (generated Ŝ0′; for γ, d/dt(−2γ/R) = 2γṘ/R²), s = 0,
+    /// ∂q/∂Ṙ = −Ŝ0′(R). ∂q/∂R = −Ŝ0″(R) Ṙ, exact from Ŝ0″ = −2Ŝ0′/R, which holds because both
+    /// tables have Ŝ0 ∝ 1/R (tension: 2γ/R; bending: 0) — checked in tests/suite/lamb_km.rs.
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        let (r, rd) = (at.r(), at.rdot());
+        let d1 = (self.table.dr.0)(r, self.r0, self.value);
+        rate.q -= d1 * rd;
+        rate.dq[0] -= -2.0 * d1 / r * rd;
+        rate.dq[1] -= d1;
+        true
     }
 }
 

@@ -1,0 +1,100 @@
+//! Keller–Miksis with surface tension (issue 10): the surface-tension term now provides the
+//! pressure's rate (`Term::add_rate`), so KM + γ is assembled; checked against the analytic
+//! linearization (frequency and damping), the exact Jacobian against finite differences, and
+//! the property `add_rate`'s ∂q/∂R relies on (Ŝ0 ∝ 1/R for the tension table, 0 for bending).
+//!
+//! Linearization (free bubble, no drive), from the KM form of runtime/model/keller_miksis.rs,
+//! (1 − Ṙ/c)RR̈ + 3/2(1 − Ṙ/3c)Ṙ² = (1 + Ṙ/c)P/ρ + (R/ρc)(P_R Ṙ + P_Ṙ R̈), with
+//! P = p_v + p_g0(R0/R)^{3κ} − p0 − 2γ/R − 4ηṘ/R, p_g0 = p0 − p_v + 2γ/R0, P(R0, 0) = 0:
+//! P_R = −3κp_g0/R0 + 2γ/R0², P_Ṙ = −4η/R0, and to first order in x = R − R0
+//! R0 D ẍ = (P_R/ρ) x + (P_Ṙ/ρ + R0P_R/(ρc)) ẋ,  D = 1 + 4η/(ρcR0), so
+//! ω² = [3κp_g0 − 2γ/R0]/(ρR0² D),  2β = [4η/(ρR0²) + (3κp_g0 − 2γ/R0)/(ρcR0)]/D.
+
+use magbubble::model::effects::shell::{bending_table, surface_tension_table};
+use magbubble::model::Model;
+use magbubble::scene;
+
+const R0: f64 = 5e-6;
+const RHO: f64 = 1000.0;
+const ETA: f64 = 1e-3;
+const P0: f64 = 101325.0;
+const KAPPA: f64 = 1.4;
+const C: f64 = 1500.0;
+const GAMMA: f64 = 0.072;
+
+#[test]
+fn keller_miksis_with_surface_tension_linear_frequency_and_damping() {
+    for pv in [0.0, 2330.0] {
+        let text = format!(
+            "[bubble]\nradius = {R0:e}\n[liquid]\nsound_speed = {C}\n[shell]\nc1 = 0.0\nc2 = 0.0\nsurface_tension = {GAMMA}\n\
+             [gas]\npolytropic_exponent = {KAPPA}\nvapour_pressure = {pv}\n[modes]\nmax_order = 0\n"
+        );
+        let s = scene::load_str(&text, "km + gamma (test)", &[] as &[&str]).unwrap();
+        let m = Model::from_scene(&s).unwrap_or_else(|e| panic!("KM + γ must be assembled: {e}"));
+        assert!(m.active_effects()[0].contains("Keller-Miksis") && m.equations().has("surface tension"));
+        let (ts, sys) = (m.time_scale(), m.system());
+        let mut jac = [0.0; 4];
+        assert!(sys.jacobian(0.0, &[1.0, 0.0], &mut jac));
+        let pg0 = P0 - pv + 2.0 * GAMMA / R0;
+        let stiff = 3.0 * KAPPA * pg0 - 2.0 * GAMMA / R0;
+        let d = 1.0 + 4.0 * ETA / (RHO * C * R0);
+        let w2 = stiff / (RHO * R0 * R0 * d);
+        let two_beta = (4.0 * ETA / (RHO * R0 * R0) + stiff / (RHO * C * R0)) / d;
+        let (ew, eb) = ((-jac[2] / (ts * ts) / w2 - 1.0).abs(), (-jac[3] / ts / two_beta - 1.0).abs());
+        eprintln!("pv = {pv}: rel error ω² {ew:e}, 2β {eb:e}");
+        assert!(ew < 1e-12, "ω²: {} vs {w2}", -jac[2] / (ts * ts));
+        assert!(eb < 1e-12, "2β: {} vs {two_beta}", -jac[3] / ts);
+        // the radiation part of β ≈ ω0²R0/(2c), ω0 the incompressible one (with γ)
+        let radiation = two_beta / 2.0 - 2.0 * ETA / (RHO * R0 * R0) / d;
+        let w0sq = stiff / (RHO * R0 * R0);
+        assert!((radiation / (w0sq * R0 / (2.0 * C)) - 1.0).abs() < 1e-3, "{radiation}");
+    }
+}
+
+/// The exact KM Jacobian with γ (driven, off equilibrium) against central differences.
+#[test]
+fn keller_miksis_with_surface_tension_jacobian_matches_finite_differences() {
+    let text = format!(
+        "[bubble]\nradius = 3e-6\n[liquid]\nsound_speed = {C}\n[shell]\nsurface_tension = {GAMMA}\n\
+         [drive]\namplitude = 0.7\nfrequency_hz = 1e6\n[modes]\nmax_order = 4\n"
+    );
+    for overrides in [vec!["modes.max_order=0"], vec![], vec!["shell.c1=0", "shell.c2=0"]] {
+        let s = scene::load_str(&text, "km + gamma (test)", &overrides).unwrap();
+        let m = Model::from_scene(&s).unwrap_or_else(|e| panic!("{overrides:?}: {e}"));
+        let sys = m.system();
+        let n = sys.dim();
+        let mut y: Vec<f64> = (0..n).map(|i| 0.01 * (i as f64 + 1.0).sin()).collect();
+        y[0] = 1.3;
+        y[1] = -0.4;
+        let t = 0.37;
+        let mut jac = vec![0.0; n * n];
+        assert!(sys.jacobian(t, &y, &mut jac));
+        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+        for j in 0..n {
+            let h = 1e-6 * y[j].abs().max(1e-3);
+            let (mut yp, mut ym) = (y.clone(), y.clone());
+            yp[j] += h;
+            ym[j] -= h;
+            sys.rhs(t, &yp, &mut fp);
+            sys.rhs(t, &ym, &mut fm);
+            for i in 0..n {
+                let fd = (fp[i] - fm[i]) / (2.0 * h);
+                let a = jac[i * n + j];
+                assert!((a - fd).abs() <= 1e-6 * (1.0 + fd.abs()), "{overrides:?} ∂f{i}/∂y{j}: {a} vs {fd}");
+            }
+        }
+    }
+}
+
+/// `OneConstant::add_rate` uses Ŝ0″ = −2Ŝ0′/R: true iff R·Ŝ0(R) is constant (or Ŝ0 ≡ 0).
+#[test]
+fn shell_radial_loads_are_proportional_to_one_over_r() {
+    let (st, b) = (surface_tension_table(), bending_table());
+    for r in [0.3, 1.0, 2.7] {
+        let x = r * (st.s.0)(r, 1.0, 0.5);
+        assert!((x - 1.0).abs() < 1e-14, "R·Ŝ0 = {x} (2γ with γ = 0.5)");
+        assert!(((st.dr.0)(r, 1.0, 0.5) * r * r + 1.0).abs() < 1e-14);
+        assert_eq!((b.s.0)(r, 1.0, 0.5), 0.0);
+        assert_eq!((b.dr.0)(r, 1.0, 0.5), 0.0);
+    }
+}
