@@ -145,3 +145,20 @@ fn template_overrides_equal_set_and_are_validated() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Issue 15 class 8: a sweep stable at every frequency is a valid result: `--plot` exits 0 and
+/// draws the stable frequencies as markers at the top of the searched range.
+#[test]
+fn a_sweep_stable_everywhere_is_plotted_not_an_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("st");
+    let o = stability(&out, &["--freq", "1e6:2e6:2", "--range", "0:1e-6", "--plot"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let csv = std::fs::read_to_string(out.join("stability.csv")).unwrap();
+    assert_eq!(csv.matches(",stable_throughout,").count(), 2, "{csv}");
+    let svg = std::fs::read_to_string(out.join("stability.svg")).unwrap();
+    assert!(svg.contains("stable up to the range top"), "no marker legend in the svg");
+    assert!(out.join("stability.png").exists());
+    assert!(!out.join("stability_mode.svg").exists(), "a mode staircase with no unstable mode");
+}
