@@ -4,7 +4,7 @@
 //! rung), `DIR/sizes.csv` (mode and grid ladders), `DIR/accuracy.json` (everything) and with
 //! `--plot` `DIR/work_precision.{svg,png}` (error against wall time, log–log).
 
-use crate::analysis::accuracy::{accuracy_study, AccuracyOptions};
+use crate::analysis::accuracy::{accuracy_study, AccuracyOptions, MIN_WORK_RATIO};
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::kinds::{work_precision, Curve};
 use crate::scene;
@@ -93,7 +93,12 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
             ]);
         }
         let fmt = |o: Option<f64>| o.map_or("n/a".to_string(), |v| format!("{v:.2}"));
-        outln!("{:>10} observed order: vs dt {}, vs work {}", l.method, fmt(l.order_dt), fmt(l.order_work));
+        let work = match l.order_work {
+            Some(v) => format!("{v:.2}"),
+            None if l.work_ratio.is_finite() => format!("n/a (work ratio {:.2} < {MIN_WORK_RATIO})", l.work_ratio),
+            None => "n/a".to_string(),
+        };
+        outln!("{:>10} observed order: vs dt {}, vs work {work}", l.method, fmt(l.order_dt));
         let (x, y) = l.rungs.iter().map(|r| (r.wall_seconds, r.error)).unzip();
         curves.push(Curve::new(l.method.clone(), x, y));
     }

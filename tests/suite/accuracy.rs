@@ -82,3 +82,20 @@ fn quick_study_on_the_full_vorticity_model() {
     let sizes = std::fs::read_to_string(out.join("sizes.csv")).unwrap();
     assert!(sizes.lines().any(|l| l.starts_with("1e0,5.1e1")), "grid ladder missing:\n{sizes}");
 }
+
+/// Issue 15 class 9: no order against work when the work barely changes along the ladder
+/// (it printed "vs work 695.88" for a 1 % change); a real spread still gives the slope.
+#[test]
+fn no_order_against_work_that_barely_changes() {
+    use magbubble::analysis::accuracy::{order_vs_work, MIN_WORK_RATIO};
+    let err = [1e-4, 1e-7, 1e-10];
+    let (order, ratio) = order_vs_work(&[1000.0, 1005.0, 1010.0], &err);
+    assert_eq!(order, None);
+    assert!((ratio - 1.01).abs() < 1e-12, "{ratio}");
+    let work = [1000.0, 2000.0, 4000.0];
+    let err: Vec<f64> = work.iter().map(|w: &f64| 3.0 * w.powf(-5.0)).collect();
+    let (order, ratio) = order_vs_work(&work, &err);
+    assert!((order.unwrap() - 5.0).abs() < 1e-12 && ratio == 4.0 && ratio >= MIN_WORK_RATIO);
+    // a failed rung (error ∞) does not count towards the spread
+    assert_eq!(order_vs_work(&[1000.0, 1010.0, 9000.0], &[1e-4, 1e-6, f64::INFINITY]).0, None);
+}
