@@ -71,17 +71,16 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         PathBuf::from("out").join(format!("{stem}-accuracy"))
     });
     let dir = OutputDir::create(&out)?;
-    let header = ["method_id", "setting", "e_r", "e_a", "error", "wall_seconds", "rhs_evals", "steps", "rejected"];
+    let header = ["method", "setting", "e_r", "e_a", "error", "wall_seconds", "rhs_evals", "steps", "rejected"];
     let mut csv = CsvWriter::create(&dir.join("accuracy.csv"), &header)?;
     let mut curves = vec![];
-    for (id, l) in report.ladders.iter().enumerate() {
+    for l in &report.ladders {
         for r in &l.rungs {
             outln!(
                 "{:>10} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>10.4} {:>9} {:>8}  {}",
                 l.method, r.setting, r.e_r, r.e_a, r.error, r.wall_seconds, r.stats.rhs_evals, r.stats.rejected, r.status
             );
-            csv.row(&[
-                id as f64,
+            csv.labeled_row(&l.method, &[
                 r.setting,
                 r.e_r,
                 r.e_a,
@@ -103,9 +102,8 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         curves.push(Curve::new(l.method.clone(), x, y));
     }
     csv.commit()?;
-    outln!("method_id: {}", report.ladders.iter().enumerate().map(|(i, l)| format!("{i} = {}", l.method)).collect::<Vec<_>>().join(", "));
     let mut sizes = CsvWriter::create(&dir.join("sizes.csv"), &["ladder", "size", "wall_seconds", "rhs_evals", "steps", "delta_r", "delta_a2"])?;
-    for (lid, (name, rows)) in [("modes N", &report.modes), ("grid points", &report.grid)].iter().enumerate() {
+    for (label, name, rows) in [("modes", "modes N", &report.modes), ("grid", "grid points", &report.grid)] {
         if rows.is_empty() {
             continue;
         }
@@ -116,8 +114,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
                 "{:>8} {:>10.4} {:>10} {:>11.3e} {:>11.3e}  {}",
                 r.size, r.wall_seconds, r.stats.rhs_evals, r.delta_r, r.delta_a2, r.status
             );
-            sizes.row(&[
-                lid as f64,
+            sizes.labeled_row(label, &[
                 r.size as f64,
                 r.wall_seconds,
                 r.stats.rhs_evals as f64,
