@@ -162,3 +162,20 @@ fn a_sweep_stable_everywhere_is_plotted_not_an_error() {
     assert!(out.join("stability.png").exists());
     assert!(!out.join("stability_mode.svg").exists(), "a mode staircase with no unstable mode");
 }
+
+/// Issue 15 output conventions: one spelling of NaN. An error row spells its empty numbers as a
+/// computed row does (`NaN`, which also parses back as NaN), never `nan`.
+#[test]
+fn error_rows_spell_nan_as_computed_rows_do() {
+    use magbubble::analysis::stability::CRITICAL_HEADER;
+    let f = magbubble::cli::stability::error_fields("no orbit, at all");
+    assert_eq!(f.len(), CRITICAL_HEADER.len());
+    assert_eq!(f[1], "error");
+    assert_eq!(f[f.len() - 1], "no orbit, at all");
+    assert_eq!(f[CRITICAL_HEADER.iter().position(|h| *h == "mode").unwrap()], "");
+    let computed_nan = format!("{:.8e}", f64::NAN);
+    for (cell, name) in f.iter().zip(CRITICAL_HEADER).filter(|(_, n)| !["outcome", "mode", "note"].contains(n)) {
+        assert_eq!(cell, &computed_nan, "{name}");
+        assert!(cell.parse::<f64>().unwrap().is_nan());
+    }
+}
