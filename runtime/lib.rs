@@ -1,9 +1,10 @@
 //! magbubble — radial and non-spherical oscillations of a lipid-coated magnetic microbubble.
 //!
-//! The model is the self-consistent formulation of `shared/FORMULATION.md` (the normative
-//! version of Krishna & Tamadapu, "Nonspherical oscillations of an encapsulated magnetic
-//! microbubble"). Where the paper and FORMULATION.md differ, the code follows FORMULATION.md
-//! and the doc comments cite both.
+//! The model is the self-consistent form of Krishna & Tamadapu, "Nonspherical oscillations of
+//! an encapsulated magnetic microbubble", stated in full in `docs/model.md`. Where the paper
+//! slips, the code follows docs/model.md; doc comments cite the paper's equation numbers and
+//! the sections of docs/model.md (comments saying "FORMULATION §x" or "audit n" refer to §x and
+//! audit item n there: the numbering is the same).
 //!
 //! The tree mirrors the concepts:
 //! - [`coefficients`]: the Legendre-coupling tables generated at build time from `derivations/`.

@@ -97,7 +97,7 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
     // Radial: ω0² = −∂R̈/∂R at (R0, Ṙ = 0), undamped (the 4ηṘ/R term vanishes at Ṙ = 0).
     let pressure = eq.loads(0.0, &z, &mut [], &mut []);
     let mut grad = vec![0.0; z.len()];
-    eq.acceleration_gradient(r, 0.0, pressure, &lj.pressure, &mut grad);
+    eq.acceleration_gradient_at(0.0, &z, pressure, &lj.pressure, &mut grad);
     let w0 = (-grad[0]).max(0.0).sqrt();
     let radial = RadialFrequency { omega_rad_s: w0 / ts, f_hz: w0 / ts / (2.0 * std::f64::consts::PI) };
 
@@ -109,14 +109,29 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
         })
     };
     let (a, b, aa, bb) = (pick(true, 0), pick(true, 2), pick(false, 0), pick(false, 2));
-    let bb_inv = bb.try_inverse().ok_or(FrequencyError::SingularTangential)?;
-    let mut w = a - b * bb_inv * aa;
+    // No tangential load at all (a free bubble, issue 10: G_t ≡ 0): b does not feed back on the
+    // normal balance, ω² = 𝒟A (Lamb's ω_k² with surface tension).
+    let no_tangential = b.iter().chain(aa.iter()).chain(bb.iter()).all(|&x| x == 0.0);
+    let mut w = if no_tangential {
+        a
+    } else {
+        let bb_inv = bb.try_inverse().ok_or(FrequencyError::SingularTangential)?;
+        a - b * bb_inv * aa
+    };
     for m in 0..n {
         let scale = (bl.modes()[m].k + 1.0) / (p.rho * p.r0);
         w.row_mut(m).scale_mut(scale);
     }
     let mut shape = Vec::new();
-    for mu in crate::analysis::floquet::eigenvalues(&w) {
+    // Uncoupled (no field): the spectrum is the diagonal, mode by mode (also avoids the
+    // eigen-solver on a zero matrix: a free bubble without surface tension has ω_k = 0).
+    let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || w[(i, j)] == 0.0));
+    if diagonal {
+        for m in 0..n {
+            shape.push(wrap(w[(m, m)], 2 * (m + 1), true));
+        }
+    }
+    for mu in if diagonal { Vec::new() } else { crate::analysis::floquet::eigenvalues(&w) } {
         let weights = crate::analysis::floquet::eigenvector_weights(&w, mu);
         let m = weights.iter().enumerate().fold(0, |best, (i, &v)| if v > weights[best] { i } else { best });
         shape.push(wrap(mu.re, 2 * (m + 1), true));
@@ -135,7 +150,8 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
             (mem.s11)(r, p.r0, c1, c2, kf) + x[2],
             (mem.s12)(r, p.r0, c1, c2, kf) + x[3],
         );
-        shape.push(wrap((kf + 1.0) / (p.rho * p.r0) * (s1 - s2 * s11 / s12), k, coupled_field));
+        let s_eff = if !eq.has("membrane") { 0.0 } else { s1 - s2 * s11 / s12 };
+        shape.push(wrap((kf + 1.0) / (p.rho * p.r0) * s_eff, k, coupled_field));
     }
     shape.sort_by(|x, y| x.k.cmp(&y.k).then(x.omega_sq_nondim.total_cmp(&y.omega_sq_nondim)));
     Ok(Frequencies { radial, shape, t_star: ts })

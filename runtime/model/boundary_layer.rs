@@ -131,7 +131,7 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         let m = self.modes.len();
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
-        let rdd = self.eq.acceleration(r, rd, p);
+        let rdd = self.eq.acceleration_at(t, y, p);
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);

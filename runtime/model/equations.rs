@@ -18,7 +18,7 @@
 //! The linearisation of the same expressions ([`WallLinear`], [`mode_partials`]) gives the exact
 //! Jacobian and A(t) ([`super::linearize`]).
 
-use super::effects::{At, LoadJacobian, Loads, Term};
+use super::effects::{At, LoadJacobian, Loads, PressureRate, Term};
 use super::params::Params;
 use super::radial::RadialForm;
 
@@ -74,7 +74,46 @@ impl Equations {
     /// R̈ at (t, z) (shape loads not evaluated).
     pub fn radial_acceleration(&self, t: f64, z: &[f64]) -> f64 {
         let p = self.loads(t, z, &mut [], &mut []);
-        self.acceleration(z[0], z[1], p)
+        self.acceleration_at(t, z, p)
+    }
+
+    /// The pressure's rate (q, s and their (R, Ṙ)-gradients) summed over the terms, and whether
+    /// every term provides it ([`Term::add_rate`]).
+    pub fn rate(&self, t: f64, z: &[f64]) -> (PressureRate, bool) {
+        let at = At { t, z };
+        let mut rate = PressureRate::default();
+        let mut all = true;
+        for term in &self.terms {
+            all &= term.add_rate(&at, &mut rate);
+        }
+        (rate, all)
+    }
+
+    /// R̈ at (t, z) from P: the radial form, with the pressure's rate when it needs it
+    /// (Keller–Miksis). Incompressible: exactly [`acceleration`](Self::acceleration).
+    #[inline]
+    pub fn acceleration_at(&self, t: f64, z: &[f64], pressure: f64) -> f64 {
+        if !self.form.needs_rate() {
+            return self.acceleration(z[0], z[1], pressure);
+        }
+        let (rate, _) = self.rate(t, z);
+        self.form.acceleration_rate(self.params.rho, z[0], z[1], pressure, &rate)
+    }
+
+    /// ∂R̈/∂z (length of `grad`) at (t, z) given P and its gradient: the chain rule through P and,
+    /// for a form that needs it, through the rate (q, s).
+    pub fn acceleration_gradient_at(&self, t: f64, z: &[f64], pressure: f64, dp: &[f64], grad: &mut [f64]) {
+        if !self.form.needs_rate() {
+            return self.acceleration_gradient(z[0], z[1], pressure, dp, grad);
+        }
+        let (rate, _) = self.rate(t, z);
+        let d = self.form.partials_rate(self.params.rho, z[0], z[1], pressure, &rate);
+        for (g, x) in grad.iter_mut().zip(dp) {
+            *g = d[2] * x;
+        }
+        for j in 0..2 {
+            grad[j] += d[j] + d[3] * rate.dq[j] + d[4] * rate.ds[j];
+        }
     }
 
     /// Exact ∂P/∂z, ∂G_n/∂z, ∂G_t/∂z at (t, z) for `jac.modes()` modes (overwritten).

@@ -69,8 +69,8 @@ impl BoundaryLayerSystem {
         let rdd = match rdd {
             Some(v) => v,
             None => {
-                self.eq.acceleration_gradient(y[0], y[1], p, &lj.pressure, &mut drdd);
-                self.eq.acceleration(y[0], y[1], p)
+                self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut drdd);
+                self.eq.acceleration_at(t, y, p)
             }
         };
         Lin { lj, rdd, drdd, gn, gt }

@@ -15,6 +15,7 @@ pub mod boundary_layer;
 pub mod dispersion;
 pub mod effects;
 pub mod equations;
+pub mod keller_miksis;
 pub mod linearize;
 pub mod params;
 pub mod radial;
@@ -94,27 +95,55 @@ impl Model {
             .map(|s| MagneticLoads::new(s, orders.len(), scales.length, scales.pressure, scales.time))
             .transpose()?;
         let kf: Vec<f64> = orders.iter().map(|&k| k as f64).collect();
-        // The terms in summation order: P = p_in − p∞ − 4ηṘ/R − Ŝ0 + M0, G = Ŝ·(a, b) − M.
-        let mut terms: Vec<Box<dyn Term>> = vec![
-            Box::new(effects::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa }),
-            Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }),
-            Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }),
-            Box::new(effects::membrane::MembraneTerm {
+        // The terms in summation order: P = p_in (+ p_v) − p∞ − 4ηṘ/R − Ŝ0 + M0, G = Ŝ·(a, b) − M.
+        // Vapour and membrane only when the scene has them (issue 10: free when absent).
+        let mut terms: Vec<Box<dyn Term>> =
+            vec![Box::new(effects::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa })];
+        if params.pv != 0.0 {
+            terms.push(Box::new(effects::vapour::VapourPressure { pv: params.pv }));
+        }
+        terms.push(Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }));
+        terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
+        if !scene.shell.is_free() {
+            terms.push(Box::new(effects::membrane::MembraneTerm {
                 law: params.membrane,
                 r0: params.r0,
                 c1: params.membrane_args.0,
                 c2: params.membrane_args.1,
                 orders: kf.clone(),
-            }),
-        ];
+            }));
+        }
         // issue 11 / issue 10 part 2: only the shell effects the scene switches on
         terms.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
         }
-        let eq = Equations { params, orders: kf, form: Box::new(radial::Incompressible), terms };
+        let form: Box<dyn RadialForm> = match params.sound_speed {
+            None => Box::new(radial::Incompressible),
+            Some(c) => Box::new(keller_miksis::KellerMiksis { c }),
+        };
+        let eq = Equations { params, orders: kf, form, terms };
+        if eq.form().needs_rate() {
+            let z = vec![1.0; 2 + 3 * orders.len()];
+            if let Some(t) = eq.terms().find(|t| !t.add_rate(&effects::At { t: 0.0, z: &z }, &mut Default::default())) {
+                return Err(ModelError::Unsupported {
+                    key: "liquid.sound_speed",
+                    value: format!("{} m/s", scene.liquid.sound_speed.unwrap_or(f64::NAN)),
+                    reason: match t.name() {
+                        "magnetic" => "Keller-Miksis needs dP/dt, and the magnetic load M0 has no time derivative yet (remove [field] or liquid.sound_speed)",
+                        _ => "Keller-Miksis needs dP/dt, and a term of this scene does not provide it",
+                    },
+                });
+            }
+        }
 
-        let mut effects = vec!["radial".to_string()];
+        let mut effects = vec![match params.sound_speed {
+            None => "radial".to_string(),
+            Some(_) => "radial (Keller-Miksis)".to_string(),
+        }];
+        if scene.shell.is_free() {
+            effects.push("free bubble (no membrane)".to_string());
+        }
         let system = if orders.is_empty() {
             System::Radial(RadialSystem { eq })
         } else {
@@ -134,10 +163,7 @@ impl Model {
             effects.push(format!("shape modes k=2..{} (boundary layer)", scene.modes.max_order));
             System::BoundaryLayer(BoundaryLayerSystem { eq, modes })
         };
-        effects.extend(self_labels(match &system {
-            System::Radial(s) => &s.eq,
-            System::BoundaryLayer(s) => &s.eq,
-        }));
+        effects.extend(self_labels(eq_of(&system)));
 
         let mut y0 = vec![scene.bubble.initial.radius / scales.length, scene.bubble.initial.velocity * scales.time / scales.length];
         for &k in &orders {
@@ -150,9 +176,16 @@ impl Model {
         let (c1, c2) = (scene.shell.c1, scene.shell.c2);
         let groups = Groups {
             t_star: scales.time,
-            reynolds: (2.0 * scene.liquid.density * c1 * r0).sqrt() / scene.liquid.viscosity,
-            p: scene.liquid.ambient_pressure * r0 / c1,
-            alpha: c2 / c1,
+            reynolds: if c1 == 0.0 {
+                r0 * (scene.liquid.density * scene.liquid.ambient_pressure).sqrt() / scene.liquid.viscosity
+            } else {
+                (2.0 * scene.liquid.density * c1 * r0).sqrt() / scene.liquid.viscosity
+            },
+            p: (c1 != 0.0).then(|| scene.liquid.ambient_pressure * r0 / c1),
+            alpha: (c1 != 0.0).then(|| c2 / c1),
+            p_g0_pa: eq_of(&system).params.pg0 * scales.pressure,
+            p_g0_rule: if scene.gas.reference_pressure_given { "override" } else { "equilibrium" },
+            mach: scene.liquid.sound_speed.map(|c| scales.length / (c * scales.time)),
             rn: source.as_ref().filter(|s| s.group.0 == "rn").map(|s| s.group.1),
             mn: source.as_ref().filter(|s| s.group.0 == "mn").map(|s| s.group.1),
             omega_d_star: params.drive.map(|(_, w)| w),
@@ -274,6 +307,13 @@ impl Model {
     /// The blow-up event function ([`blow_up::margin`]) at this scene's threshold.
     pub fn blow_up_margin(&self, y: &[f64]) -> f64 {
         blow_up::margin(y, &self.orders, self.blow_up_threshold)
+    }
+}
+
+fn eq_of(system: &System) -> &Equations {
+    match system {
+        System::Radial(s) => &s.eq,
+        System::BoundaryLayer(s) => &s.eq,
     }
 }
 

@@ -1,5 +1,9 @@
 //! Nondimensionalization at the edge (FORMULATION §4.5, paper §5.4).
 //!
+//! A free gas bubble (shell.c1 = c2 = 0, issue 10) has no membrane scale: its units are length
+//! R0, time t* = R0 √(ρ/p0), pressure p0 (so ρ̄ = 1, p̄0 = 1, η̄ = 1/Re with Re = R0√(ρp0)/η;
+//! P and α are undefined and reported as null). docs/model.md, "A free gas bubble".
+//!
 //! Units: length R0, time t* = √(ρR0³/(2c1)), pressure 2c1/R0. In these units ρ̄ = 1, R̄0 = 1,
 //! c̄1 = 1/2, c̄2 = α/2, η̄ = 1/Re, p̄0 = P/2, with Re = √(2ρc1R0)/η, P = p0R0/c1, α = c2/c1.
 //! The equations in `radial` and `boundary_layer` are written dimensionally homogeneous (in
@@ -26,6 +30,10 @@ impl Scales {
     pub fn from_scene(s: &Scene) -> Self {
         let r0 = s.bubble.radius;
         let c1 = s.shell.c1;
+        if c1 == 0.0 {
+            let time = crate::scene::time_scale(&s.liquid, r0, &s.shell);
+            return Self { length: r0, time, pressure: s.liquid.ambient_pressure };
+        }
         Self { length: r0, time: (s.liquid.density * r0.powi(3) / (2.0 * c1)).sqrt(), pressure: 2.0 * c1 / r0 }
     }
 }
@@ -129,8 +137,13 @@ pub struct Params {
     pub c1: f64,
     pub c2: f64,
     pub p0: f64,
-    /// p̄_g0 (FORMULATION audit 7)
+    /// p̄_g0: `gas.reference_pressure` or the equilibrium rule p̄0 − p̄v + Ŝ0(R0) (docs/model.md,
+    /// "Liquid and gas effects"; FORMULATION audit 7 had p_g0 = p0).
     pub pg0: f64,
+    /// p̄_v (0: no vapour term)
+    pub pv: f64,
+    /// c̄ = c t*/R0 when `liquid.sound_speed` is given (Keller–Miksis).
+    pub sound_speed: Option<f64>,
     /// 3κ
     pub three_kappa: f64,
     /// (ε_p p̄0, ω_d t*) when driven; `None`: p∞ = p0, no drive term.
@@ -156,7 +169,17 @@ impl Params {
             c1: c(s.shell.c1),
             c2: c(s.shell.c2),
             p0: p(s.liquid.ambient_pressure),
-            pg0: p(s.gas.reference_pressure),
+            pg0: {
+                let pg0 = p(s.gas.reference_pressure);
+                if s.gas.reference_pressure_given || s.shell.is_free() {
+                    pg0
+                } else {
+                    // + Ŝ0(R0): zero for a membrane unstressed at R0 (the shipped laws)
+                    pg0 + (Membrane::new(s.shell.form).s0)(1.0, 1.0, c(s.shell.c1), c(s.shell.c2))
+                }
+            },
+            pv: p(s.gas.vapour_pressure),
+            sound_speed: s.liquid.sound_speed.map(|c| c * sc.time / sc.length),
             three_kappa: 3.0 * s.gas.polytropic_exponent,
             drive,
             membrane: Membrane::for_law(s.shell.law, s.shell.form),
@@ -188,14 +211,21 @@ impl Params {
 /// The nondimensional groups of a run (paper §5.4, FORMULATION §4.5), reported in summaries.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Groups {
-    /// t* = √(ρR0³/(2c1)) [s]
+    /// t* = √(ρR0³/(2c1)) [s]; free bubble: R0 √(ρ/p0)
     pub t_star: f64,
-    /// Re = √(2ρc1R0)/η
+    /// Re = √(2ρc1R0)/η; free bubble: R0 √(ρ p0)/η (= ρ (R0/t*) R0/η in both cases)
     pub reynolds: f64,
-    /// P = p0 R0 / c1
-    pub p: f64,
-    /// α = c2 / c1
-    pub alpha: f64,
+    /// P = p0 R0 / c1 (None → null for a free bubble)
+    pub p: Option<f64>,
+    /// α = c2 / c1 (None → null for a free bubble)
+    pub alpha: Option<f64>,
+    /// The gas pressure at R0 used [Pa] (issue 10): `gas.reference_pressure` or the equilibrium rule.
+    pub p_g0_pa: f64,
+    /// "equilibrium" (p0 − p_v + 2γ/R0 + Ŝ0(R0)) or "override" (`gas.reference_pressure` given).
+    pub p_g0_rule: &'static str,
+    /// R0/(c t*): the Mach number of the velocity scale R0/t*, when Keller–Miksis (c given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mach: Option<f64>,
     /// Rn = μ0 χ_s H2² R0² / (2 c1 a²), coil field only (reference current and distance).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rn: Option<f64>,

@@ -1,10 +1,11 @@
 //! The radial equation (paper eq 2.62, corrected: FORMULATION §4.1): its *form* turns the
 //! pressure balance P = p_in − p∞(t) − 4ηṘ/R − Ŝ0(R) + M0 + … (the sum of the terms,
 //! [`super::effects`]) into R̈. Today's form is the incompressible Rayleigh–Plesset one,
-//! ρ(R R̈ + 3/2 Ṙ²) = P. A compressible form (Keller–Miksis, issue 10) is one more
-//! [`RadialForm`]; it multiplies P by (1 + Ṙ/c) and adds (R/c) dP/dt, so it will extend
-//! [`RadialForm`] with the terms' time derivative (the terms' gradients are already exact).
+//! ρ(R R̈ + 3/2 Ṙ²) = P. The compressible form (Keller–Miksis, issue 10,
+//! [`super::keller_miksis`]) multiplies P by (1 + Ṙ/c) and adds (R/c) dP/dt: it asks for the
+//! pressure's rate ([`RadialForm::needs_rate`], [`PressureRate`] from the terms).
 
+use super::effects::PressureRate;
 use super::equations::Equations;
 use crate::integrate::OdeSystem;
 
@@ -15,6 +16,20 @@ pub trait RadialForm: std::fmt::Debug {
     fn acceleration(&self, rho: f64, r: f64, rd: f64, pressure: f64) -> f64;
     /// (∂R̈/∂R, ∂R̈/∂Ṙ, ∂R̈/∂P) at (R, Ṙ, P).
     fn partials(&self, rho: f64, r: f64, rd: f64, pressure: f64) -> (f64, f64, f64);
+    /// Whether R̈ depends on dP/dt = q + s R̈ ([`PressureRate`]); `false`: only P is evaluated
+    /// and [`acceleration`](Self::acceleration), [`partials`](Self::partials) are used.
+    fn needs_rate(&self) -> bool {
+        false
+    }
+    /// R̈ given P and its rate (forms with [`needs_rate`](Self::needs_rate)).
+    fn acceleration_rate(&self, rho: f64, r: f64, rd: f64, pressure: f64, _rate: &PressureRate) -> f64 {
+        self.acceleration(rho, r, rd, pressure)
+    }
+    /// Explicit (∂R̈/∂R, ∂R̈/∂Ṙ, ∂R̈/∂P, ∂R̈/∂q, ∂R̈/∂s) at (R, Ṙ, P, q, s).
+    fn partials_rate(&self, rho: f64, r: f64, rd: f64, pressure: f64, _rate: &PressureRate) -> [f64; 5] {
+        let (a, b, c) = self.partials(rho, r, rd, pressure);
+        [a, b, c, 0.0, 0.0]
+    }
 }
 
 /// Incompressible liquid: R̈ = P/(ρR) − 3Ṙ²/(2R) (eq 2.62).
@@ -64,7 +79,7 @@ impl OdeSystem for RadialSystem {
         self.eq.load_jacobian(t, y, &mut lj);
         let p = self.eq.loads(t, y, &mut [], &mut []);
         let mut g = [0.0; 2];
-        self.eq.acceleration_gradient(y[0], y[1], p, &lj.pressure, &mut g);
+        self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut g);
         jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
         true
     }

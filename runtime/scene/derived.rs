@@ -35,9 +35,12 @@ pub fn output_estimate(s: &Scene) -> (f64, f64) {
 /// Every problem of the scene's derived quantities, budgets and output size.
 pub fn check(s: &Scene) -> Vec<Issue> {
     let mut issues = Vec::new();
-    let (r0, rho, c1) = (s.bubble.radius, s.liquid.density, s.shell.c1);
-    let t_star = (rho * r0.powi(3) / (2.0 * c1)).sqrt();
-    let ts_keys = [("bubble.radius", r0), ("liquid.density", rho), ("shell.c1", c1)];
+    let (r0, rho, c1_key) = (s.bubble.radius, s.liquid.density, s.shell.c1);
+    // A free bubble (c1 = 0, issue 10): t* = R0 sqrt(rho/p0), pressure scale p0 (= 2c1/R0 with
+    // c1 → p0 R0/2), so the groups below are checked with that stand-in for c1.
+    let c1 = if c1_key == 0.0 { s.liquid.ambient_pressure * r0 / 2.0 } else { c1_key };
+    let t_star = super::types::time_scale(&s.liquid, r0, &s.shell);
+    let ts_keys = [("bubble.radius", r0), ("liquid.density", rho), ("shell.c1", c1_key)];
     if !(t_star.is_finite() && t_star > 0.0) {
         issues.push(blame(&ts_keys, format!("gives the time scale t* = sqrt(rho R0^3/(2 c1)) = {} s", fmt_sig(t_star))));
         return issues;
@@ -60,15 +63,15 @@ pub fn check(s: &Scene) -> Vec<Issue> {
     };
     let eta = s.liquid.viscosity;
     group("Re = sqrt(2 rho c1 R0)/eta", (2.0 * rho * c1 * r0).sqrt() / eta, false,
-        &[("liquid.viscosity", eta), ("liquid.density", rho), ("shell.c1", c1), ("bubble.radius", r0)]);
+        &[("liquid.viscosity", eta), ("liquid.density", rho), ("shell.c1", c1_key), ("bubble.radius", r0)]);
     let p0 = s.liquid.ambient_pressure;
-    group("P = p0 R0/c1", p0 * r0 / c1, false, &[("liquid.ambient_pressure", p0), ("bubble.radius", r0), ("shell.c1", c1)]);
+    group("P = p0 R0/c1", p0 * r0 / c1, false, &[("liquid.ambient_pressure", p0), ("bubble.radius", r0), ("shell.c1", c1_key)]);
     let pg0 = s.gas.reference_pressure;
     // p_g0 defaults to p0: checked on its own only when it differs (else P said it).
     if pg0 != p0 {
-        group("p_g0 R0/c1", pg0 * r0 / c1, false, &[("gas.reference_pressure", pg0), ("bubble.radius", r0), ("shell.c1", c1)]);
+        group("p_g0 R0/c1", pg0 * r0 / c1, false, &[("gas.reference_pressure", pg0), ("bubble.radius", r0), ("shell.c1", c1_key)]);
     }
-    group("alpha = c2/c1", s.shell.c2 / c1, true, &[("shell.c2", s.shell.c2), ("shell.c1", c1)]);
+    group("alpha = c2/c1", s.shell.c2 / c1, true, &[("shell.c2", s.shell.c2), ("shell.c1", c1_key)]);
     group("the gas exponent 3 kappa", 3.0 * kappa, false, &[("gas.polytropic_exponent", kappa)]);
     let eps = s.shell.thickness;
     group("eps/R0", eps / r0, false, &[("shell.thickness", eps), ("bubble.radius", r0)]);

@@ -62,6 +62,7 @@ pub struct RawShell {
 pub struct RawGas {
     pub polytropic_exponent: Option<f64>,
     pub reference_pressure: Option<f64>,
+    pub vapour_pressure: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
@@ -70,6 +71,7 @@ pub struct RawLiquid {
     pub density: Option<f64>,
     pub viscosity: Option<f64>,
     pub ambient_pressure: Option<f64>,
+    pub sound_speed: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

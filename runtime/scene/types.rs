@@ -125,12 +125,35 @@ impl ShellLaw {
     }
 }
 
+impl Shell {
+    /// c1 = c2 = 0: a free gas bubble, no membrane term (issue 10).
+    pub fn is_free(&self) -> bool {
+        self.c1 == 0.0 && self.c2 == 0.0
+    }
+}
+
+/// t* [s] (FORMULATION §4.5): √(ρR0³/(2c1)) with a membrane; R0 √(ρ/p0) for a free bubble
+/// (c1 = 0), whose only stiffness scale is the liquid's (docs/model.md, "A free gas bubble").
+pub fn time_scale(liquid: &Liquid, r0: f64, shell: &Shell) -> f64 {
+    if shell.c1 == 0.0 {
+        r0 * (liquid.density / liquid.ambient_pressure).sqrt()
+    } else {
+        (liquid.density * r0.powi(3) / (2.0 * shell.c1)).sqrt()
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Gas {
     /// κ: p_in = p_g0 (R0/R)^{3κ}
     pub polytropic_exponent: f64,
-    /// p_g0 [Pa]; default p0 (FORMULATION audit 7).
+    /// p_g0 [Pa]: the given `gas.reference_pressure`, or the equilibrium rule
+    /// p0 − p_v + 2γ/R0 (+ the membrane prestress Ŝ0(R0), zero for the shipped laws, whose
+    /// unstressed radius is R0; the model adds it: `Groups::p_g0_pa` is the value used).
     pub reference_pressure: f64,
+    /// Whether `gas.reference_pressure` was given (an override of the equilibrium rule).
+    pub reference_pressure_given: bool,
+    /// p_v [Pa], 0 = no vapour term.
+    pub vapour_pressure: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -141,6 +164,8 @@ pub struct Liquid {
     pub viscosity: f64,
     /// p0 [Pa]
     pub ambient_pressure: f64,
+    /// c [m/s]: `Some` → Keller–Miksis radial equation; `None` → incompressible (eq 2.62).
+    pub sound_speed: Option<f64>,
 }
 
 /// p∞(t) = p0 (1 + ε_p cos(2π f t)).

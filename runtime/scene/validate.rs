@@ -239,16 +239,39 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         density: c.float("liquid.density", rl.density),
         viscosity: c.float("liquid.viscosity", rl.viscosity),
         ambient_pressure: c.float("liquid.ambient_pressure", rl.ambient_pressure),
+        sound_speed: rl.sound_speed.map(|v| {
+            c.range("liquid.sound_speed", v);
+            v
+        }),
     };
+    if shell.c1 == 0.0 && shell.c2 != 0.0 {
+        c.push(
+            "shell.c2",
+            Some(fmt_num(shell.c2)),
+            "must be 0 when shell.c1 = 0 (c1 = c2 = 0 is a free bubble; a membrane needs c1 > 0)",
+        );
+    }
     let rg = raw.gas.unwrap_or_default();
+    let vapour_pressure = c.float("gas.vapour_pressure", rg.vapour_pressure);
+    // Equilibrium at rest at R0 (docs/model.md, "Liquid and gas effects"): p_g0 = p0 − p_v
+    // + 2γ/R0 (+ Ŝ0(R0); the membrane prestress is added by the model).
+    let equilibrium = liquid.ambient_pressure - vapour_pressure + 2.0 * shell.surface_tension / r0;
     let gas = Gas {
         polytropic_exponent: c.float("gas.polytropic_exponent", rg.polytropic_exponent),
-        reference_pressure: c.float_or(
-            "gas.reference_pressure",
-            rg.reference_pressure,
-            liquid.ambient_pressure,
-        ),
+        reference_pressure: c.float_or("gas.reference_pressure", rg.reference_pressure, equilibrium),
+        reference_pressure_given: rg.reference_pressure.is_some(),
+        vapour_pressure,
     };
+    if !gas.reference_pressure_given && !(equilibrium > 0.0) && vapour_pressure.is_finite() {
+        c.push(
+            "gas.vapour_pressure",
+            Some(fmt_num(vapour_pressure)),
+            format!(
+                "the equilibrium gas pressure p0 - p_v + 2 gamma/R0 = {} Pa is not positive (lower p_v or give gas.reference_pressure)",
+                fmt_num(equilibrium)
+            ),
+        );
+    }
 
     let drive = raw.drive.and_then(|d| {
         let amplitude = c.float("drive.amplitude", d.amplitude);
@@ -260,6 +283,13 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     });
 
     let field = build_field(c, raw.field, r0);
+    if field.is_some() && shell.is_free() {
+        c.push(
+            "field",
+            None,
+            "a magnetic field acts on the nanoparticle-laden shell: a free bubble (shell.c1 = shell.c2 = 0) has none",
+        );
+    }
     let vorticity = build_vorticity(c, raw.vorticity);
     let run = build_run(c, raw.run, &bubble, &shell, &liquid);
 
@@ -405,8 +435,8 @@ fn build_run(
     }
     let blow_up_threshold = c.float("run.blow_up_threshold", rr.blow_up_threshold);
     let ri = rr.integrator.unwrap_or_default();
-    // t* = sqrt(rho R0^3 / (2 c1)), FORMULATION sec 4.5.
-    let t_star = (liquid.density * bubble.radius.powi(3) / (2.0 * shell.c1)).sqrt();
+    // t* = sqrt(rho R0^3 / (2 c1)), FORMULATION sec 4.5 (free bubble: R0 sqrt(rho/p0)).
+    let t_star = time_scale(liquid, bubble.radius, shell);
     let dt = c.float_or("run.integrator.dt", ri.dt, schema::DT_OVER_TSTAR * t_star);
     if ri.dt.is_none() && !(t_star.is_finite() && t_star > 0.0) {
         // Not the user's run.integrator.dt: the time scale it defaults to (scene::derived says which key).

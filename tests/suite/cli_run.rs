@@ -22,7 +22,7 @@ fn run_with_invalid_scene_fails_and_creates_nothing() {
         .unwrap();
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("`shell.c1` = -0.1: must be > 0"), "{err}");
+    assert!(err.contains("`shell.c1` = -0.1: must be >= 0"), "{err}");
     assert!(err.contains("`modes.max_order` = 3"), "{err}");
     assert!(
         !out.exists() && !tmp.path().join("not").exists(),

@@ -268,3 +268,20 @@ fn alternating_current_is_bitwise_reproducible_across_runs_and_threads() {
     let distinct: std::collections::BTreeSet<_> = one.iter().map(|r| r.1[0].clone()).collect();
     assert_eq!(distinct.len(), 4, "different currents give different series");
 }
+
+/// A violently collapsing free bubble with Keller–Miksis (issue 10): ε_p = 1.2 at 100 kHz,
+/// R0 = 5 µm. Grows past 3 R0 and collapses below 0.3 R0 (at the output samples), and ends
+/// completed or classified — never a crash or NaN rows.
+#[test]
+fn km_collapse_free_bubble_ends_classified() {
+    let s = load("km_collapse", &[]);
+    let (report, rows) = run_rows(&s);
+    assert!(
+        matches!(report.status, RunStatus::Completed | RunStatus::BlowUp { .. }),
+        "{:?}",
+        report.status
+    );
+    let r: Vec<f64> = rows.iter().map(|(_, row)| row[0] / s.bubble.radius).collect();
+    let (max, min) = (r.iter().cloned().fold(0.0, f64::max), r.iter().cloned().fold(f64::INFINITY, f64::min));
+    assert!(max > 3.0 && min < 0.3, "R/R0 in [{min}, {max}]");
+}

@@ -4,6 +4,7 @@
 mod common;
 mod support;
 
+mod blow_up_time;
 mod accuracy;
 mod cli_run;
 mod equations_jacobian;
@@ -25,6 +26,7 @@ mod floquet_orbits;
 mod floquet_periodic;
 mod hard_cases;
 mod integrators;
+mod liquid_gas;
 mod modes_damped;
 mod modes_frequencies;
 mod physics_bl;

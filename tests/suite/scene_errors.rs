@@ -52,7 +52,7 @@ fn wrong_type_names_expected_and_found() {
 #[test]
 fn out_of_range_names_value_and_range() {
     let (_, msg) = error_of("[shell]\nc1 = -0.1\n", NO_SET);
-    assert!(msg.contains("`shell.c1` = -0.1: must be > 0"), "{msg}");
+    assert!(msg.contains("`shell.c1` = -0.1: must be >= 0"), "{msg}");
     let (_, msg) = error_of("[liquid]\nviscosity = nan\n", NO_SET);
     assert!(
         msg.contains("`liquid.viscosity` = NaN: must be > 0"),

@@ -131,7 +131,7 @@ fn explain_covers_keys_and_sections() {
     assert!(
         one.contains("shell.c1  [N/m]")
             && one.contains("default: 0.1")
-            && one.contains("allowed: > 0"),
+            && one.contains("allowed: >= 0"),
         "{one}"
     );
     assert!(one.contains("c_1 = eps C_1"), "{one}");

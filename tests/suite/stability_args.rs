@@ -49,7 +49,7 @@ fn bad_arguments_are_refused_before_any_work() {
     refused(&["--freq-key", "drive.amplitude"], "also the frequency axis");
     refused(&["--range=-1:1"], "`drive.amplitude` = -1.0: must be >= 0");
     refused(&["--family", "shell.c1=0.1,abc"], "--family shell.c1=abc");
-    refused(&["--family", "shell.c1=0.1,-1"], "`shell.c1` = -1.0: must be > 0");
+    refused(&["--family", "shell.c1=0.1,-1"], "`shell.c1` = -1.0: must be >= 0");
     refused(&["--family", "shell.c1=0.1,,0.2"], "empty value");
     refused(&["--family", "shell.c3=1"], "--family shell.c3: no such scene key");
     refused(&["--family", "drive.amplitude=0.1,0.2"], "every curve would be the same");

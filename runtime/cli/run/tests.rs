@@ -22,8 +22,11 @@ fn report(status: RunStatus, names: &[String]) -> RunReport {
         groups: Groups {
             t_star: 2.2e-6,
             reynolds: 10.0,
-            p: 10.0,
-            alpha: 1.2,
+            p: Some(10.0),
+            alpha: Some(1.2),
+            p_g0_pa: 101325.0,
+            p_g0_rule: "equilibrium",
+            mach: None,
             rn: None,
             mn: None,
             omega_d_star: None,
@@ -166,7 +169,7 @@ fn invalid_scene_creates_nothing() {
     )
     .unwrap_err();
     assert!(
-        err.to_string().contains("`shell.c1` = -1.0: must be > 0"),
+        err.to_string().contains("`shell.c1` = -1.0: must be >= 0"),
         "{err}"
     );
     assert!(!out.exists());

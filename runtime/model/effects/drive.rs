@@ -2,7 +2,7 @@
 //! balance as −p∞. Without a drive (absent or ε_p = 0) it is the constant p0 and the term is not
 //! listed as an effect ("no drive term").
 
-use super::{At, LoadJacobian, Loads, Term};
+use super::{At, LoadJacobian, Loads, PressureRate, Term};
 
 #[derive(Debug, Clone, Copy)]
 pub struct FarField {
@@ -39,4 +39,9 @@ impl Term for FarField {
         loads.pressure -= self.p_inf(at.t);
     }
     fn add_jacobian(&self, _at: &At<'_>, _jac: &mut LoadJacobian) {}
+    /// q = −dp∞/dt (the driving pressure's time derivative in the radiation term).
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        rate.q -= self.p_inf_dt(at.t);
+        true
+    }
 }

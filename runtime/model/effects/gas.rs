@@ -1,7 +1,7 @@
 //! The gas inside the bubble: polytropic, p_in = p_g0 (R0/R)^{3κ} (FORMULATION §4.1, audit 7).
-//! Vapour pressure (issue 10) would be one more file.
+//! Vapour pressure (issue 10) is one more term ([`super::vapour`]).
 
-use super::{At, LoadJacobian, Loads, Term};
+use super::{At, LoadJacobian, Loads, PressureRate, Term};
 
 #[derive(Debug, Clone, Copy)]
 pub struct PolytropicGas {
@@ -24,5 +24,14 @@ impl Term for PolytropicGas {
         let r = at.r();
         let p_in = self.pg0 * (self.r0 / r).powf(self.three_kappa);
         jac.pressure[0] -= self.three_kappa * p_in / r;
+    }
+    /// q = −3κ p_in Ṙ/R, s = 0.
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        let (r, rd, n) = (at.r(), at.rdot(), self.three_kappa);
+        let p_in = self.pg0 * (self.r0 / r).powf(n);
+        rate.q -= n * p_in * rd / r;
+        rate.dq[0] += n * (n + 1.0) * p_in * rd / (r * r);
+        rate.dq[1] -= n * p_in / r;
+        true
     }
 }

@@ -3,7 +3,7 @@
 //! their R-derivatives are the generated ones (`coefficients::membrane`, from derivations/),
 //! chosen by `shell.form`; they depend on R and k only and are evaluated once per mode per call.
 
-use super::{a_index, At, LoadJacobian, Loads, Term};
+use super::{a_index, At, LoadJacobian, Loads, PressureRate, Term};
 use crate::model::params::Membrane;
 
 #[derive(Debug, Clone)]
@@ -81,5 +81,18 @@ impl Term for MembraneTerm {
             gt[ia] += s.s11;
             gt[ia + 2] += s.s12;
         }
+    }
+    /// P = −Ŝ0(R): q = −Ŝ0′(R) Ṙ (generated Ŝ0′), s = 0. ∂q/∂R = −Ŝ0″(R) Ṙ: codegen emits no
+    /// second derivative, so Ŝ0″ is the central difference of the generated Ŝ0′ (step 1e-5 R,
+    /// relative error ~1e-10): the one non-analytic entry of the Keller–Miksis Jacobian.
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        let (r, rd) = (at.r(), at.rdot());
+        let d1 = |x: f64| (self.law.s0_dr)(x, self.r0, self.c1, self.c2);
+        let h = 1e-5 * r;
+        let d2 = (d1(r + h) - d1(r - h)) / (2.0 * h);
+        rate.q -= d1(r) * rd;
+        rate.dq[0] -= d2 * rd;
+        rate.dq[1] -= d1(r);
+        true
     }
 }

@@ -23,6 +23,7 @@ pub mod gas;
 pub mod magnetic;
 pub mod membrane;
 pub mod shell;
+pub mod vapour;
 pub mod viscosity;
 
 /// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.
@@ -116,6 +117,25 @@ impl LoadJacobian {
     }
 }
 
+/// What a compressible radial form needs of the pressure balance's time derivative (Keller–
+/// Miksis, issue 10; [`super::radial::RadialForm::needs_rate`]): along the motion,
+/// dP/dt = q + s R̈ with
+///
+/// * q = ∂P/∂t + ∂P/∂R Ṙ (everything but the R̈ part; the shape amplitudes are not summed here:
+///   a term whose pressure depends on them does not provide a rate, [`Term::add_rate`]),
+/// * s = ∂P/∂Ṙ (the viscous −4ηṘ/R gives s = −4η/R),
+///
+/// and their exact derivatives with respect to (R, Ṙ), for the exact Jacobian.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PressureRate {
+    pub q: f64,
+    pub s: f64,
+    /// (∂q/∂R, ∂q/∂Ṙ)
+    pub dq: [f64; 2],
+    /// (∂s/∂R, ∂s/∂Ṙ)
+    pub ds: [f64; 2],
+}
+
 /// One load of the model. See the module doc; implementors are the files of this directory.
 ///
 /// Contract:
@@ -144,5 +164,11 @@ pub trait Term: std::fmt::Debug {
     /// Evaluations so far, for terms that count them (the magnetic field; 0 otherwise).
     fn evaluations(&self) -> u64 {
         0
+    }
+    /// Adds the term's share of the pressure's rate ([`PressureRate`]) and returns `true`; the
+    /// default returns `false` ("not provided"), and a scene that combines such a term with a
+    /// radial form that needs the rate (Keller–Miksis) is refused when the model is assembled.
+    fn add_rate(&self, _at: &At<'_>, _rate: &mut PressureRate) -> bool {
+        false
     }
 }

@@ -2,7 +2,7 @@
 //! FORMULATION §4.1). The viscous terms of the shape modes belong to the closure (boundary layer
 //! or vorticity), not here.
 
-use super::{At, LoadJacobian, Loads, Term};
+use super::{At, LoadJacobian, Loads, PressureRate, Term};
 
 #[derive(Debug, Clone, Copy)]
 pub struct LiquidViscosity {
@@ -21,5 +21,15 @@ impl Term for LiquidViscosity {
         let (r, rd) = (at.r(), at.rdot());
         jac.pressure[0] += 4.0 * self.eta * rd / (r * r);
         jac.pressure[1] -= 4.0 * self.eta / r;
+    }
+    /// P = −4ηṘ/R: q = ∂P/∂R Ṙ = 4ηṘ²/R², s = ∂P/∂Ṙ = −4η/R.
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        let (r, rd, e) = (at.r(), at.rdot(), 4.0 * self.eta);
+        rate.q += e * rd * rd / (r * r);
+        rate.dq[0] -= 2.0 * e * rd * rd / (r * r * r);
+        rate.dq[1] += 2.0 * e * rd / (r * r);
+        rate.s -= e / r;
+        rate.ds[0] += e / (r * r);
+        true
     }
 }

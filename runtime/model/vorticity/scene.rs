@@ -91,7 +91,7 @@ impl ModeCoupling for SceneCoupling<'_> {
         let y = self.fill(r, rdot, a, adot, b);
         let eq = self.bl.equations();
         let p = eq.loads(t, &y, gn, gt);
-        eq.acceleration(r, rdot, p)
+        eq.acceleration_at(t, &y, p)
     }
 }
 

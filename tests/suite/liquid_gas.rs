@@ -1,0 +1,209 @@
+//! Liquid and gas effects (issue 10) against independent references: the free bubble's
+//! radial frequency with and without vapour pressure, the Keller–Miksis linearization
+//! (frequency and radiation damping) and a Keller–Miksis time series against an RK4
+//! integration of a right-hand side written here in SI units; the exact KM Jacobian against
+//! finite differences; every analysis command on the free-bubble scene. Surface tension
+//! (`shell.surface_tension`, helper "shell") had not landed: these tests use γ = 0.
+
+use magbubble::analysis::frequencies::natural_frequencies;
+use magbubble::model::{simulate, Model, RunStatus};
+use magbubble::scene::{self, Scene};
+use std::process::Command;
+
+const R0: f64 = 5e-6;
+const RHO: f64 = 1000.0;
+const ETA: f64 = 1e-3;
+const P0: f64 = 101325.0;
+const KAPPA: f64 = 1.4;
+const C: f64 = 1500.0;
+
+fn free(extra: &str, overrides: &[&str]) -> Scene {
+    let text = format!(
+        "[bubble]\nradius = {R0:e}\n[shell]\nc1 = 0.0\nc2 = 0.0\n[gas]\npolytropic_exponent = {KAPPA}\n{extra}\n[modes]\nmax_order = 4\n"
+    );
+    scene::load_str(&text, "free bubble (test)", overrides).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Free bubble, incompressible: R̈ = P/(ρR) − 3Ṙ²/(2R), P = p_v + p_g0 (R0/R)^{3κ} − p0 − 4ηṘ/R,
+/// p_g0 = p0 − p_v. At rest at R0: ∂R̈/∂R = −3κ p_g0/(ρR0²), so ω0² = 3κ(p0 − p_v)/(ρR0²)
+/// (the viscous term vanishes at Ṙ = 0; it damps at the rate 2η/(ρR0²), not tested here).
+#[test]
+fn free_bubble_radial_frequency_with_and_without_vapour() {
+    for pv in [0.0, 2330.0] {
+        let s = free(&format!("vapour_pressure = {pv}"), &[]);
+        let m = Model::from_scene(&s).unwrap();
+        let pg0 = P0 - pv;
+        assert_eq!(m.groups().p_g0_pa, pg0, "equilibrium rule p_g0 = p0 - p_v");
+        assert_eq!(m.groups().p_g0_rule, "equilibrium");
+        assert_eq!(m.equations().has("vapour pressure"), pv != 0.0, "vapour term only when asked for");
+        assert!(!m.equations().has("membrane"), "free bubble: no membrane term");
+        let f = natural_frequencies(&s, 4).unwrap();
+        let w0 = (3.0 * KAPPA * pg0 / (RHO * R0 * R0)).sqrt();
+        assert!((f.radial.omega_rad_s / w0 - 1.0).abs() < 1e-12, "pv = {pv}: {} vs {w0}", f.radial.omega_rad_s);
+        // No surface tension, no membrane: the shape modes are neutral.
+        assert!(f.shape.iter().all(|m| m.omega_sq_nondim == 0.0), "{:?}", f.shape);
+    }
+    // The override still overrides.
+    let s = free("reference_pressure = 2e5", &[]);
+    let m = Model::from_scene(&s).unwrap();
+    assert_eq!((m.groups().p_g0_pa, m.groups().p_g0_rule), (2e5, "override"));
+}
+
+/// Linearized Keller–Miksis at rest (no drive), derived by hand from
+/// (1 − Ṙ/c)RR̈ + 3/2(1 − Ṙ/3c)Ṙ² = (1 + Ṙ/c)P/ρ + (R/ρc) dP/dt, dP/dt = P_R Ṙ + P_Ṙ R̈:
+/// R̈ ≈ [P_R x + (P_Ṙ/ρ + R0 P_R/(ρc)) ẋ] / [R0 (1 + 4η/(ρcR0))], P_R = −3κp0/R0, P_Ṙ = −4η/R0.
+/// So ω² = 3κp0/(ρR0² D), 2β = [4η/(ρR0²) + 3κp0/(ρcR0)]/D, D = 1 + 4η/(ρcR0); the
+/// radiation part of β is ω0²R0/(2c) to O(1/c²).
+#[test]
+fn keller_miksis_linear_frequency_and_radiation_damping() {
+    let s = free(&format!("[liquid]\nsound_speed = {C}"), &["modes.max_order=0"]);
+    let m = Model::from_scene(&s).unwrap();
+    assert!(m.active_effects()[0].contains("Keller-Miksis"));
+    let (ts, sys) = (m.time_scale(), m.system());
+    let mut jac = [0.0; 4];
+    assert!(sys.jacobian(0.0, &[1.0, 0.0], &mut jac));
+    let d = 1.0 + 4.0 * ETA / (RHO * C * R0);
+    let w2 = 3.0 * KAPPA * P0 / (RHO * R0 * R0 * d);
+    let two_beta = (4.0 * ETA / (RHO * R0 * R0) + 3.0 * KAPPA * P0 / (RHO * C * R0)) / d;
+    assert!((-jac[2] / (ts * ts) / w2 - 1.0).abs() < 1e-12, "ω²: {} vs {w2}", -jac[2] / (ts * ts));
+    assert!((-jac[3] / ts / two_beta - 1.0).abs() < 1e-12, "2β: {} vs {two_beta}", -jac[3] / ts);
+    // Radiation damping ≈ ω0² R0 / (2c) (ω0 the incompressible one).
+    let w0sq = 3.0 * KAPPA * P0 / (RHO * R0 * R0);
+    let radiation = two_beta / 2.0 - 2.0 * ETA / (RHO * R0 * R0) / d;
+    assert!((radiation / (w0sq * R0 / (2.0 * C)) - 1.0).abs() < 1e-3, "{radiation}");
+    // Incompressible limit: no sound speed, no radiation.
+    let m0 = Model::from_scene(&free("", &["modes.max_order=0"])).unwrap();
+    let mut j0 = [0.0; 4];
+    m0.system().jacobian(0.0, &[1.0, 0.0], &mut j0);
+    let t0 = m0.time_scale();
+    assert!((-j0[3] / t0 - 4.0 * ETA / (RHO * R0 * R0)).abs() < 1e-9 * two_beta);
+}
+
+/// KM right-hand side in SI, written independently of the model (free bubble, drive ε cos ωt,
+/// vapour p_v): R̈ = [(1 + Ṙ/c)P/ρ + R Q/(ρc) − 3/2(1 − Ṙ/3c)Ṙ²] / [(1 − Ṙ/c)R + 4η/(ρc)],
+/// Q = dP/dt without its R̈ part.
+fn km_si(t: f64, y: [f64; 2], eps: f64, w: f64, pv: f64) -> [f64; 2] {
+    let (r, v) = (y[0], y[1]);
+    let pg = (P0 - pv) * (R0 / r).powf(3.0 * KAPPA);
+    let p = pg + pv - P0 * (1.0 + eps * (w * t).cos()) - 4.0 * ETA * v / r;
+    let q = -3.0 * KAPPA * pg * v / r + P0 * eps * w * (w * t).sin() + 4.0 * ETA * v * v / (r * r);
+    let num = (1.0 + v / C) * p / RHO + r * q / (RHO * C) - 1.5 * (1.0 - v / (3.0 * C)) * v * v;
+    [v, num / ((1.0 - v / C) * r + 4.0 * ETA / (RHO * C))]
+}
+
+#[test]
+fn keller_miksis_time_series_matches_an_independent_rk4() {
+    let (eps, f, pv) = (0.5, 3e5, 2330.0);
+    let s = free(
+        &format!("vapour_pressure = {pv}\n[liquid]\nsound_speed = {C}\n[drive]\namplitude = {eps}\nfrequency_hz = {f:e}"),
+        &["modes.max_order=0", "run.duration=10e-6", "run.sample_interval=1e-7", "run.integrator.method=rk4", "run.integrator.dt=1e-10",
+        ],
+    );
+    let mut rows = Vec::new();
+    let rep = simulate(&s, &mut |t, row| rows.push((t, row[0]))).unwrap();
+    assert_eq!(rep.status, RunStatus::Completed);
+    // RK4 at dt = 1e-11 s (sample interval / 1e4).
+    let w = 2.0 * std::f64::consts::PI * f;
+    let (dt, per) = (1e-11, 10_000);
+    let (mut y, mut t, mut worst, mut rmax) = ([R0, 0.0], 0.0, 0.0f64, 0.0f64);
+    for (i, &(ts, r)) in rows.iter().enumerate() {
+        if i > 0 {
+            for _ in 0..per {
+                let k1 = km_si(t, y, eps, w, pv);
+                let k2 = km_si(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]], eps, w, pv);
+                let k3 = km_si(t + dt / 2.0, [y[0] + dt / 2.0 * k2[0], y[1] + dt / 2.0 * k2[1]], eps, w, pv);
+                let k4 = km_si(t + dt, [y[0] + dt * k3[0], y[1] + dt * k3[1]], eps, w, pv);
+                for j in 0..2 {
+                    y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+                }
+                t += dt;
+            }
+        }
+        assert!((t - ts).abs() < 1e-15, "sample grid");
+        worst = worst.max((r - y[0]).abs() / R0);
+        rmax = rmax.max(r / R0);
+    }
+    assert!(rmax > 1.3, "a nonlinear oscillation (max R/R0 = {rmax})");
+    assert!(worst < 1e-7, "max |R - R_rk4|/R0 = {worst:e}");
+}
+
+/// The exact KM Jacobian (coated bubble, drive, viscosity) against central differences.
+#[test]
+fn keller_miksis_jacobian_matches_finite_differences() {
+    let text = format!(
+        "[bubble]\nradius = 10e-6\n[liquid]\nsound_speed = {C}\n[drive]\namplitude = 0.7\nfrequency_hz = 1e6\n[modes]\nmax_order = 4\n"
+    );
+    for overrides in [vec!["modes.max_order=0"], vec![]] {
+        let s = scene::load_str(&text, "km (test)", &overrides).unwrap();
+        let m = Model::from_scene(&s).unwrap();
+        let sys = m.system();
+        let n = sys.dim();
+        let mut y: Vec<f64> = (0..n).map(|i| 0.01 * (i as f64 + 1.0).sin()).collect();
+        y[0] = 1.3;
+        y[1] = -0.4;
+        let t = 0.37;
+        let mut jac = vec![0.0; n * n];
+        assert!(sys.jacobian(t, &y, &mut jac));
+        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+        for j in 0..n {
+            let h = 1e-6 * y[j].abs().max(1e-3);
+            let (mut yp, mut ym) = (y.clone(), y.clone());
+            yp[j] += h;
+            ym[j] -= h;
+            sys.rhs(t, &yp, &mut fp);
+            sys.rhs(t, &ym, &mut fm);
+            for i in 0..n {
+                let fd = (fp[i] - fm[i]) / (2.0 * h);
+                let a = jac[i * n + j];
+                assert!((a - fd).abs() <= 1e-6 * (1.0 + fd.abs()), "∂f{i}/∂y{j}: {a} vs {fd}");
+            }
+        }
+    }
+}
+
+/// KM with a magnetic field is refused with the key named (M0 has no time derivative yet).
+#[test]
+fn keller_miksis_with_a_field_is_a_clear_error() {
+    let text = format!("[liquid]\nsound_speed = {C}\n[field.coil]\ncurrent = 100e3\n[modes]\nmax_order = 4\n");
+    let s = scene::load_str(&text, "km+field", &[] as &[&str]).unwrap();
+    let e = Model::from_scene(&s).unwrap_err().to_string();
+    assert!(e.contains("liquid.sound_speed") && e.contains("magnetic"), "{e}");
+}
+
+#[test]
+fn free_bubble_scene_rules() {
+    let bad = scene::load_str("[shell]\nc1 = 0.0\nc2 = 0.1\n", "x", &[] as &[&str]).unwrap_err().to_string();
+    assert!(bad.contains("shell.c2") && bad.contains("free bubble"), "{bad}");
+    let bad = scene::load_str("[shell]\nc1 = 0.0\nc2 = 0.0\n[field.coil]\ncurrent = 1e5\n", "x", &[] as &[&str])
+        .unwrap_err()
+        .to_string();
+    assert!(bad.contains("field"), "{bad}");
+    let s = free("", &[]);
+    let g = Model::from_scene(&s).unwrap().groups();
+    assert!((g.t_star - R0 * (RHO / P0).sqrt()).abs() < 1e-20);
+    assert!(g.p.is_none() && g.alpha.is_none());
+    assert!((g.reynolds - R0 * (RHO * P0).sqrt() / ETA).abs() < 1e-12 * g.reynolds);
+}
+
+/// Every command on the shipped free-bubble scene, from the command line.
+#[test]
+fn every_command_runs_on_the_free_bubble_scene() {
+    let exe = env!("CARGO_BIN_EXE_magbubble");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/free_bubble.toml");
+    let dir = std::env::temp_dir().join(format!("magbubble-liquid-{}", std::process::id()));
+    let d = |s: &str| dir.join(s).display().to_string();
+    let runs: Vec<Vec<String>> = vec![
+        vec!["run".into(), scene.into(), "--out".into(), d("run"), "--set".into(), "run.duration=2e-6".into()],
+        vec!["modes".into(), scene.into(), "--json".into()],
+        vec!["modes".into(), scene.into(), "--damped".into()],
+        vec!["floquet".into(), scene.into(), "--json".into()],
+        vec!["stability".into(), scene.into(), "--freq".into(), "4e5:6e5:2".into(), "--out".into(), d("stab"),
+             "--set".into(), "modes.max_order=4".into()],
+        vec!["accuracy".into(), scene.into(), "--quick".into(), "--out".into(), d("acc")],
+    ];
+    for args in runs {
+        let out = Command::new(exe).args(&args).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
