@@ -9,9 +9,6 @@ import csv
 import math
 import sys
 
-MAG = {0: "rk4", 1: "dopri5", 2: "dop853", 3: "radau5"}
-
-
 def curve(points):
     pts = sorted((e, w) for e, w in points if math.isfinite(e) and e > 0 and w > 0)
     return pts
@@ -30,7 +27,7 @@ def main():
     mag, peer = {}, {}
     with open(sys.argv[1]) as f:
         for r in csv.DictReader(f):
-            mag.setdefault(MAG.get(int(float(r["method_id"])), "?"), []).append((float(r["error"]), float(r["wall_seconds"])))
+            mag.setdefault(r["method"], []).append((float(r["error"]), float(r["wall_seconds"])))
     with open(sys.argv[2]) as f:
         for r in csv.DictReader(f):
             peer.setdefault(r["method"], []).append((float(r["error"]), float(r["wall_seconds"])))

@@ -111,7 +111,10 @@ pub struct Ladder {
     pub setting_name: String,
     pub rungs: Vec<Rung>,
     pub order_dt: Option<f64>,
+    /// `None` also when the work barely changes along the ladder (see [`order_vs_work`]).
     pub order_work: Option<f64>,
+    /// max/min rhs evaluations over the rungs with a finite error (NaN with none).
+    pub work_ratio: f64,
 }
 
 /// One rung of the mode ladder (or the grid ladder): cost and change against the largest.
@@ -210,6 +213,26 @@ fn errors(run: &[Vec<f64>], reference: &[Vec<f64>], r0: f64) -> (f64, f64) {
     (e_r, e_a)
 }
 
+/// Smallest max/min ratio of the work (rhs evaluations) along a ladder for an order against
+/// work to be reported: with less the slope divides by a log-work spread near 0 and prints
+/// meaningless orders (issue 15 class 9: "vs work 695.88" over a 1 % change in work).
+pub const MIN_WORK_RATIO: f64 = 2.0;
+
+/// Observed order against work, −slope of log e against log work (module docs), and the work
+/// ratio max/min over the rungs with a finite positive error; the order is `None` when that
+/// ratio is below [`MIN_WORK_RATIO`].
+pub fn order_vs_work(work: &[f64], err: &[f64]) -> (Option<f64>, f64) {
+    let used: Vec<f64> =
+        work.iter().zip(err).filter(|(w, e)| w.is_finite() && e.is_finite() && **w > 0.0 && **e > 0.0).map(|(w, _)| *w).collect();
+    let ratio = if used.is_empty() {
+        f64::NAN
+    } else {
+        used.iter().cloned().fold(f64::NEG_INFINITY, f64::max) / used.iter().cloned().fold(f64::INFINITY, f64::min)
+    };
+    let order = if ratio >= MIN_WORK_RATIO { log_slope(work, err).map(|s| -s) } else { None };
+    (order, ratio)
+}
+
 /// Least-squares slope of log y against log x over finite positive points (`None` with < 2).
 pub fn log_slope(x: &[f64], y: &[f64]) -> Option<f64> {
     let pts: Vec<(f64, f64)> = x
@@ -267,7 +290,8 @@ fn ladder(
         method: method.into(),
         setting_name: if fixed_step { "dt_s".into() } else { "rtol".into() },
         order_dt: if fixed_step { log_slope(&set, &err) } else { None },
-        order_work: log_slope(&work, &err).map(|s| -s),
+        order_work: order_vs_work(&work, &err).0,
+        work_ratio: order_vs_work(&work, &err).1,
         rungs,
     })
 }

@@ -98,15 +98,17 @@ pub struct Convergence {
 /// The Floquet verdict on one scene (SI units).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FloquetReport {
-    /// The period of the monodromy [s]: the orbit's period (multiple × drive period).
+    /// The period of the monodromy [s]: the orbit's period (multiple × drive period); one time
+    /// scale t* for a scene with nothing periodic (the shape system is then constant).
     pub period_s: f64,
-    /// The common period of every drive [s] (acoustic, current, coil distance).
-    pub drive_period_s: f64,
+    /// The common period of every drive [s] (acoustic, current, coil distance); `None` (JSON
+    /// null) when the scene has no drive (issue 15 class 9: t* is not a drive period).
+    pub drive_period_s: Option<f64>,
     /// The radial orbit's minimal period in drive periods (1, 2, 4 …; 1 for the paper variant).
     pub orbit_multiple: usize,
     /// max|μ| over the orbit's period (`period_s`).
     pub max_multiplier: f64,
-    /// max|μ|^(1/orbit_multiple): the growth per drive period.
+    /// max|μ|^(1/orbit_multiple): the growth per drive period (per t* without a drive).
     pub max_multiplier_per_drive_period: f64,
     pub unstable: bool,
     /// The shape mode k carrying the largest multiplier (largest share of its eigenvector).
@@ -267,7 +269,8 @@ pub struct Prepared<'a> {
     /// Orbit period (nondimensional) and its multiple of the drive period.
     period: f64,
     multiple: usize,
-    drive_period_s: f64,
+    /// `None`: nothing periodic in the scene.
+    drive_period_s: Option<f64>,
     radial_multipliers: Vec<[f64; 2]>,
     r_range: (f64, f64),
     found_by: String,
@@ -286,6 +289,7 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
         periodic::common_period(&freqs, opts.max_denominator, opts.commensurate_tolerance)?
     };
     let tp = drive_period_s / ts; // nondimensional
+    let drive_period_s = (!freqs.is_empty()).then_some(drive_period_s);
     let full = bl.dim();
     let n = full - 2;
     match opts.variant {

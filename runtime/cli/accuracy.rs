@@ -4,7 +4,7 @@
 //! rung), `DIR/sizes.csv` (mode and grid ladders), `DIR/accuracy.json` (everything) and with
 //! `--plot` `DIR/work_precision.{svg,png}` (error against wall time, log–log).
 
-use crate::analysis::accuracy::{accuracy_study, AccuracyOptions};
+use crate::analysis::accuracy::{accuracy_study, AccuracyOptions, MIN_WORK_RATIO};
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::kinds::{work_precision, Curve};
 use crate::scene;
@@ -71,17 +71,16 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         PathBuf::from("out").join(format!("{stem}-accuracy"))
     });
     let dir = OutputDir::create(&out)?;
-    let header = ["method_id", "setting", "e_r", "e_a", "error", "wall_seconds", "rhs_evals", "steps", "rejected"];
+    let header = ["method", "setting", "e_r", "e_a", "error", "wall_seconds", "rhs_evals", "steps", "rejected"];
     let mut csv = CsvWriter::create(&dir.join("accuracy.csv"), &header)?;
     let mut curves = vec![];
-    for (id, l) in report.ladders.iter().enumerate() {
+    for l in &report.ladders {
         for r in &l.rungs {
             outln!(
                 "{:>10} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>10.4} {:>9} {:>8}  {}",
                 l.method, r.setting, r.e_r, r.e_a, r.error, r.wall_seconds, r.stats.rhs_evals, r.stats.rejected, r.status
             );
-            csv.row(&[
-                id as f64,
+            csv.labeled_row(&l.method, &[
                 r.setting,
                 r.e_r,
                 r.e_a,
@@ -93,14 +92,18 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
             ]);
         }
         let fmt = |o: Option<f64>| o.map_or("n/a".to_string(), |v| format!("{v:.2}"));
-        outln!("{:>10} observed order: vs dt {}, vs work {}", l.method, fmt(l.order_dt), fmt(l.order_work));
+        let work = match l.order_work {
+            Some(v) => format!("{v:.2}"),
+            None if l.work_ratio.is_finite() => format!("n/a (work ratio {:.2} < {MIN_WORK_RATIO})", l.work_ratio),
+            None => "n/a".to_string(),
+        };
+        outln!("{:>10} observed order: vs dt {}, vs work {work}", l.method, fmt(l.order_dt));
         let (x, y) = l.rungs.iter().map(|r| (r.wall_seconds, r.error)).unzip();
         curves.push(Curve::new(l.method.clone(), x, y));
     }
     csv.commit()?;
-    outln!("method_id: {}", report.ladders.iter().enumerate().map(|(i, l)| format!("{i} = {}", l.method)).collect::<Vec<_>>().join(", "));
     let mut sizes = CsvWriter::create(&dir.join("sizes.csv"), &["ladder", "size", "wall_seconds", "rhs_evals", "steps", "delta_r", "delta_a2"])?;
-    for (lid, (name, rows)) in [("modes N", &report.modes), ("grid points", &report.grid)].iter().enumerate() {
+    for (label, name, rows) in [("modes", "modes N", &report.modes), ("grid", "grid points", &report.grid)] {
         if rows.is_empty() {
             continue;
         }
@@ -111,8 +114,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
                 "{:>8} {:>10.4} {:>10} {:>11.3e} {:>11.3e}  {}",
                 r.size, r.wall_seconds, r.stats.rhs_evals, r.delta_r, r.delta_a2, r.status
             );
-            sizes.row(&[
-                lid as f64,
+            sizes.labeled_row(label, &[
                 r.size as f64,
                 r.wall_seconds,
                 r.stats.rhs_evals as f64,

@@ -71,17 +71,20 @@ pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
     }
     let v = result.map_err(|(_, e)| e)?;
     if !args.json {
+        let f = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+        let period = match v["drive_period_s"].as_f64() {
+            Some(dp) => format!("period {:.6e} s ({} × drive period {dp:.6e} s)", f("period_s"), v["orbit_multiple"]),
+            None => format!("no drive (nothing periodic): multipliers over one time scale t* = {:.6e} s", f("period_s")),
+        };
+        let per = if v["drive_period_s"].is_null() { "per t*" } else { "per drive period" };
         outln!(
-            "period {:.6e} s ({} × drive period {:.6e} s), max |μ| = {:.6} ({:.6} per drive period), {} (mode k = {}), R in [{:.4e}, {:.4e}] m",
-            v["period_s"].as_f64().unwrap_or(f64::NAN),
-            v["orbit_multiple"],
-            v["drive_period_s"].as_f64().unwrap_or(f64::NAN),
-            v["max_multiplier"].as_f64().unwrap_or(f64::NAN),
-            v["max_multiplier_per_drive_period"].as_f64().unwrap_or(f64::NAN),
+            "{period}, max |μ| = {:.6} ({:.6} {per}), {} (mode k = {}), R in [{:.4e}, {:.4e}] m",
+            f("max_multiplier"),
+            f("max_multiplier_per_drive_period"),
             if v["unstable"].as_bool() == Some(true) { "UNSTABLE" } else { "stable" },
             v["mode"],
-            v["r_min_m"].as_f64().unwrap_or(f64::NAN),
-            v["r_max_m"].as_f64().unwrap_or(f64::NAN),
+            f("r_min_m"),
+            f("r_max_m"),
         );
     }
     // After stdout, so a closed pipe ends the command before anything reaches stderr.

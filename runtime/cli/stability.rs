@@ -202,6 +202,17 @@ fn is_error_row(fields: &[String]) -> bool {
     fields.get(OUTCOME_FIELD).is_some_and(|o| o == "error")
 }
 
+/// The [`CRITICAL_HEADER`] fields of a point that failed: outcome `error`, the message in `note`,
+/// no `mode` (empty, as a computed row without one), every other cell NaN spelled as the numeric cells of a computed row spell it (`{:e}` of NaN:
+/// `NaN`; one spelling of NaN in every CSV).
+pub fn error_fields(message: &str) -> Vec<String> {
+    let mut blank: Vec<String> = vec![format!("{:e}", f64::NAN); CRITICAL_HEADER.len()];
+    blank[1] = "error".into();
+    blank[4] = String::new();
+    blank[CRITICAL_HEADER.len() - 1] = message.to_string();
+    blank
+}
+
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     let Plan { freqs, lo, hi, shard, freq_key, families } = plan(args)?;
     let scene_text = std::fs::read_to_string(&args.scene).with_context(|| format!("reading {}", args.scene.display()))?;
@@ -246,12 +257,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             let mut row = vec![format!("{f:.8e}")];
             match critical_point(&at, &opts) {
                 Ok(c) => row.extend(c.fields()),
-                Err(e) => {
-                    let mut blank: Vec<String> = vec![String::from("nan"); CRITICAL_HEADER.len()];
-                    blank[1] = "error".into();
-                    blank[CRITICAL_HEADER.len() - 1] = e.to_string();
-                    row.extend(blank);
-                }
+                Err(e) => row.extend(error_fields(&e.to_string())),
             }
             row
         })?;

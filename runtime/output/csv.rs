@@ -89,13 +89,27 @@ impl CsvWriter {
     /// Writes one row (`f64` in shortest round-trip form). An I/O error is remembered and
     /// returned by [`CsvWriter::commit`], so this can be called from an observer closure.
     pub fn row(&mut self, values: &[f64]) {
-        debug_assert_eq!(values.len(), self.columns, "CSV row width");
+        self.row_after(None, values);
+    }
+
+    /// Writes one row whose first column is the text `label` (a name such as `radau5`; it must
+    /// not contain a comma, quote or newline), then `values` as in [`CsvWriter::row`].
+    pub fn labeled_row(&mut self, label: &str, values: &[f64]) {
+        debug_assert!(!label.contains([',', '"', '\n']), "CSV label {label:?}");
+        self.row_after(Some(label), values);
+    }
+
+    fn row_after(&mut self, label: Option<&str>, values: &[f64]) {
+        debug_assert_eq!(values.len() + usize::from(label.is_some()), self.columns, "CSV row width");
         if self.error.is_some() {
             return;
         }
         self.line.clear();
+        if let Some(l) = label {
+            self.line.extend_from_slice(l.as_bytes());
+        }
         for (i, v) in values.iter().enumerate() {
-            if i > 0 {
+            if i > 0 || label.is_some() {
                 self.line.push(b',');
             }
             push_exp(&mut self.line, *v);

@@ -6,7 +6,7 @@
 //! mode staircase.
 
 use super::kinds::{first_unstable_mode, stability_diagram, Curve};
-use super::{PlotError, Saved};
+use super::{PlotError, Saved, Series};
 use std::path::{Path, PathBuf};
 
 /// A CSV kept as text: header and rows (double-quoted fields may contain commas).
@@ -108,6 +108,10 @@ fn mode_number(cell: &str) -> f64 {
 /// `out_dir/stem.svg/png` (critical value against frequency in MHz) and, when the CSVs have
 /// a `mode` column, `stem_mode.svg/png` (first unstable mode). `y_label` names the critical
 /// quantity with its unit (`"critical ε_p"`, `"critical I0 [A]"`).
+///
+/// A frequency whose outcome is `stable_throughout` has no critical value; it is drawn as a
+/// marker at the top of the searched range (the `stable` column) so that a sweep stable at every
+/// frequency is a plot, not an error (issue 15 class 8).
 pub fn stability_plot(
     families: &[(String, PathBuf)],
     out_dir: &Path,
@@ -117,6 +121,7 @@ pub fn stability_plot(
 ) -> Result<Vec<Saved>, PlotError> {
     let mut crit = Vec::new();
     let mut modes = Vec::new();
+    let mut tops = Vec::new();
     let mut x_label = "f [MHz]";
     for (label, path) in families {
         let t = CsvTable::read(path)?;
@@ -131,6 +136,14 @@ pub fn stability_plot(
         let c = t.require("critical", |h| h == "critical")?;
         let x: Vec<f64> = t.numbers(f).iter().map(|v| v * 1e-6).collect();
         crit.push(Curve::new(label.clone(), x.clone(), t.numbers(c)));
+        if let (Some(o), Some(s)) = (t.find(|h| h == "outcome"), t.find(|h| h == "stable")) {
+            let top: Vec<f64> = t
+                .rows
+                .iter()
+                .map(|r| if r[o] == "stable_throughout" { r[s].parse().unwrap_or(f64::NAN) } else { f64::NAN })
+                .collect();
+            tops.push(Curve::new(format!("{label}: stable up to the range top"), x.clone(), top));
+        }
         if let Some(m) = t.find(|h| h == "mode") {
             modes.push(Curve::new(
                 label.clone(),
@@ -139,10 +152,13 @@ pub fn stability_plot(
             ));
         }
     }
-    let mut saved = vec![
-        stability_diagram("stability diagram", x_label, y_label, &crit, log_y)
-            .save(out_dir, stem)?,
-    ];
+    let mut diagram = stability_diagram("stability diagram", x_label, y_label, &crit, log_y);
+    for (i, c) in tops.into_iter().enumerate() {
+        if c.y.iter().any(|v| v.is_finite()) {
+            diagram.panels[0].push(Series::points(c.label, c.x, c.y).color(i));
+        }
+    }
+    let mut saved = vec![diagram.save(out_dir, stem)?];
     if modes.iter().any(|c| c.y.iter().any(|v| v.is_finite())) {
         saved.push(
             first_unstable_mode("first unstable mode", x_label, &modes)

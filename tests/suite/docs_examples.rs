@@ -1,4 +1,5 @@
-//! Every example command of docs/user-guide.md and docs/adding-a-field.md runs. The commands are
+//! Every example command of docs/user-guide.md, docs/adding-a-field.md and
+//! docs/adding-a-shell-law.md runs. The commands are
 //! read from the docs themselves (lines in ```sh blocks starting with `magbubble `), so the docs
 //! and this test cannot drift.
 //! They run in a temporary directory with the shipped scenes copied to ./scenes; each must exit 0
@@ -40,9 +41,11 @@ fn copy_dir(from: &Path, to: &Path) {
 #[test]
 fn every_guide_example_runs() {
     let (guide, field) = (guide_commands("user-guide.md"), guide_commands("adding-a-field.md"));
+    let shell = guide_commands("adding-a-shell-law.md");
     assert!(guide.len() >= 12, "found only {} example commands in the guide", guide.len());
     assert!(field.len() >= 2, "found only {} example commands in adding-a-field", field.len());
-    let cmds = [guide, field].concat();
+    assert!(shell.len() >= 3, "found only {} example commands in adding-a-shell-law", shell.len());
+    let cmds = [guide, field, shell].concat();
     let dir = tempfile::tempdir().unwrap();
     copy_dir(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes")), &dir.path().join("scenes"));
     for cmd in &cmds {
@@ -76,6 +79,8 @@ fn every_guide_example_runs() {
         "out/s0/stability.shard-0-of-2.csv",
         "out/all.csv",
         "my_scene.toml",
+        "out/skalak/series.png",
+        "out/skalak/summary.json",
     ] {
         assert!(dir.path().join(f).is_file(), "{f} missing after the guide's examples");
     }

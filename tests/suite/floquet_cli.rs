@@ -26,6 +26,8 @@ fn json_report_carries_the_orbit_and_the_convergence() {
     assert!((mu - 250.30).abs() < 0.01, "{mu}");
     assert!((v["max_multiplier_per_drive_period"].as_f64().unwrap() - mu.sqrt()).abs() < 1e-9);
     assert!(v["r_min_m"].as_f64().unwrap() < v["r_max_m"].as_f64().unwrap());
+    let dp = v["drive_period_s"].as_f64().unwrap();
+    assert!((v["period_s"].as_f64().unwrap() - 2.0 * dp).abs() < 1e-12 * dp, "{v}");
     assert_eq!(v["parameters"]["scene"]["drive"]["amplitude"], 0.5);
     let c = &v["convergence"];
     assert_eq!(c["steps"], 400);
@@ -65,4 +67,23 @@ fn frequency_lists_and_log_spacing() {
     for bad in ["1e6,-2", "1e6:2e6:3:cubic", "2e6:1e6:3", "a,b", "1e6:2e6"] {
         assert!(parse_freq(bad).is_err(), "{bad}");
     }
+}
+
+/// Issue 15 class 9: a scene with nothing periodic has no drive period; the report says so
+/// (JSON null, no "drive period" in the text) instead of calling t* one.
+#[test]
+fn an_undriven_scene_reports_no_drive_period() {
+    let set = ["--set", "modes.max_order=4", "--set", "drive.amplitude=0"];
+    let (ok, v) = floquet(&[&["scenes/radial_only.toml", "--json"][..], &set].concat());
+    assert!(ok, "{v}");
+    assert!(v["drive_period_s"].is_null(), "{v}");
+    assert!(v["period_s"].as_f64().unwrap() > 0.0);
+    let out = Command::new(env!("CARGO_BIN_EXE_magbubble"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([&["floquet", "scenes/radial_only.toml"][..], &set].concat())
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(out.status.success());
+    assert!(text.contains("no drive") && !text.contains("drive period"), "{text}");
 }

@@ -145,3 +145,37 @@ fn template_overrides_equal_set_and_are_validated() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Issue 15 class 8: a sweep stable at every frequency is a valid result: `--plot` exits 0 and
+/// draws the stable frequencies as markers at the top of the searched range.
+#[test]
+fn a_sweep_stable_everywhere_is_plotted_not_an_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("st");
+    let o = stability(&out, &["--freq", "1e6:2e6:2", "--range", "0:1e-6", "--plot"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let csv = std::fs::read_to_string(out.join("stability.csv")).unwrap();
+    assert_eq!(csv.matches(",stable_throughout,").count(), 2, "{csv}");
+    let svg = std::fs::read_to_string(out.join("stability.svg")).unwrap();
+    assert!(svg.contains("stable up to the range top"), "no marker legend in the svg");
+    assert!(out.join("stability.png").exists());
+    assert!(!out.join("stability_mode.svg").exists(), "a mode staircase with no unstable mode");
+}
+
+/// Issue 15 output conventions: one spelling of NaN. An error row spells its empty numbers as a
+/// computed row does (`NaN`, which also parses back as NaN), never `nan`.
+#[test]
+fn error_rows_spell_nan_as_computed_rows_do() {
+    use magbubble::analysis::stability::CRITICAL_HEADER;
+    let f = magbubble::cli::stability::error_fields("no orbit, at all");
+    assert_eq!(f.len(), CRITICAL_HEADER.len());
+    assert_eq!(f[1], "error");
+    assert_eq!(f[f.len() - 1], "no orbit, at all");
+    assert_eq!(f[CRITICAL_HEADER.iter().position(|h| *h == "mode").unwrap()], "");
+    let computed_nan = format!("{:.8e}", f64::NAN);
+    for (cell, name) in f.iter().zip(CRITICAL_HEADER).filter(|(_, n)| !["outcome", "mode", "note"].contains(n)) {
+        assert_eq!(cell, &computed_nan, "{name}");
+        assert!(cell.parse::<f64>().unwrap().is_nan());
+    }
+}
