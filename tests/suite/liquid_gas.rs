@@ -2,8 +2,9 @@
 //! radial frequency with and without vapour pressure, the Keller–Miksis linearization
 //! (frequency and radiation damping) and a Keller–Miksis time series against an RK4
 //! integration of a right-hand side written here in SI units; the exact KM Jacobian against
-//! finite differences; every analysis command on the free-bubble scene. Surface tension
-//! (`shell.surface_tension`, helper "shell") had not landed: these tests use γ = 0.
+//! finite differences; every analysis command on the free-bubble scene. These use γ = 0; the
+//! same checks with surface tension (Lamb's ω_k, ω0 with 2γ/R0, KM + γ) are in lamb_modes.rs
+//! and lamb_km.rs.
 
 use magbubble::analysis::frequencies::natural_frequencies;
 use magbubble::model::{simulate, Model, RunStatus};
