@@ -11,6 +11,7 @@
 //! ω² = [3κp_g0 − 2γ/R0]/(ρR0² D),  2β = [4η/(ρR0²) + (3κp_g0 − 2γ/R0)/(ρcR0)]/D.
 
 use magbubble::model::effects::shell::{bending_table, surface_tension_table};
+use crate::support::jacobian::assert_jacobian_matches_fd;
 use magbubble::model::Model;
 use magbubble::scene;
 
@@ -61,28 +62,7 @@ fn keller_miksis_with_surface_tension_jacobian_matches_finite_differences() {
     for overrides in [vec!["modes.max_order=0"], vec![], vec!["shell.c1=0", "shell.c2=0"]] {
         let s = scene::load_str(&text, "km + gamma (test)", &overrides).unwrap();
         let m = Model::from_scene(&s).unwrap_or_else(|e| panic!("{overrides:?}: {e}"));
-        let sys = m.system();
-        let n = sys.dim();
-        let mut y: Vec<f64> = (0..n).map(|i| 0.01 * (i as f64 + 1.0).sin()).collect();
-        y[0] = 1.3;
-        y[1] = -0.4;
-        let t = 0.37;
-        let mut jac = vec![0.0; n * n];
-        assert!(sys.jacobian(t, &y, &mut jac));
-        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
-        for j in 0..n {
-            let h = 1e-6 * y[j].abs().max(1e-3);
-            let (mut yp, mut ym) = (y.clone(), y.clone());
-            yp[j] += h;
-            ym[j] -= h;
-            sys.rhs(t, &yp, &mut fp);
-            sys.rhs(t, &ym, &mut fm);
-            for i in 0..n {
-                let fd = (fp[i] - fm[i]) / (2.0 * h);
-                let a = jac[i * n + j];
-                assert!((a - fd).abs() <= 1e-6 * (1.0 + fd.abs()), "{overrides:?} ∂f{i}/∂y{j}: {a} vs {fd}");
-            }
-        }
+        assert_jacobian_matches_fd(m.system(), &format!("{overrides:?}"));
     }
 }
 

@@ -6,6 +6,7 @@
 //! same checks with surface tension (Lamb's ω_k, ω0 with 2γ/R0, KM + γ) are in lamb_modes.rs
 //! and lamb_km.rs.
 
+use crate::support::jacobian::assert_jacobian_matches_fd;
 use magbubble::analysis::frequencies::natural_frequencies;
 use magbubble::model::{simulate, Model, RunStatus};
 use magbubble::scene::{self, Scene};
@@ -137,28 +138,7 @@ fn keller_miksis_jacobian_matches_finite_differences() {
     for overrides in [vec!["modes.max_order=0"], vec![]] {
         let s = scene::load_str(&text, "km (test)", &overrides).unwrap();
         let m = Model::from_scene(&s).unwrap();
-        let sys = m.system();
-        let n = sys.dim();
-        let mut y: Vec<f64> = (0..n).map(|i| 0.01 * (i as f64 + 1.0).sin()).collect();
-        y[0] = 1.3;
-        y[1] = -0.4;
-        let t = 0.37;
-        let mut jac = vec![0.0; n * n];
-        assert!(sys.jacobian(t, &y, &mut jac));
-        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
-        for j in 0..n {
-            let h = 1e-6 * y[j].abs().max(1e-3);
-            let (mut yp, mut ym) = (y.clone(), y.clone());
-            yp[j] += h;
-            ym[j] -= h;
-            sys.rhs(t, &yp, &mut fp);
-            sys.rhs(t, &ym, &mut fm);
-            for i in 0..n {
-                let fd = (fp[i] - fm[i]) / (2.0 * h);
-                let a = jac[i * n + j];
-                assert!((a - fd).abs() <= 1e-6 * (1.0 + fd.abs()), "∂f{i}/∂y{j}: {a} vs {fd}");
-            }
-        }
+        assert_jacobian_matches_fd(m.system(), &format!("{overrides:?}"));
     }
 }
 

@@ -2,3 +2,4 @@ pub mod prony;
 pub mod shell_energy;
 pub mod quadrature;
 pub mod quadrature_h4;
+pub mod jacobian;
