@@ -202,24 +202,24 @@ impl MagneticLoads {
         f
     }
 
+    /// The band of row `row`: (index j of the (a, b) coefficient pair in a component's band,
+    /// index of the source mode's a in y) for every source mode k ± 2d that exists.
+    #[inline]
+    fn band_sources(&self, row: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let w = self.width as i64;
+        let base = row * 2 * (2 * self.width + 1);
+        (-w..=w).filter_map(move |d| {
+            let src = row as i64 + d;
+            (src >= 1 && src <= self.modes as i64).then(|| (base + 2 * (d + w) as usize, 2 + 3 * (src as usize - 1)))
+        })
+    }
+
     #[inline]
     fn row(&self, f: &Factors, row: usize, y: &[f64], normal: bool) -> f64 {
-        let w = self.width as i64;
-        let stride = 2 * (2 * self.width + 1);
         let mut total = 0.0;
         for (i, c) in self.comps.iter().enumerate() {
             let (zero, band) = if normal { (&c.zero_n, &c.band_n) } else { (&c.zero_t, &c.band_t) };
-            let mut s = 0.0;
-            let base = row * stride;
-            for d in -w..=w {
-                let src = row as i64 + d;
-                if src < 1 || src > self.modes as i64 {
-                    continue;
-                }
-                let j = base + 2 * (d + w) as usize;
-                let at = 2 + 3 * (src as usize - 1);
-                s += band[j] * y[at] + band[j + 1] * y[at + 2];
-            }
+            let s: f64 = self.band_sources(row).map(|(j, at)| band[j] * y[at] + band[j + 1] * y[at + 2]).sum();
             total += f.zero[i] * zero[row] + f.coupling[i] * s;
         }
         total
@@ -229,20 +229,11 @@ impl MagneticLoads {
     /// with respect to the state y = [R, Ṙ, (a_k, ȧ_k, b_k)_k] to `grad` (length of y). The loads
     /// are affine in (a, b) with coefficients ∝ R^p, so this is exact (model Jacobian, issue 16).
     pub fn add_row_gradient(&self, f: &Factors, row: usize, y: &[f64], normal: bool, scale: f64, grad: &mut [f64]) {
-        let w = self.width as i64;
-        let stride = 2 * (2 * self.width + 1);
         let r = y[0];
         for (i, c) in self.comps.iter().enumerate() {
             let (zero, band) = if normal { (&c.zero_n, &c.band_n) } else { (&c.zero_t, &c.band_t) };
             let mut s = 0.0;
-            let base = row * stride;
-            for d in -w..=w {
-                let src = row as i64 + d;
-                if src < 1 || src > self.modes as i64 {
-                    continue;
-                }
-                let j = base + 2 * (d + w) as usize;
-                let at = 2 + 3 * (src as usize - 1);
+            for (j, at) in self.band_sources(row) {
                 s += band[j] * y[at] + band[j + 1] * y[at + 2];
                 grad[at] += scale * f.coupling[i] * band[j];
                 grad[at + 2] += scale * f.coupling[i] * band[j + 1];
