@@ -65,11 +65,7 @@ pub fn solve(
     max_steps: u64,
     observer: &mut dyn FnMut(f64, &[f64]) -> Control,
 ) -> Result<Solution, IntegrateError> {
-    if let Output::Every(d) | Output::Landing(d) = output {
-        if !(d > 0.0 && d.is_finite()) {
-            return Err(IntegrateError::InvalidSetting { what: "output interval", value: d, reason: "must be positive and finite" });
-        }
-    }
+    // `drive` validates the output interval.
     let mut st = stepper(sys, method, t0, y0, t_end)?;
     drive(&mut *st, sys, t_end, output, max_steps, observer)
 }
