@@ -121,17 +121,19 @@ fn drive_just_below_critical_is_bounded_and_just_above_blows_up() {
         other => panic!("above critical: {other:?}"),
     }
     // Samples too coarse to see the threshold crossing (one per 500 µs): the crossing happens
-    // between samples — with the finite-difference Jacobian the state even turned non-finite
-    // there; with the exact Jacobian (issue 16) Radau5 carries the growing state to the sample —
-    // and either way it is classified as a blow-up of a8 (at the first sample after the
-    // crossing, or where the state went non-finite), not a failure.
-    let mut coarse = scene_at(0.35).unwrap();
+    // between samples and is located on the dense output (issue 16 part 4), so it is classified
+    // as a blow-up of a8 at the same time as with the scene's own sampling (to 1e-6 relative).
+    let fine = scene_at(0.35).unwrap();
+    let mut coarse = fine.clone();
     coarse.run.sample_interval = 500e-6;
-    let (report, _) = run_rows(&coarse);
-    match &report.status {
-        RunStatus::BlowUp { t, mode } => assert!(mode == "a8" && *t > 0.0 && *t <= 500e-6, "{mode} at {t}"),
-        other => panic!("coarse sampling: {other:?}"),
-    }
+    let blow_up = |s: &Scene| match run_rows(s).0.status {
+        RunStatus::BlowUp { t, mode } => (t, mode),
+        other => panic!("eps_p = 0.35, sample {}: {other:?}", s.run.sample_interval),
+    };
+    let ((t_fine, m_fine), (t_coarse, m_coarse)) = (blow_up(&fine), blow_up(&coarse));
+    assert!(m_fine == "a8" && m_coarse == "a8", "{m_fine}, {m_coarse}");
+    assert!(t_fine > 0.0 && t_fine < 500e-6, "{t_fine}");
+    assert!(((t_coarse - t_fine) / t_fine).abs() < 1e-6, "coarse {t_coarse} vs fine {t_fine}");
 }
 
 #[test]
