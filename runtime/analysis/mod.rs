@@ -10,6 +10,7 @@ pub mod bisect;
 pub mod critical;
 pub mod expm;
 pub mod floquet;
+pub mod floquet_full;
 pub mod frequencies;
 pub mod periodic;
 pub mod shooting;
