@@ -21,6 +21,7 @@ mod coil_h4;
 mod docs_examples;
 mod figures;
 mod floquet_cli;
+mod floquet_full;
 mod floquet_mathieu;
 mod floquet_orbits;
 mod floquet_periodic;
