@@ -8,6 +8,7 @@
 
 pub mod bisect;
 pub mod critical;
+pub mod critical_accuracy;
 pub mod expm;
 pub mod floquet;
 pub mod floquet_full;

@@ -34,10 +34,18 @@ pub struct AccuracyArgs {
     /// Write the work–precision plot (error against wall time).
     #[arg(long)]
     pub plot: bool,
+    /// Instead of the time-series study: the error of the critical ε_p at this drive frequency
+    /// [Hz] against its cost, per Magnus steps, mode cutoff N, closure, grid and SDIRK steps
+    /// (issue 13 part 5; writes critical.csv and critical.json).
+    #[arg(long, value_name = "FREQ_HZ")]
+    pub critical: Option<f64>,
 }
 
 pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
     let scene = scene::load(&args.scene, &args.set).with_context(|| format!("loading {}", args.scene.display()))?;
+    if let Some(f) = args.critical {
+        return super::accuracy_critical::run(args, &scene, f);
+    }
     let mut opts = if args.quick { AccuracyOptions::quick() } else { AccuracyOptions::full() };
     if let Some(r) = args.repeats {
         if r == 0 {

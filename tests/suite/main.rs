@@ -18,6 +18,7 @@ mod cost_snapshots;
 mod codegen_tables;
 mod coefficients_crosscheck;
 mod coil_h4;
+mod critical_accuracy;
 mod docs_examples;
 mod figures;
 mod floquet_cli;
