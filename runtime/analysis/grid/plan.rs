@@ -158,7 +158,8 @@ pub fn plan_grid(template: &SceneTemplate, axes: &[GridAxis]) -> Result<GridPlan
         }
         if !path_exists(key) {
             // The message of `--set` for an unknown key.
-            let e = template.with_overrides(&[format!("{key}=0")]).err();
+            let shown = axis.values.first().and_then(|v| value_text(key, v).ok()).unwrap_or_else(|| "0".into());
+            let e = template.with_overrides(&[format!("{key}={shown}")]).err();
             return match e {
                 Some(source) => Err(GridError::Scene { context: what, source }),
                 None => Err(grid_err(what, "no such scene key".into())),
