@@ -289,3 +289,23 @@ fn sigint_during_a_sweep_keeps_whole_rows_and_exits_130() {
     assert_eq!(series.len(), kept, "{series:?}");
     assert!(!out.join("sweep.csv.tmp").exists());
 }
+
+#[test]
+fn a_failed_run_is_a_row_and_the_command_exits_non_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("f");
+    // Five steps are not enough: that run fails (step limit), the other completes.
+    let scene = scene_path();
+    let o = magbubble(&[
+        "sweep", scene.to_str().unwrap(), "--out", out.to_str().unwrap(), SHORT[0], SHORT[1],
+        "--grid", "run.integrator.max_steps=5,50000000",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("1 of 2 runs failed") && err.contains("run.integrator.max_steps=5") && err.contains("step limit"), "{err}");
+    let csv = fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!((rows[0][2], rows[1][2]), ("failed", "completed"), "{csv}");
+    assert!(rows[0][rows[0].len() - 2].contains("step limit"), "{csv}");
+    assert_eq!(rows[0][rows[0].len() - 5], "5", "steps of the failed run: {csv}");
+}

@@ -18,7 +18,7 @@
 //! ## The CSV (`DIR/sweep.csv`, or `DIR/sweep.shard-i-of-n.csv`)
 //!
 //! `index`, one column per grid key (named by the key, holding the value as it was set), then
-//! [`row::RESULT_HEADER`]: `status` (`completed`, `blow_up`, `failed`), `t_blow_up` and
+//! [`row::result_header`]: `status` (`completed`, `blow_up`, `failed`), `t_blow_up` and
 //! `blow_up_mode` (empty unless `blow_up`), `t_end`, `R_min` and `R_max` over the output samples,
 //! `max_shape` and `max_shape_mode` (the largest max |a_k|, |b_k| and its column; empty without
 //! shape modes), `max_a2`, `max_b2`, … (max |x| over the samples, one column per mode of the

@@ -109,8 +109,8 @@ impl GridPlan {
         &self.scenes[index]
     }
 
-    /// The CSV header after `index`: the grid keys, then [`super::row::RESULT_HEADER`] with one
-    /// `max_a<k>`, `max_b<k>` pair per mode in place of `max_modes`.
+    /// The CSV header after `index`: the grid keys, then [`super::row::result_header`] (one
+    /// `max_a<k>`, `max_b<k>` pair per mode of the grid's largest `modes.max_order`).
     pub fn header(&self) -> Vec<String> {
         let mut h: Vec<String> = self.axes.iter().map(|(k, _)| k.clone()).collect();
         h.extend(super::row::result_header(&self.orders));

@@ -178,3 +178,40 @@ impl GridRow {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fields_read_back_to_the_same_row() {
+        let row = GridRow {
+            index: 3,
+            values: vec!["1e6".into(), "vorticity".into()],
+            status: GridStatus::BlowUp,
+            t_blow_up: Some(1.2345678901234567e-5),
+            blow_up_mode: Some("a4".into()),
+            t_end: 1.2345678901234567e-5,
+            r_min: 0.1 + 0.2,
+            r_max: f64::NAN,
+            max_shape: Some(("b2".into(), 3e-9)),
+            max_abs: vec![("a2".into(), Some(1e-8)), ("b2".into(), None)],
+            steps: 12,
+            rejected_steps: 1,
+            rhs_evaluations: 99,
+            note: "a, b\nc".into(),
+            wall_seconds: 0.5,
+            series: None,
+        };
+        let fields = row.fields();
+        assert_eq!(fields.len(), 2 + result_header(&[2]).len());
+        let back = GridRow::from_fields(3, &fields, 2, &[2]).unwrap();
+        assert!(back.r_max.is_nan());
+        assert_eq!(back.note, "a; b;c");
+        assert_eq!(GridRow { r_max: 0.0, note: String::new(), ..back }, GridRow { r_max: 0.0, note: String::new(), ..row });
+        assert!(GridRow::from_fields(3, &fields[1..], 2, &[2]).is_none());
+        let s = Series::parse("t,R\n0e0,1e-5\n1e-8,1.1e-5\n").unwrap();
+        assert_eq!((s.rows(), s.values[3]), (2, 1.1e-5));
+        assert!(Series::parse("t,R\n0e0\n").is_none());
+    }
+}
