@@ -127,6 +127,9 @@ pub struct SweepReport {
     pub cancelled: bool,
 }
 
+/// `retry(index, fields)`: whether a finished row is computed again instead of resumed.
+pub type RetryFn<'a> = dyn Fn(usize, &[String]) -> bool + 'a;
+
 /// How [`run_with`] is driven, beyond the sweep itself (all optional).
 #[derive(Clone, Copy, Default)]
 pub struct Control<'a> {
@@ -140,7 +143,7 @@ pub struct Control<'a> {
     pub on_point: Option<&'a (dyn Fn(usize, usize) + Sync)>,
     /// A finished row for which `retry(index, fields)` holds (an error row) is computed again
     /// instead of being resumed.
-    pub retry: Option<&'a dyn Fn(usize, &[String]) -> bool>,
+    pub retry: Option<&'a RetryFn<'a>>,
 }
 
 /// Runs `compute(index)` for every index of `shard` in 0..meta.total that is not already in
