@@ -13,6 +13,7 @@ pub mod expm;
 pub mod floquet;
 pub mod floquet_full;
 pub mod frequencies;
+pub mod grid;
 pub mod periodic;
 pub mod shooting;
 pub mod stability;
