@@ -23,6 +23,7 @@ mod docs_examples;
 mod figures;
 mod floquet_cli;
 mod floquet_full;
+mod fuzz_inputs;
 mod floquet_mathieu;
 mod floquet_orbits;
 mod floquet_periodic;
