@@ -74,10 +74,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         "{:>10} {:>11} {:>11} {:>11} {:>11} {:>10} {:>9} {:>8}  status",
         "method", "setting", "e_R", "e_a", "error", "wall s", "rhs", "rejected"
     );
-    let out = args.out.clone().unwrap_or_else(|| {
-        let stem = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from("out").join(format!("{stem}-accuracy"))
-    });
+    let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "accuracy"));
     let dir = OutputDir::create(&out)?;
     let header = ["method", "setting", "e_r", "e_a", "error", "wall_seconds", "rhs_evals", "steps", "rejected"];
     let mut csv = CsvWriter::create(&dir.join("accuracy.csv"), &header)?;

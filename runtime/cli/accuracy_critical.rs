@@ -9,7 +9,6 @@ use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::kinds::{work_precision, Curve};
 use crate::scene::Scene;
 use anyhow::Context;
-use std::path::PathBuf;
 
 pub(super) fn run(args: &AccuracyArgs, scene: &Scene, frequency_hz: f64) -> anyhow::Result<()> {
     anyhow::ensure!(
@@ -20,10 +19,7 @@ pub(super) fn run(args: &AccuracyArgs, scene: &Scene, frequency_hz: f64) -> anyh
     anyhow::ensure!(args.repeats.is_none(), "--repeats has no meaning with --critical (each search runs once; its wall time is reported)");
     anyhow::ensure!(scene.drive.is_some(), "{}: --critical needs a [drive] section (ε_p is the varied quantity)", args.scene.display());
     let opts = if args.quick { CriticalAccuracyOptions::quick(frequency_hz) } else { CriticalAccuracyOptions::full(frequency_hz) };
-    let out = args.out.clone().unwrap_or_else(|| {
-        let stem = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from("out").join(format!("{stem}-accuracy"))
-    });
+    let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "accuracy"));
     let dir = OutputDir::create(&out)?;
     outln!("critical ε_p at f_d = {frequency_hz:e} Hz, N = {} (scene), bracket tolerance {:e} relative", scene.modes.max_order, opts.tol);
     outln!("error = |ε_c − ε_c,ref| / ε_c,ref against the ladder's reference (error 0)");
