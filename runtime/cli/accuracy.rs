@@ -59,7 +59,9 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         }
         opts.duration = Some(d);
     }
+    let spinner = crate::output::Spinner::new("accuracy study");
     let report = accuracy_study(&scene, &opts).context("accuracy study")?;
+    drop(spinner);
     outln!(
         "reference: {} (estimated error {:.2e}, {:.2} s); compared over {:.3e} s, {} samples; t* = {:.4e} s",
         report.reference,

@@ -26,16 +26,18 @@ pub(super) fn run(args: &AccuracyArgs, scene: &Scene, frequency_hz: f64) -> anyh
     outln!("{:>8} {:>15} {:>8} {:>15} {:>11} {:>10} {:>6}  outcome", "ladder", "closure", "setting", "critical", "error", "wall s", "evals");
     // The rows are printed as each search ends; a stdout error stops printing and is returned.
     let mut stdout_error = None;
+    let spinner = crate::output::Spinner::new("critical-ε_p searches");
     let mut print = |r: &CriticalRung| {
         if stdout_error.is_none() {
             let line = format_args!(
                 "{:>8} {:>15} {:>8} {:>15.8e} {:>11.3e} {:>10.3} {:>6}  {}\n",
                 r.ladder, r.closure, r.setting, r.critical, r.error, r.wall_seconds, r.evaluations, r.outcome
             );
-            stdout_error = crate::output::write_out(line).err();
+            stdout_error = spinner.suspend(|| crate::output::write_out(line).err());
         }
     };
     let report = critical_accuracy(scene, &opts, &mut print).context("critical-ε_p accuracy study")?;
+    drop(spinner);
     if let Some(e) = stdout_error {
         return Err(e.into());
     }
