@@ -349,7 +349,7 @@ impl QuadTerm {
     pub fn value(&self, t: &crate::algebra::triple::Triple, j: usize, l: usize, m: usize) -> Rat {
         let k = t.product_coefficient(l, m, j);
         if k.is_zero() || (self.radial_only && j != 0) {
-            return k;
+            return Rat::zero();
         }
         let x = [l as i64, m as i64, j as i64];
         let mut v = k * self.numerator.eval(x);
@@ -455,8 +455,9 @@ pub fn derive_quadratic(spec_path: &str) -> Result<QuadraticData, String> {
             }
         }
         // a term of the radial balance alone (the gas at the exact volume): data on j = 0, l = m
-        let radial_only = all.iter().all(|(x, v)| x[2] == 0 || v.is_zero());
-        if found.is_none() && radial_only {
+        let mut radial_only = false;
+        if found.is_none() && all.iter().all(|(x, v)| x[2] == 0 || v.is_zero()) {
+            radial_only = true;
             let pts: Vec<([i64; 3], Rat)> = all.iter().filter(|(x, _)| x[2] == 0).cloned().collect();
             let fit: Vec<([i64; 3], Rat)> = pts.iter().filter(|(x, _)| x[0] <= FIT_MODES as i64).cloned().collect();
             if let Some(p) = super::fit3::fit_poly3_in(&fit, MAX_DEGREE, [true, false, false]) {
