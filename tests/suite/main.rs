@@ -32,6 +32,7 @@ mod liquid_gas;
 mod modes_damped;
 mod modes_frequencies;
 mod physics_bl;
+mod quadratic_oracle;
 mod plot;
 mod plot_figures;
 mod scene_derived;
