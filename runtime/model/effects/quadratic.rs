@@ -45,6 +45,9 @@ pub struct QuadraticCoupling {
     /// (first, second, exponents of SYMBOLS) per table term
     kinds: Vec<(usize, usize, [i32; 7])>,
     entries: Vec<Entry>,
+    /// The same coefficients dense, for the rhs: row 0 = radial balance, row 1 + j = mode j;
+    /// column T·M² + l·M + m (T the table term).
+    dense: Vec<f64>,
 }
 
 impl QuadraticCoupling {
@@ -79,7 +82,14 @@ impl QuadraticCoupling {
                 }
             }
         }
-        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), inner, kinds, entries }
+        let nm = ks.len();
+        let cols = FREE_BUBBLE.len() * nm * nm;
+        let mut dense = vec![0.0; (nm + 1) * cols];
+        for e in &entries {
+            let row = e.target.map_or(0, |j| j + 1);
+            dense[row * cols + e.term * nm * nm + e.l * nm + e.m] += e.value;
+        }
+        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), inner, kinds, entries, dense }
     }
 
     /// Number of nonzero coefficients (l, m → j).
@@ -108,6 +118,20 @@ impl QuadraticCoupling {
     }
 }
 
+/// Σ a_i b_i with four partial sums (vectorizes).
+#[inline]
+fn dot4(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
+    for (x, y) in ca.zip(cb) {
+        for i in 0..4 {
+            acc[i] += x[i] * y[i];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
 impl Term for QuadraticCoupling {
     fn name(&self) -> &'static str {
         "quadratic coupling"
@@ -132,15 +156,24 @@ impl Term for QuadraticCoupling {
             *a = [x, xd, add];
         }
         let s = self.symbols(r, rd, rdd);
-        let pre: Vec<f64> = self.kinds.iter().map(|(_, _, e)| Self::prefactor(e, &s)).collect();
-        for e in &self.entries {
-            let (f, g, _) = self.kinds[e.term];
-            let v = e.value * pre[e.term] * amp[e.l][f] * amp[e.m][g];
-            match e.target {
-                None => loads.pressure += v,
-                Some(j) if j < loads.gn.len() => loads.gn[j] += v,
-                Some(_) => {}
+        // w[T·M² + l·M + m] = prefactor_T · first_T(l) · second_T(m); Q = dense · w
+        let nn = n * n;
+        let mut w = vec![0.0; self.kinds.len() * nn];
+        for (t, (f, g, e)) in self.kinds.iter().enumerate() {
+            let p = Self::prefactor(e, &s);
+            let block = &mut w[t * nn..(t + 1) * nn];
+            for l in 0..n {
+                let x = p * amp[l][*f];
+                for m in 0..n {
+                    block[l * n + m] = x * amp[m][*g];
+                }
             }
+        }
+        let cols = w.len();
+        let dot = |row: usize| dot4(&self.dense[row * cols..(row + 1) * cols], &w);
+        loads.pressure += dot(0);
+        for j in 0..loads.gn.len().min(n) {
+            loads.gn[j] += dot(j + 1);
         }
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
