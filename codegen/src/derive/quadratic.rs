@@ -537,40 +537,16 @@ mod tests {
     }
 
     #[test]
-    fn derive_table() {
-        let t = std::time::Instant::now();
+    fn table_terms_and_the_gas_row() {
         let q = derive_quadratic("x").unwrap();
-        eprintln!("derived in {:?}", t.elapsed());
-        for term in &q.terms {
-            eprintln!("{}  D={} radial_only={}  N = {}", term.name(), term.denominator, term.radial_only, term.numerator.text());
-        }
-    }
-
-    #[test]
-    fn timing() {
-        let mut proj = Projector::default();
-        for n in [8usize, 16] {
-            let t = std::time::Instant::now();
-            let x = expand_pair(n, n, &mut proj);
-            eprintln!("pair ({n},{n}): {} targets in {:?}", x.f2.len(), t.elapsed());
-        }
-    }
-
-    #[test]
-    fn print_ratios() {
-        let mut proj = Projector::default();
+        assert_eq!(q.terms.len(), 7, "{:?}", q.terms.iter().map(|t| t.name()).collect::<Vec<_>>());
+        let radial: Vec<String> = q.terms.iter().filter(|t| t.radial_only).map(|t| t.name()).collect();
+        assert_eq!(radial, vec!["kappa*pg/R^2 * a_l * a_m".to_string()]);
+        // the gas at the exact volume: p_g(R)(V_R/V)^κ ≈ p_g(1 − 3κ Σ a_n²/((2n+1)R²)) on P_0
         let t = Triple::new(20);
-        for (l, m, j) in [(2, 2, 0), (2, 2, 2), (2, 2, 4), (2, 4, 2), (4, 4, 4), (4, 6, 4), (6, 4, 4), (4,4,0)] {
-            let x = expand_pair(l, m, &mut proj);
-            let f2 = &x.f2.iter().find(|(jj, _)| *jj == j).unwrap().1;
-            let kn = t.product_coefficient(l, m, j);
-            eprintln!("({l},{m},{j}) K = {kn}");
-            for (mo, co) in &f2.terms {
-                let bil = ["al", "adl", "addl"].iter().any(|s| mo.power(s) == 1) && ["am", "adm", "addm"].iter().any(|s| mo.power(s) == 1);
-                if bil {
-                    eprintln!("   {} : {}", mo.text(), co / &kn);
-                }
-            }
+        let gas = q.terms.iter().find(|t| t.radial_only).unwrap();
+        for n in [2usize, 4, 16] {
+            assert_eq!(gas.value(&t, 0, n, n), rat(-3) / rat(2 * n as i64 + 1));
         }
     }
 }
