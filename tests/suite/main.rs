@@ -35,6 +35,8 @@ mod liquid_gas;
 mod modes_damped;
 mod modes_frequencies;
 mod physics_bl;
+mod quadratic_oracle;
+mod quadratic_runtime;
 mod plot;
 mod plot_figures;
 mod scene_derived;

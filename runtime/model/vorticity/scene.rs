@@ -131,6 +131,14 @@ impl FullModel {
         if scene.modes.max_order == 0 {
             return Err(FullModelError::NoModes);
         }
+        if scene.modes.coupling == crate::scene::Coupling::Quadratic {
+            return Err(super::super::ModelError::Unsupported {
+                key: "modes.coupling",
+                value: "quadratic".into(),
+                reason: "the quadratic terms are assembled with the boundary-layer closure only (modes.viscous = \"boundary-layer\")",
+            }
+            .into());
+        }
         let mut bl_scene = scene.clone();
         bl_scene.modes.viscous = Viscous::BoundaryLayer;
         let model = Model::from_scene(&bl_scene)?;
