@@ -213,10 +213,73 @@ pub fn error_fields(message: &str) -> Vec<String> {
     blank
 }
 
+/// Hooks of a stability run driven from elsewhere (the Python package): `cancelled` is polled
+/// before each point and each scene evaluation (a cancelled point is written as an error row,
+/// which a rerun computes again), `point_done` is called after each computed point.
+pub struct Hooks<'a> {
+    pub cancelled: &'a (dyn Fn() -> bool + Sync),
+    pub point_done: &'a (dyn Fn() + Sync),
+    /// The terminal progress bar of the CLI (shown on a terminal only).
+    pub progress_bar: bool,
+}
+
+/// The message of the error rows of points not computed because the run was cancelled.
+pub const CANCELLED: &str = "interrupted before this point was computed";
+
+/// One curve (family member) of a finished stability run.
+pub struct CurveOutput {
+    /// The family key and value (both empty without `--family`).
+    pub family: (String, String),
+    pub csv: PathBuf,
+    /// The CSV's header without the leading `index` column.
+    pub header: Vec<String>,
+    pub report: sweep::SweepReport,
+}
+
+/// What [`run_with`] did: every curve, and one line per curve with failed points.
+pub struct StabilityOutput {
+    pub curves: Vec<CurveOutput>,
+    pub failed: Vec<String>,
+    pub shard: Shard,
+}
+
+/// Frequency points of this run (all curves, this shard's share): what the hooks count.
+pub fn points_of(args: &StabilityArgs) -> anyhow::Result<usize> {
+    let p = plan(args)?;
+    Ok(p.families.len() * (0..p.freqs.len()).filter(|&i| p.shard.owns(i)).count())
+}
+
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
+    let hooks = Hooks { cancelled: &|| false, point_done: &|| {}, progress_bar: true };
+    let StabilityOutput { curves, failed, shard } = run_with(args, &hooks)?;
+    let plotted: Vec<(String, PathBuf)> = curves
+        .into_iter()
+        .map(|c| {
+            let label = if c.family.0.is_empty() { args.method_label() } else { format!("{} = {}", c.family.0, c.family.1) };
+            (label, c.csv)
+        })
+        .collect();
+    if args.plot {
+        if shard != Shard::ALL {
+            noteln!("--plot: skipped for a shard; plot the merged CSV");
+        } else {
+            let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
+            let saved = crate::plot::stability_plot(&plotted, &args.out, "stability", &y_label, false)
+                .with_context(|| format!("plotting the stability diagram into {}", args.out.display()))?;
+            for s in saved {
+                noteln!("wrote {} and {}", s.svg.display(), s.png.display());
+            }
+        }
+    }
+    anyhow::ensure!(failed.is_empty(), "{}", failed.join("\n"));
+    Ok(())
+}
+
+/// `magbubble stability` without the plot: every curve's CSV written (resumable), returned.
+pub fn run_with(args: &StabilityArgs, hooks: &Hooks) -> anyhow::Result<StabilityOutput> {
     let Plan { freqs, lo, hi, shard, freq_key, families } = plan(args)?;
     let scene_text = std::fs::read_to_string(&args.scene).with_context(|| format!("reading {}", args.scene.display()))?;
-    let mut plotted: Vec<(String, PathBuf)> = Vec::new();
+    let mut curves = Vec::new();
     let mut failed = Vec::new();
     for (fkey, fval, template) in families {
         let mut set = args.set.clone();
@@ -247,9 +310,15 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             shard,
             header,
         };
-        let report = sweep::run_retrying(&csv, &meta, true, is_error_row, |i| {
+        let report = sweep::run_retrying(&csv, &meta, hooks.progress_bar, is_error_row, |i| {
+            if (hooks.cancelled)() {
+                return [vec![format!("{:.8e}", freqs[i])], error_fields(CANCELLED)].concat();
+            }
             let f = freqs[i];
             let at = |p: f64| {
+                if (hooks.cancelled)() {
+                    return Err(StabilityError::Scene(CANCELLED.into()));
+                }
                 template
                     .with(&[(freq_key.as_str(), f), (args.vary.as_str(), p)])
                     .map_err(|e| StabilityError::Scene(e.to_string()))
@@ -259,6 +328,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
                 Ok(c) => row.extend(c.fields()),
                 Err(e) => row.extend(error_fields(&e.to_string())),
             }
+            (hooks.point_done)();
             row
         })?;
         noteln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
@@ -273,23 +343,9 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
                 first[first.len() - 1]
             ));
         }
-        let label = if fkey.is_empty() { args.method_label() } else { format!("{fkey} = {fval}") };
-        plotted.push((label, csv));
+        curves.push(CurveOutput { family: (fkey, fval), csv, header: meta.header, report });
     }
-    if args.plot {
-        if shard != Shard::ALL {
-            noteln!("--plot: skipped for a shard; plot the merged CSV");
-        } else {
-            let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
-            let saved = crate::plot::stability_plot(&plotted, &args.out, "stability", &y_label, false)
-                .with_context(|| format!("plotting the stability diagram into {}", args.out.display()))?;
-            for s in saved {
-                noteln!("wrote {} and {}", s.svg.display(), s.png.display());
-            }
-        }
-    }
-    anyhow::ensure!(failed.is_empty(), "{}", failed.join("\n"));
-    Ok(())
+    Ok(StabilityOutput { curves, failed, shard })
 }
 
 pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
