@@ -18,7 +18,7 @@ import os
 import tempfile
 import warnings
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import pandas as pd
 
@@ -128,9 +128,13 @@ class Run:
         return f"Run({self.scene.origin!r}, status={self.status!r}, rows={len(self.series)})"
 
 
-def run(scene_or_path: SceneOrPath, overrides: Optional[Mapping[str, Any]] = None, *, progress: bool = True) -> Run:
+Progress = Union[bool, Callable[[float, float], None]]
+
+
+def run(scene_or_path: SceneOrPath, overrides: Optional[Mapping[str, Any]] = None, *, progress: Progress = True) -> Run:
     """Simulates a scene (``magbubble run``). Releases the GIL; a tqdm bar (if tqdm is installed
-    and ``progress``) shows the simulated time; KeyboardInterrupt stops the run. A blow-up or a
+    and ``progress``) shows the simulated time (or ``progress(t, duration)`` is called, every
+    ~50 ms, when it is a function); KeyboardInterrupt stops the run. A blow-up or a
     failed integration is a status, not an exception; a model that cannot be built raises
     ValueError."""
     scene = _scene(scene_or_path, overrides)
@@ -193,7 +197,7 @@ def stability(
     scan: int = 8,
     out: Optional[PathLike] = None,
     shard: Optional[str] = None,
-    progress: bool = True,
+    progress: Progress = True,
 ) -> pd.DataFrame:
     """A stability diagram (``magbubble stability``): one row per frequency and family member,
     the columns of the CSV (``index``, the frequency key, ``critical``, ``outcome``, …), with the
@@ -206,7 +210,7 @@ def stability(
     (join them with ``magbubble merge``). Without ``out`` a temporary directory is used.
     ``df.attrs`` holds ``csv`` (paths, with ``out``), ``computed``, ``resumed`` and ``failed``.
     KeyboardInterrupt stops it: the CSV stays complete, points not reached are error rows that
-    a rerun computes.
+    a rerun computes. ``progress``: a tqdm bar of points, or a function ``(done, total)``.
     """
     lo, hi = range
     update, close = progress_bar(progress, "stability", "point")

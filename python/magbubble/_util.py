@@ -89,9 +89,13 @@ def frame(header: Sequence[str], rows: Sequence[Sequence[str]]) -> pd.DataFrame:
     return pd.DataFrame({name: column(list(c)) for name, c in zip(header, cols)})
 
 
-def progress_bar(enabled: bool, desc: str, unit: str, scale: float = 1.0) -> tuple:
-    """(callback(done, total), close()) of a tqdm bar when ``enabled`` and tqdm is installed,
-    else (None, a no-op). ``scale`` multiplies done and total (seconds → µs)."""
+def progress_bar(enabled: Any, desc: str, unit: str, scale: float = 1.0) -> tuple:
+    """(callback(done, total), close()) of a tqdm bar when ``enabled`` is true and tqdm is
+    installed, else (None, a no-op). ``scale`` multiplies done and total (seconds → µs).
+    A callable ``enabled`` is itself the callback (called every ~50 ms with (done, total));
+    an exception it raises stops the call like a KeyboardInterrupt."""
+    if callable(enabled):
+        return enabled, lambda: None
     if not enabled:
         return None, lambda: None
     try:
