@@ -57,7 +57,7 @@ def shards(out: Path, n: int = 2) -> pd.DataFrame:
         subprocess.run([*common, "--shard", f"{i}/{n}"], check=True)
     parts = [str(out / f"stability.shard-{i}-of-{n}.csv") for i in range(n)]
     subprocess.run([str(exe), "merge", *parts, "--out", str(out / "stability.csv")], check=True)
-    return pd.read_csv(out / "stability.csv", float_precision="round_trip")
+    return pd.read_csv(out / "stability.csv")
 
 
 if __name__ == "__main__":

@@ -104,10 +104,13 @@ def progress_bar(enabled: Any, desc: str, unit: str, scale: float = 1.0) -> tupl
         return None, lambda: None
     bar = tqdm(desc=desc, unit=unit, total=None, leave=False)
 
+    def shown(x: float):
+        return int(x) if scale == 1.0 else round(x * scale, 3)
+
     def update(done: float, total: float) -> None:
-        if total == total and bar.total != total * scale:  # total is NaN until known
-            bar.total = round(total * scale, 3)
-        bar.n = round(done * scale, 3)
+        if total == total and bar.total != shown(total):  # total is NaN until known
+            bar.total = shown(total)
+        bar.n = shown(done)
         bar.refresh()
 
     return update, bar.close

@@ -252,6 +252,10 @@ pub fn points_of(args: &StabilityArgs) -> anyhow::Result<usize> {
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     let hooks = Hooks { cancelled: &|| false, point_done: &|| {}, progress_bar: true };
     let StabilityOutput { curves, failed, shard } = run_with(args, &hooks)?;
+    for c in &curves {
+        let r = &c.report;
+        noteln!("{}: {} points ({} computed, {} resumed)", c.csv.display(), r.rows.len(), r.computed, r.resumed);
+    }
     let plotted: Vec<(String, PathBuf)> = curves
         .into_iter()
         .map(|c| {
@@ -331,7 +335,6 @@ pub fn run_with(args: &StabilityArgs, hooks: &Hooks) -> anyhow::Result<Stability
             (hooks.point_done)();
             row
         })?;
-        noteln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
         let errors: Vec<&(usize, Vec<String>)> = report.rows.iter().filter(|(_, r)| is_error_row(r)).collect();
         if let Some((_, first)) = errors.first() {
             failed.push(format!(
