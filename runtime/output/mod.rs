@@ -18,7 +18,7 @@ pub use atomic::{AtomicFile, OutputDir};
 pub use console::{flush_out, write_err, write_out, StdoutError};
 pub use csv::CsvWriter;
 #[cfg(unix)]
-pub use interrupt::clean_up_on_signal;
+pub use interrupt::{cancel_on_signal, cancelling_signal, clean_up_on_signal};
 pub use progress::Progress;
 
 use std::path::Path;
