@@ -23,9 +23,9 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import pandas as pd
 
 from . import _magbubble as _ext
-from ._util import family_text, frame, freq_text, override_list, progress_bar
+from ._util import family_text, frame, freq_text, override_list, progress_bar, toml_text
 
-__all__ = ["Scene", "Run", "run", "modes", "floquet", "stability", "coefficients", "KMAX"]
+__all__ = ["Scene", "Run", "run", "modes", "floquet", "stability", "sweep", "coefficients", "KMAX"]
 __version__ = "0.1.0"
 
 #: The largest mode order of the generated coupling tables (build setting MAGBUBBLE_KMAX).
@@ -209,8 +209,8 @@ def stability(
     interruption and only the missing points are computed; ``shard="i/n"`` computes one shard
     (join them with ``magbubble merge``). Without ``out`` a temporary directory is used.
     ``df.attrs`` holds ``csv`` (paths, with ``out``), ``computed``, ``resumed`` and ``failed``.
-    KeyboardInterrupt stops it: the CSV stays complete, points not reached are error rows that
-    a rerun computes. ``progress``: a tqdm bar of points, or a function ``(done, total)``.
+    KeyboardInterrupt stops it: no point starts, the points in flight are abandoned, and the CSV
+    keeps only the whole rows finished so far (a rerun with the same ``out`` resumes). ``progress``: a tqdm bar of points, or a function ``(done, total)``.
     """
     lo, hi = range
     update, close = progress_bar(progress, "stability", "point")
@@ -248,6 +248,54 @@ def stability(
     for line in failed:
         warnings.warn(line, RuntimeWarning, stacklevel=2)
     return result
+
+
+def sweep(
+    scene_or_path: SceneOrPath,
+    grid: Mapping[str, Union[str, Sequence[Any]]],
+    overrides: Optional[Mapping[str, Any]] = None,
+    *,
+    out: Optional[PathLike] = None,
+    shard: Optional[str] = None,
+    series: bool = False,
+    progress: Progress = True,
+) -> pd.DataFrame:
+    """A grid of runs in parallel (``magbubble sweep SCENE --grid KEY=V1,V2 …``): every
+    combination of the values in ``grid`` (the first key slowest), one row per run with its
+    parameters, ``status``, ``t_blow_up``, ``R_min``/``R_max``, ``max_shape``, ``max_a2`` … (the
+    columns of ``sweep.csv``, docs/user-guide.md).
+
+    ``grid`` maps a scene key to a list of values (``{"bubble.radius": [5e-6, 1e-5]}``, written
+    as ``--set`` text) or to the CLI's text (``"0.5e6:2e6:8:log"``, ``"1e6,2e6"``). ``overrides``
+    apply to every run (grid values win). With ``out`` the CSV (+ ``.meta.json``) is written
+    there, resumable and shardable (``shard="i/n"``, joined by ``magbubble merge``).
+    ``series=True`` adds a column ``series`` with each run's DataFrame (as :func:`run`'s; with
+    ``out`` also written to ``out/series/<index>.csv``). Invalid keys or values raise ValueError
+    (the messages of ``--set``) before any run; KeyboardInterrupt keeps the finished rows.
+    ``df.attrs``: ``csv``, ``computed``, ``resumed``.
+    """
+    scene = _scene(scene_or_path, overrides)
+    if not isinstance(grid, Mapping) or not grid:
+        raise TypeError("grid must be a non-empty dict {key: [values]} or {key: 'START:STOP:N'}")
+    axes = []
+    for key, values in grid.items():
+        if isinstance(values, str):
+            axes.append((key, [values], True))
+        else:
+            axes.append((key, [toml_text(v) for v in values], False))
+    update, close = progress_bar(progress, "sweep", "run")
+    try:
+        header, rows, computed, resumed, csv = _ext.sweep(
+            scene._inner, axes, None if out is None else os.fspath(out), shard, bool(series and out is not None),
+            bool(series), update,
+        )
+    finally:
+        close()
+    df = frame(header, [fields for fields, _ in rows])
+    if series:
+        df["series"] = [None if s is None else pd.DataFrame(s[1], columns=s[0], copy=False) for _, s in rows]
+    df.attrs.update(csv=[csv] if csv else [], computed=computed, resumed=resumed)
+    return df
 
 
 def _family_value(text: str) -> Any:

@@ -46,3 +46,15 @@ def stability(
     shard: Optional[str] = None,
     progress: _Progress = None,
 ) -> Tuple[List[_Curve], List[str]]: ...
+
+_GridRow = Tuple[List[str], Optional[Tuple[List[str], npt.NDArray[np.float64]]]]
+
+def sweep(
+    scene: Scene,
+    axes: List[Tuple[str, List[str], bool]],
+    out: Optional[str] = None,
+    shard: Optional[str] = None,
+    keep_series: bool = False,
+    return_series: bool = False,
+    progress: _Progress = None,
+) -> Tuple[List[str], List[_GridRow], int, int, str]: ...

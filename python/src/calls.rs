@@ -18,6 +18,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(floquet, m)?)?;
     m.add_function(wrap_pyfunction!(coefficients, m)?)?;
     m.add_function(wrap_pyfunction!(stability, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
     Ok(())
 }
 
@@ -122,9 +123,9 @@ type Curve = (String, String, String, Vec<String>, Vec<(usize, Vec<String>)>, us
 
 /// `magbubble stability SCENE --freq FREQ … --out OUT` (arguments as the CLI's, validated by
 /// it): every curve's CSV rows, and the lines about failed points. Resumable: a rerun into the
-/// same `out` computes only the missing points. On KeyboardInterrupt the points not yet
-/// computed are written as error rows (which a rerun computes again) and the interrupt is
-/// raised once the CSV is complete.
+/// same `out` computes only the missing points. On KeyboardInterrupt no point starts, the points
+/// in flight are abandoned, and the interrupt is raised once the CSV holds only the whole rows
+/// finished so far.
 #[pyfunction]
 #[pyo3(signature = (scene, freq, out, overrides = Vec::new(), family = None, method = "floquet", vary = "drive.amplitude".to_string(),
     freq_key = None, range = "0:1".to_string(), tol = 1e-3, abs_tol = None, scan = 8, shard = None, progress = None))]
@@ -170,9 +171,8 @@ fn stability<'py>(
     let total = points_of(&args).map_err(|e| chain_error(&e))?;
     let result = worker::run(py, progress.as_ref(), |ctl| {
         ctl.set_total(total as f64);
-        let cancelled = || ctl.cancelled();
-        let done = || ctl.add_one();
-        let hooks = Hooks { cancelled: &cancelled, point_done: &done, progress_bar: false };
+        let done = |_: usize, _: usize| ctl.add(1.0);
+        let hooks = Hooks { cancel: Some(ctl.flag()), on_point: Some(&done), progress_bar: false };
         run_with(&args, &hooks)
     })?;
     let output = result.map_err(|e| chain_error(&e))?;
@@ -184,4 +184,76 @@ fn stability<'py>(
         })
         .collect();
     Ok((curves, output.failed))
+}
+
+/// One grid row: (CSV fields with the index first, the run's series as (columns, array) when
+/// asked for).
+type GridRowOut<'py> = (Vec<String>, Option<(Vec<String>, Bound<'py, PyArray2<f64>>)>);
+
+/// `magbubble sweep SCENE --grid …` (analysis::grid): `axes` are (key, values as `--set`
+/// text) or, with `spec`, (key, [`START:STOP:N[:log]` or `V1,V2,…`]). Returns (CSV header,
+/// rows, computed, resumed, CSV path or ""). Invalid keys or values raise ValueError with the
+/// messages of `--set` before any run; KeyboardInterrupt keeps the whole rows finished so far
+/// (resumable with `out`).
+#[pyfunction]
+#[pyo3(signature = (scene, axes, out = None, shard = None, keep_series = false, return_series = false, progress = None))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn sweep<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    axes: Vec<(String, Vec<String>, bool)>,
+    out: Option<PathBuf>,
+    shard: Option<String>,
+    keep_series: bool,
+    return_series: bool,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<(Vec<String>, Vec<GridRowOut<'py>>, usize, usize, String)> {
+    use magbubble::analysis::grid::{plan_grid, run_grid, GridAxis, GridOptions};
+    use magbubble::analysis::sweep::Shard;
+    let mut grid = Vec::with_capacity(axes.len());
+    for (key, values, spec) in &axes {
+        let axis = if *spec {
+            GridAxis::parse(&format!("{key}={}", values.join(","))).map_err(|e| chain_error(&e.into()))?
+        } else {
+            GridAxis::texts(key.as_str(), values)
+        };
+        grid.push(axis);
+    }
+    let shard = match &shard {
+        Some(s) => Shard::parse(s).map_err(value_error)?,
+        None => Shard::ALL,
+    };
+    let plan = plan_grid(&scene.template, &grid).map_err(|e| chain_error(&e.into()))?;
+    let outcome = worker::run(py, progress.as_ref(), |ctl| {
+        let on_run = |done: usize, total: usize| {
+            ctl.set_total(total as f64);
+            ctl.set_done(done as f64);
+        };
+        let options = GridOptions {
+            out: out.as_deref(),
+            shard: Some(shard),
+            keep_series,
+            return_series,
+            cancel: Some(ctl.flag()),
+            on_run: Some(&on_run),
+            progress_bar: false,
+        };
+        run_grid(&plan, &options)
+    })?;
+    let outcome = outcome.map_err(|e| chain_error(&e.into()))?;
+    let mut rows = Vec::with_capacity(outcome.rows.len());
+    for mut row in outcome.rows {
+        let mut fields = vec![row.index.to_string()];
+        fields.extend(row.fields());
+        let series = match row.series.take() {
+            Some(s) => {
+                let (n, w) = (s.rows(), s.columns.len());
+                Some((s.columns, PyArray1::from_vec(py, s.values).reshape([n, w])?))
+            }
+            None => None,
+        };
+        rows.push((fields, series));
+    }
+    let csv = outcome.csv.map(|p| p.display().to_string()).unwrap_or_default();
+    Ok((outcome.header, rows, outcome.computed, outcome.resumed, csv))
 }

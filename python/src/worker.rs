@@ -39,6 +39,11 @@ impl Control {
         self.cancelled.load(Ordering::Relaxed)
     }
 
+    /// The cancel flag itself (for the library's sweeps, which poll it).
+    pub fn flag(&self) -> &AtomicBool {
+        &self.cancelled
+    }
+
     pub fn set_total(&self, total: f64) {
         self.total.store(total.to_bits(), Ordering::Relaxed);
     }
@@ -47,9 +52,9 @@ impl Control {
         self.done.store(done.to_bits(), Ordering::Relaxed);
     }
 
-    /// Adds one to the progress count (called from any thread).
-    pub fn add_one(&self) {
-        let _ = self.done.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| Some((f64::from_bits(b) + 1.0).to_bits()));
+    /// Adds `n` to the progress count (called from any thread).
+    pub fn add(&self, n: f64) {
+        let _ = self.done.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| Some((f64::from_bits(b) + n).to_bits()));
     }
 
     fn progress(&self) -> (f64, f64) {

@@ -93,11 +93,10 @@ def test_interrupted_stability_leaves_a_complete_resumable_csv(tmp_path):
     lines = text.splitlines()
     ncol = len(lines[0].split(","))
     assert all(len(l.split(",")) == ncol for l in lines[1:])  # no torn rows
+    done = lines[1:]
+    assert 1 <= len(done) < 12, "the interrupt came too late to test anything"
     outcome = lines[0].split(",").index("outcome")
-    done = [l for l in lines[1:] if l.split(",")[outcome] != "error"]
-    cancelled = [l for l in lines[1:] if l.split(",")[outcome] == "error"]
-    assert len(done) >= 1 and len(cancelled) >= 1, "the interrupt came too late to test anything"
-    assert all("interrupted" in l for l in cancelled)
+    assert all(l.split(",")[outcome] != "error" for l in done)  # abandoned points leave no row
     assert not list((tmp_path / "cut").glob("*.tmp"))
     # a rerun computes only what is missing, and gives what an uninterrupted run gives
     resumed = mb.stability(SCENE, freq=freq, overrides=sets, out=tmp_path / "cut", progress=False)

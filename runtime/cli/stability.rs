@@ -8,6 +8,7 @@ use crate::scene::schema::fmt_num;
 use crate::scene::{numeric_param, path_exists, SceneTemplate};
 use anyhow::Context;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 #[derive(Debug, clap::Args)]
 pub struct StabilityArgs {
@@ -213,18 +214,18 @@ pub fn error_fields(message: &str) -> Vec<String> {
     blank
 }
 
-/// Hooks of a stability run driven from elsewhere (the Python package): `cancelled` is polled
-/// before each point and each scene evaluation (a cancelled point is written as an error row,
-/// which a rerun computes again), `point_done` is called after each computed point.
+/// Hooks of a stability run driven from elsewhere (the Python package).
+#[derive(Clone, Copy, Default)]
 pub struct Hooks<'a> {
-    pub cancelled: &'a (dyn Fn() -> bool + Sync),
-    pub point_done: &'a (dyn Fn() + Sync),
+    /// Checked before each point and each scene evaluation of a point: once set, no point
+    /// starts and the points in flight are abandoned (no row), so the CSV holds only whole,
+    /// finished rows; [`StabilityOutput::cancelled`] is set and a rerun resumes.
+    pub cancel: Option<&'a AtomicBool>,
+    /// Called after each finished point with (points finished, points to compute) of the curve.
+    pub on_point: Option<&'a (dyn Fn(usize, usize) + Sync)>,
     /// The terminal progress bar of the CLI (shown on a terminal only).
     pub progress_bar: bool,
 }
-
-/// The message of the error rows of points not computed because the run was cancelled.
-pub const CANCELLED: &str = "interrupted before this point was computed";
 
 /// One curve (family member) of a finished stability run.
 pub struct CurveOutput {
@@ -241,6 +242,8 @@ pub struct StabilityOutput {
     pub curves: Vec<CurveOutput>,
     pub failed: Vec<String>,
     pub shard: Shard,
+    /// Whether [`Hooks::cancel`] stopped the run (curves after the cancel are not started).
+    pub cancelled: bool,
 }
 
 /// Frequency points of this run (all curves, this shard's share): what the hooks count.
@@ -250,8 +253,8 @@ pub fn points_of(args: &StabilityArgs) -> anyhow::Result<usize> {
 }
 
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
-    let hooks = Hooks { cancelled: &|| false, point_done: &|| {}, progress_bar: true };
-    let StabilityOutput { curves, failed, shard } = run_with(args, &hooks)?;
+    let hooks = Hooks { progress_bar: true, ..Hooks::default() };
+    let StabilityOutput { curves, failed, shard, .. } = run_with(args, &hooks)?;
     for c in &curves {
         let r = &c.report;
         noteln!("{}: {} points ({} computed, {} resumed)", c.csv.display(), r.rows.len(), r.computed, r.resumed);
@@ -314,14 +317,14 @@ pub fn run_with(args: &StabilityArgs, hooks: &Hooks) -> anyhow::Result<Stability
             shard,
             header,
         };
-        let report = sweep::run_retrying(&csv, &meta, hooks.progress_bar, is_error_row, |i| {
-            if (hooks.cancelled)() {
-                return [vec![format!("{:.8e}", freqs[i])], error_fields(CANCELLED)].concat();
-            }
+        let cancelled = || hooks.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+        let retry = |_: usize, fields: &[String]| is_error_row(fields);
+        let control = sweep::Control { progress_bar: hooks.progress_bar, cancel: hooks.cancel, on_point: hooks.on_point, retry: Some(&retry) };
+        let report = sweep::run_with(Some(&csv), &meta, &control, |i| {
             let f = freqs[i];
             let at = |p: f64| {
-                if (hooks.cancelled)() {
-                    return Err(StabilityError::Scene(CANCELLED.into()));
+                if cancelled() {
+                    return Err(StabilityError::Scene("cancelled".into()));
                 }
                 template
                     .with(&[(freq_key.as_str(), f), (args.vary.as_str(), p)])
@@ -332,9 +335,10 @@ pub fn run_with(args: &StabilityArgs, hooks: &Hooks) -> anyhow::Result<Stability
                 Ok(c) => row.extend(c.fields()),
                 Err(e) => row.extend(error_fields(&e.to_string())),
             }
-            (hooks.point_done)();
-            row
+            // a point cut short by the cancel is abandoned, not written as an error
+            (!cancelled()).then_some(row)
         })?;
+        let stop = report.cancelled;
         let errors: Vec<&(usize, Vec<String>)> = report.rows.iter().filter(|(_, r)| is_error_row(r)).collect();
         if let Some((_, first)) = errors.first() {
             failed.push(format!(
@@ -347,8 +351,11 @@ pub fn run_with(args: &StabilityArgs, hooks: &Hooks) -> anyhow::Result<Stability
             ));
         }
         curves.push(CurveOutput { family: (fkey, fval), csv, header: meta.header, report });
+        if stop {
+            return Ok(StabilityOutput { curves, failed, shard, cancelled: true });
+        }
     }
-    Ok(StabilityOutput { curves, failed, shard })
+    Ok(StabilityOutput { curves, failed, shard, cancelled: false })
 }
 
 pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
