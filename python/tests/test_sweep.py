@@ -62,19 +62,21 @@ def test_sweep_bad_value_raises_with_the_set_message(cli, tmp_path):
 
 def test_interrupted_sweep_keeps_whole_rows_and_resumes(tmp_path):
     grid = {"bubble.radius": [6e-6, 7e-6, 8e-6, 9e-6, 1e-5, 1.1e-5, 1.2e-5, 1.3e-5]}
-    long = {"modes.max_order": 8, "run.duration": 40e-6}
+    # radial runs of 5 ms (5000 drive periods): long enough to be interrupted after the first
+    long = {"run.duration": 5e-3, "run.sample_interval": 1e-6}
+    radial = "scenes/radial_only.toml"
 
     def stop(done, total):
         if done >= 1:
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        mb.sweep(SCENE, grid=grid, overrides=long, out=tmp_path, progress=stop)
+        mb.sweep(radial, grid=grid, overrides=long, out=tmp_path, progress=stop)
     lines = (tmp_path / "sweep.csv").read_text().splitlines()
     ncol = len(lines[0].split(","))
     assert all(len(l.split(",")) == ncol for l in lines[1:])
     assert 1 <= len(lines) - 1 < 8, "the interrupt came too late to test anything"
-    df = mb.sweep(SCENE, grid=grid, overrides=long, out=tmp_path, progress=False)
+    df = mb.sweep(radial, grid=grid, overrides=long, out=tmp_path, progress=False)
     assert df.attrs["resumed"] == len(lines) - 1
     assert df.attrs["computed"] == 8 - (len(lines) - 1)
     assert df["index"].tolist() == list(range(8))
