@@ -152,7 +152,7 @@ fn run_point(scene: &Scene, point: Point, cancel: Option<&AtomicBool>) -> Option
         wall_seconds: 0.0,
         series: None,
     };
-    let header = crate::cli::run::series_header(scene);
+    let header = crate::output::series_header(scene);
     let mut writer = match point.series_file.as_deref().map(|p| CsvWriter::create(p, &header)).transpose() {
         Ok(w) => w,
         Err(e) => {
