@@ -95,7 +95,7 @@ where
         loop {
             let finished = py.detach(|| control.wait());
             if pending.is_none() {
-                let polled = report(py, progress, &control).and_then(|()| py.check_signals());
+                let polled = report(progress, &control).and_then(|()| py.check_signals());
                 if let Err(e) = polled {
                     control.cancelled.store(true, Ordering::Relaxed);
                     pending = Some(e);
@@ -119,8 +119,7 @@ where
     })
 }
 
-fn report(py: Python<'_>, progress: Option<&Bound<'_, PyAny>>, control: &Control) -> PyResult<()> {
-    let _ = py;
+fn report(progress: Option<&Bound<'_, PyAny>>, control: &Control) -> PyResult<()> {
     if let Some(cb) = progress {
         let (done, total) = control.progress();
         cb.call1((done, total))?;
