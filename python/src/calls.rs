@@ -164,7 +164,7 @@ fn stability<'py>(
         tol,
         abs_tol,
         scan,
-        out,
+        out: Some(out),
         plot: false,
         shard,
         set: overrides,
