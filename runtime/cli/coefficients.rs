@@ -60,13 +60,18 @@ struct Report {
 }
 
 pub fn run(args: &CoefficientsArgs) -> anyhow::Result<()> {
-    let report = gather(args.field, args.kmax)?;
     if args.json {
-        outln!("{}", serde_json::to_string_pretty(&to_json(&report))?);
+        outln!("{}", coefficients_json(args.field, args.kmax)?);
     } else {
-        out!("{}", to_table(&report));
+        out!("{}", to_table(&gather(args.field, args.kmax)?));
     }
     Ok(())
+}
+
+/// What `coefficients --json` prints (pretty JSON text, keys in the order): the one
+/// JSON builder of the CLI and the Python package.
+pub fn coefficients_json(field: FieldChoice, kmax: usize) -> anyhow::Result<String> {
+    Ok(serde_json::to_string_pretty(&to_json(&gather(field, kmax)?))?)
 }
 
 fn gather(choice: FieldChoice, kmax: usize) -> anyhow::Result<Report> {

@@ -56,16 +56,12 @@ pub const MIN_STEPS: usize = 16;
 /// `magbubble floquet`. With `--json` stdout is always one JSON object: the report with
 /// `"status": "ok"`, or `{"status": "error", "kind", "message"}` on failure (exit code 1 then).
 pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
-    let result = compute(args);
+    let file = args.scene.display().to_string();
+    let result = floquet_json(&file, &args.set, args.variant.into(), args.steps, || load_scene(&args.scene, &args.set));
     if args.json {
         let value = match &result {
             Ok(v) => v.clone(),
-            Err((kind, e)) => serde_json::json!({
-                "status": "error",
-                "kind": kind,
-                "message": format!("{e:#}"),
-                "scene_file": args.scene.display().to_string(),
-            }),
+            Err((kind, e)) => error_json(kind, e, &file),
         };
         outln!("{}", serde_json::to_string_pretty(&value)?);
     }
@@ -94,24 +90,45 @@ pub fn run(args: &FloquetArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-type Failure = (&'static str, anyhow::Error);
+/// Why `floquet` failed: the `kind` of the JSON status object (`invalid_argument`, `scene`,
+/// `no_orbit`, `no_shape_modes`, `failed`) and the error.
+pub type Failure = (&'static str, anyhow::Error);
 
-fn compute(args: &FloquetArgs) -> Result<serde_json::Value, Failure> {
-    if args.steps < MIN_STEPS {
+/// The JSON status object `floquet --json` prints on failure.
+pub fn error_json(kind: &str, e: &anyhow::Error, scene_file: &str) -> serde_json::Value {
+    serde_json::json!({
+        "status": "error",
+        "kind": kind,
+        "message": format!("{e:#}"),
+        "scene_file": scene_file,
+    })
+}
+
+/// The report `floquet --json` prints (`"status": "ok"`): the scene from `load` (the file
+/// `scene_file` with `overrides`), `steps` Magnus steps per drive period. The one JSON builder
+/// of the CLI and the Python package.
+pub fn floquet_json(
+    scene_file: &str,
+    overrides: &[String],
+    variant: Variant,
+    steps: usize,
+    load: impl FnOnce() -> anyhow::Result<Scene>,
+) -> Result<serde_json::Value, Failure> {
+    if steps < MIN_STEPS {
         return Err((
             "invalid_argument",
-            anyhow::anyhow!("--steps {}: at least {MIN_STEPS} Magnus steps per drive period are needed", args.steps),
+            anyhow::anyhow!("--steps {steps}: at least {MIN_STEPS} Magnus steps per drive period are needed"),
         ));
     }
-    let scene = load_scene(&args.scene, &args.set).map_err(|e| ("scene", e))?;
-    let opts = FloquetOptions { variant: args.variant.into(), magnus_steps: args.steps, convergence_check: true, ..FloquetOptions::default() };
+    let scene = load().map_err(|e| ("scene", e))?;
+    let opts = FloquetOptions { variant, magnus_steps: steps, convergence_check: true, ..FloquetOptions::default() };
     let r = floquet(&scene, &opts).map_err(|e| {
         let kind = match e {
             StabilityError::Orbit(_) => "no_orbit",
             StabilityError::NoShapeModes => "no_shape_modes",
             _ => "failed",
         };
-        (kind, anyhow::Error::new(e).context(format!("Floquet analysis of {}", args.scene.display())))
+        (kind, anyhow::Error::new(e).context(format!("Floquet analysis of {scene_file}")))
     })?;
     let mut warnings = Vec::new();
     if let Some(c) = r.convergence.as_ref().filter(|c| !c.converged) {
@@ -128,8 +145,8 @@ fn compute(args: &FloquetArgs) -> Result<serde_json::Value, Failure> {
     v["status"] = "ok".into();
     v["warnings"] = warnings.into();
     v["parameters"] = serde_json::json!({
-        "scene_file": args.scene.display().to_string(),
-        "overrides": args.set,
+        "scene_file": scene_file,
+        "overrides": overrides,
         "scene": scene,
         "shooting_steps_per_period": opts.shooting.steps_per_period,
         "newton_tolerance": opts.shooting.tol,

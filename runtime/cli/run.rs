@@ -58,9 +58,9 @@ pub fn default_out_dir(scene: &Path) -> PathBuf {
 
 pub use crate::output::series_header;
 
-/// `summary.json`.
+/// `summary.json` (built by [`summary`]; also what the Python `Run.summary` holds).
 #[derive(Serialize)]
-struct Summary<'a> {
+pub struct Summary<'a> {
     status: &'a RunStatus,
     t_end: f64,
     steps: u64,
@@ -87,6 +87,29 @@ struct Summary<'a> {
 struct Source<'a> {
     file: String,
     overrides: &'a [String],
+}
+
+/// The `summary.json` of a run of `scene` (from the file `file` with the `--set` overrides
+/// `overrides`) that wrote `rows` rows.
+pub fn summary<'a>(report: &'a RunReport, scene: &'a Scene, rows: u64, file: &str, overrides: &'a [String]) -> Summary<'a> {
+    Summary {
+        status: &report.status,
+        t_end: report.t_end,
+        steps: report.stats.steps,
+        rejected_steps: report.stats.rejected,
+        rhs_evaluations: report.stats.rhs_evals,
+        jacobian_evaluations: report.stats.jac_evals,
+        lu_decompositions: report.stats.lu_decompositions,
+        wall_seconds: report.wall_seconds,
+        rows,
+        max_abs: OrderedMap(&report.max_abs),
+        final_state: OrderedMap(&report.final_state),
+        active_effects: &report.active_effects,
+        state_dimension: report.state_dimension,
+        groups: serde_json::to_value(&report.groups).unwrap_or(serde_json::Value::Null),
+        scene,
+        source: Source { file: file.to_string(), overrides },
+    }
 }
 
 pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()> {
@@ -146,31 +169,7 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
     let rows = csv.rows();
     let summary_path = dir.join("summary.json");
     let written = csv.commit().and_then(|()| {
-        let groups = serde_json::to_value(&report.groups).unwrap_or(serde_json::Value::Null);
-        write_json(
-            &summary_path,
-            &Summary {
-                status: &report.status,
-                t_end: report.t_end,
-                steps: report.stats.steps,
-                rejected_steps: report.stats.rejected,
-                rhs_evaluations: report.stats.rhs_evals,
-                jacobian_evaluations: report.stats.jac_evals,
-                lu_decompositions: report.stats.lu_decompositions,
-                wall_seconds: report.wall_seconds,
-                rows,
-                max_abs: OrderedMap(&report.max_abs),
-                final_state: OrderedMap(&report.final_state),
-                active_effects: &report.active_effects,
-                state_dimension: report.state_dimension,
-                groups,
-                scene: &scene,
-                source: Source {
-                    file: args.scene.display().to_string(),
-                    overrides: &args.set,
-                },
-            },
-        )
+        write_json(&summary_path, &summary(&report, &scene, rows, &args.scene.display().to_string(), &args.set))
     });
     if let Err(e) = written {
         let _ = std::fs::remove_file(&series_path);

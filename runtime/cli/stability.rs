@@ -8,6 +8,7 @@ use crate::scene::schema::fmt_num;
 use crate::scene::{numeric_param, path_exists, SceneTemplate};
 use anyhow::Context;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 #[derive(Debug, clap::Args)]
 pub struct StabilityArgs {
@@ -214,11 +215,81 @@ pub fn error_fields(message: &str) -> Vec<String> {
     blank
 }
 
+/// Hooks of a stability run driven from elsewhere (the Python package).
+#[derive(Clone, Copy, Default)]
+pub struct Hooks<'a> {
+    /// Checked before each point and each scene evaluation of a point: once set, no point
+    /// starts and the points in flight are abandoned (no row), so the CSV holds only whole,
+    /// finished rows; [`StabilityOutput::cancelled`] is set and a rerun resumes.
+    pub cancel: Option<&'a AtomicBool>,
+    /// Called after each finished point with (points finished, points to compute) of the curve.
+    pub on_point: Option<&'a (dyn Fn(usize, usize) + Sync)>,
+    /// The terminal progress bar of the CLI (shown on a terminal only).
+    pub progress_bar: bool,
+}
+
+/// One curve (family member) of a finished stability run.
+pub struct CurveOutput {
+    /// The family key and value (both empty without `--family`).
+    pub family: (String, String),
+    pub csv: PathBuf,
+    /// The CSV's header without the leading `index` column.
+    pub header: Vec<String>,
+    pub report: sweep::SweepReport,
+}
+
+/// What [`run_with`] did: every curve, and one line per curve with failed points.
+pub struct StabilityOutput {
+    pub curves: Vec<CurveOutput>,
+    pub failed: Vec<String>,
+    pub shard: Shard,
+    /// Whether [`Hooks::cancel`] stopped the run (curves after the cancel are not started).
+    pub cancelled: bool,
+}
+
+/// Frequency points of this run (all curves, this shard's share): what the hooks count.
+pub fn points_of(args: &StabilityArgs) -> anyhow::Result<usize> {
+    let p = plan(args)?;
+    Ok(p.families.len() * (0..p.freqs.len()).filter(|&i| p.shard.owns(i)).count())
+}
+
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
+    let hooks = Hooks { progress_bar: true, ..Hooks::default() };
+    let StabilityOutput { curves, failed, shard, .. } = run_with(args, &hooks)?;
+    for c in &curves {
+        let r = &c.report;
+        noteln!("{}: {} points ({} computed, {} resumed)", c.csv.display(), r.rows.len(), r.computed, r.resumed);
+    }
+    let plotted: Vec<(String, PathBuf)> = curves
+        .into_iter()
+        .map(|c| {
+            let label = if c.family.0.is_empty() { args.method_label() } else { format!("{} = {}", c.family.0, c.family.1) };
+            (label, c.csv)
+        })
+        .collect();
+    if args.plot {
+        if shard != Shard::ALL {
+            noteln!("--plot: skipped for a shard; plot the merged CSV");
+        } else {
+            let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
+            let out_dir = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "stability"));
+            let saved = crate::plot::stability_plot(&plotted, &out_dir, "stability", &y_label, false)
+                .with_context(|| format!("plotting the stability diagram into {}", out_dir.display()))?;
+            for s in saved {
+                noteln!("wrote {} and {}", s.svg.display(), s.png.display());
+            }
+        }
+    }
+    anyhow::ensure!(failed.is_empty(), "{}", failed.join("\n"));
+    Ok(())
+}
+
+/// `magbubble stability` without the plot: every curve's CSV written (resumable), returned.
+pub fn run_with(args: &StabilityArgs, hooks: &Hooks) -> anyhow::Result<StabilityOutput> {
     let Plan { freqs, lo, hi, shard, freq_key, families } = plan(args)?;
     let out_dir = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "stability"));
     let scene_text = std::fs::read_to_string(&args.scene).with_context(|| format!("reading {}", args.scene.display()))?;
-    let mut plotted: Vec<(String, PathBuf)> = Vec::new();
+    let mut curves = Vec::new();
     let mut failed = Vec::new();
     for (fkey, fval, template) in families {
         let mut set = args.set.clone();
@@ -249,9 +320,15 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             shard,
             header,
         };
-        let report = sweep::run_retrying(&csv, &meta, true, is_error_row, |i| {
+        let cancelled = || hooks.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+        let retry = |_: usize, fields: &[String]| is_error_row(fields);
+        let control = sweep::Control { progress_bar: hooks.progress_bar, cancel: hooks.cancel, on_point: hooks.on_point, retry: Some(&retry) };
+        let report = sweep::run_with(Some(&csv), &meta, &control, |i| {
             let f = freqs[i];
             let at = |p: f64| {
+                if cancelled() {
+                    return Err(StabilityError::Scene("cancelled".into()));
+                }
                 template
                     .with(&[(freq_key.as_str(), f), (args.vary.as_str(), p)])
                     .map_err(|e| StabilityError::Scene(e.to_string()))
@@ -261,9 +338,10 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
                 Ok(c) => row.extend(c.fields()),
                 Err(e) => row.extend(error_fields(&e.to_string())),
             }
-            row
+            // a point cut short by the cancel is abandoned, not written as an error
+            (!cancelled()).then_some(row)
         })?;
-        noteln!("{}: {} points ({} computed, {} resumed)", csv.display(), report.rows.len(), report.computed, report.resumed);
+        let stop = report.cancelled;
         let errors: Vec<&(usize, Vec<String>)> = report.rows.iter().filter(|(_, r)| is_error_row(r)).collect();
         if let Some((_, first)) = errors.first() {
             failed.push(format!(
@@ -275,23 +353,12 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
                 first[first.len() - 1]
             ));
         }
-        let label = if fkey.is_empty() { args.method_label() } else { format!("{fkey} = {fval}") };
-        plotted.push((label, csv));
-    }
-    if args.plot {
-        if shard != Shard::ALL {
-            noteln!("--plot: skipped for a shard; plot the merged CSV");
-        } else {
-            let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
-            let saved = crate::plot::stability_plot(&plotted, &out_dir, "stability", &y_label, false)
-                .with_context(|| format!("plotting the stability diagram into {}", out_dir.display()))?;
-            for s in saved {
-                noteln!("wrote {} and {}", s.svg.display(), s.png.display());
-            }
+        curves.push(CurveOutput { family: (fkey, fval), csv, header: meta.header, report });
+        if stop {
+            return Ok(StabilityOutput { curves, failed, shard, cancelled: true });
         }
     }
-    anyhow::ensure!(failed.is_empty(), "{}", failed.join("\n"));
-    Ok(())
+    Ok(StabilityOutput { curves, failed, shard, cancelled: false })
 }
 
 pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {

@@ -51,6 +51,16 @@ impl SceneTemplate {
         &self.scene
     }
 
+    /// Where the scene came from (its file path, or the name given to [`SceneTemplate::from_str`]).
+    pub fn origin(&self) -> &str {
+        &self.origin
+    }
+
+    /// The scene's TOML tree, overrides applied, as TOML text (reads back to the same scene).
+    pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
+        toml::to_string(&self.table)
+    }
+
     /// The validated scene, by value.
     pub fn into_scene(self) -> Scene {
         self.scene

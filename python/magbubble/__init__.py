@@ -1,0 +1,308 @@
+"""magbubble — radial and non-spherical oscillations of a lipid-coated magnetic microbubble.
+
+The Python front of the Rust core (the same code as the ``magbubble`` command line; nothing is
+re-implemented here). Scenes are TOML files (``docs/scenes.md``); every function takes a
+:class:`Scene` or a path, and ``overrides={"drive.amplitude": 0.3, ...}`` with the validation and
+messages of ``--set``. See ``docs/python.md``.
+
+>>> import magbubble as mb
+>>> run = mb.run("scenes/coil_static.toml", overrides={"run.duration": 5e-6})
+>>> run.status, run.series.columns[:4].tolist()
+('completed', ['t', 'R', 'a2', 'b2'])
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import warnings
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import pandas as pd
+
+from . import _magbubble as _ext
+from ._util import family_text, frame, freq_text, override_list, progress_bar, toml_text
+
+__all__ = ["Scene", "Run", "run", "modes", "floquet", "stability", "sweep", "coefficients", "KMAX"]
+__version__ = "0.1.0"
+
+#: The largest mode order of the generated coupling tables (build setting MAGBUBBLE_KMAX).
+KMAX: int = _ext.KMAX
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+class Scene:
+    """A validated scene: the TOML tree (overrides applied) and every resolved parameter.
+
+    Make one with :meth:`Scene.load` or :meth:`Scene.from_toml`; :meth:`with_overrides` returns a
+    new scene. An invalid scene raises ``ValueError`` with every problem (key, value, reason),
+    the message the CLI prints after ``error:``.
+    """
+
+    __slots__ = ("_inner",)
+
+    def __init__(self, inner: "_ext.Scene") -> None:
+        self._inner = inner
+
+    @classmethod
+    def load(cls, path: PathLike, overrides: Optional[Mapping[str, Any]] = None) -> "Scene":
+        """Reads a scene file (TOML), with overrides validated together with the file as
+        ``magbubble run PATH --set key=value`` does."""
+        return cls(_ext.Scene.load(os.fspath(path), override_list(overrides)))
+
+    @classmethod
+    def from_toml(cls, text: str, origin: str = "<string>") -> "Scene":
+        """A scene from TOML text; ``origin`` names it in error messages and summaries."""
+        return cls(_ext.Scene.from_toml(text, origin))
+
+    def with_overrides(self, overrides: Mapping[str, Any]) -> "Scene":
+        """A new scene with keys set, e.g. ``{"drive.amplitude": 0.3, "modes.max_order": 8}``:
+        each value is written as ``--set key=value`` text (numbers exactly, ``True`` as ``true``,
+        strings as written) and validated as ``--set`` is."""
+        return Scene(self._inner.with_set(override_list(overrides)))
+
+    def to_toml(self) -> str:
+        """The scene as TOML text (overrides applied); :meth:`from_toml` reads it back."""
+        return self._inner.to_toml()
+
+    def resolved(self) -> Dict[str, Any]:
+        """Every resolved parameter (defaults applied, SI units): ``summary.json``'s ``scene``."""
+        return json.loads(self._inner.resolved_json())
+
+    @property
+    def origin(self) -> str:
+        """The file the scene came from (or the ``origin`` of :meth:`from_toml`)."""
+        return self._inner.origin
+
+    @property
+    def overrides(self) -> List[str]:
+        """The overrides applied since the file, as ``key=value`` strings."""
+        return self._inner.overrides
+
+    def __repr__(self) -> str:
+        return repr(self._inner)
+
+
+SceneOrPath = Union[Scene, str, "os.PathLike[str]"]
+
+
+def _scene(scene_or_path: SceneOrPath, overrides: Optional[Mapping[str, Any]]) -> Scene:
+    if isinstance(scene_or_path, Scene):
+        return scene_or_path.with_overrides(overrides) if overrides else scene_or_path
+    if isinstance(scene_or_path, (str, os.PathLike)):
+        return Scene.load(scene_or_path, overrides)
+    raise TypeError(f"expected a Scene or a path to a scene file, got {type(scene_or_path).__name__}")
+
+
+class Run:
+    """One simulated scene (``magbubble run``).
+
+    - ``series``: DataFrame with the columns of ``series.csv`` (``t, R, a2, b2, …``, SI units),
+      the values bit for bit those the CLI writes;
+    - ``summary``: the dict of ``summary.json``;
+    - ``status``: ``"completed"``, ``"blow_up"`` or ``"failed"`` (details in ``summary["status"]``).
+    """
+
+    __slots__ = ("series", "summary", "scene")
+
+    def __init__(self, series: pd.DataFrame, summary: Dict[str, Any], scene: Scene) -> None:
+        self.series = series
+        self.summary = summary
+        self.scene = scene
+
+    @property
+    def status(self) -> str:
+        s = self.summary["status"]
+        return s if isinstance(s, str) else next(iter(s))
+
+    @property
+    def blow_up(self) -> Optional[Dict[str, Any]]:
+        """``{"t": seconds, "mode": "a16"}`` for a blow-up, else None."""
+        s = self.summary["status"]
+        return s.get("blow_up") if isinstance(s, dict) else None
+
+    def __repr__(self) -> str:
+        return f"Run({self.scene.origin!r}, status={self.status!r}, rows={len(self.series)})"
+
+
+Progress = Union[bool, Callable[[float, float], None]]
+
+
+def run(scene_or_path: SceneOrPath, overrides: Optional[Mapping[str, Any]] = None, *, progress: Progress = True) -> Run:
+    """Simulates a scene (``magbubble run``). Releases the GIL; a tqdm bar (if tqdm is installed
+    and ``progress``) shows the simulated time (or ``progress(t, duration)`` is called, every
+    ~50 ms, when it is a function); KeyboardInterrupt stops the run. A blow-up or a
+    failed integration is a status, not an exception; a model that cannot be built raises
+    ValueError."""
+    scene = _scene(scene_or_path, overrides)
+    update, close = progress_bar(progress, "run", "µs", 1e6)
+    try:
+        header, data, summary = _ext.run(scene._inner, update)
+    finally:
+        close()
+    return Run(pd.DataFrame(data, columns=header, copy=False), json.loads(summary), scene)
+
+
+def modes(
+    scene_or_path: SceneOrPath,
+    kmax: Optional[int] = None,
+    *,
+    damped: bool = False,
+    overrides: Optional[Mapping[str, Any]] = None,
+) -> Dict[str, Any]:
+    """Natural frequencies (``magbubble modes --json``; ``damped``: ``--damped --json``)."""
+    scene = _scene(scene_or_path, overrides)
+    return json.loads(_ext.modes(scene._inner, kmax, damped))
+
+
+def floquet(
+    scene_or_path: SceneOrPath,
+    *,
+    steps: int = 400,
+    variant: str = "orbit",
+    overrides: Optional[Mapping[str, Any]] = None,
+) -> Dict[str, Any]:
+    """Floquet multipliers of the periodic orbit (``magbubble floquet --json``): the report with
+    ``"status": "ok"``, or the CLI's status object ``{"status": "error", "kind", "message"}``
+    when the analysis fails (no periodic orbit, …). Its warnings (not converged in ``steps``)
+    are also issued as Python warnings. A bad scene, ``steps`` or ``variant`` raises ValueError."""
+    scene = _scene(scene_or_path, overrides)
+    result = json.loads(_ext.floquet(scene._inner, steps, variant))
+    for w in result.get("warnings", []):
+        warnings.warn(w, RuntimeWarning, stacklevel=2)
+    return result
+
+
+def coefficients(field: str, kmax: int) -> Dict[str, Any]:
+    """The generated Legendre-coupling tables of ``field`` (``"coil"`` or ``"dipole"``) up to
+    mode ``kmax`` (``magbubble coefficients --json``)."""
+    return json.loads(_ext.coefficients(field, kmax))
+
+
+def stability(
+    scene_or_path: SceneOrPath,
+    freq: Union[str, Sequence[float]],
+    family: Union[None, str, Mapping[str, Sequence[Any]]] = None,
+    overrides: Optional[Mapping[str, Any]] = None,
+    *,
+    method: str = "floquet",
+    vary: str = "drive.amplitude",
+    freq_key: Optional[str] = None,
+    range: Tuple[float, float] = (0.0, 1.0),
+    tol: float = 1e-3,
+    abs_tol: Optional[float] = None,
+    scan: int = 8,
+    out: Optional[PathLike] = None,
+    shard: Optional[str] = None,
+    progress: Progress = True,
+) -> pd.DataFrame:
+    """A stability diagram (``magbubble stability``): one row per frequency and family member,
+    the columns of the CSV (``index``, the frequency key, ``critical``, ``outcome``, …), with the
+    family key in front when ``family`` is given.
+
+    ``freq`` is a list of frequencies [Hz] or the CLI's text (``"0.2e6:2e6:10:log"``);
+    ``family`` is ``{"field.coil.current": [0, 1e5]}`` or ``"KEY=V1,V2"``. With ``out`` the CSVs
+    (+ ``.meta.json``) are written there and the call is resumable: run it again after an
+    interruption and only the missing points are computed; ``shard="i/n"`` computes one shard
+    (join them with ``magbubble merge``). Without ``out`` a temporary directory is used.
+    ``df.attrs`` holds ``csv`` (paths, with ``out``), ``computed``, ``resumed`` and ``failed``.
+    KeyboardInterrupt stops it: no point starts, the points in flight are abandoned, and the CSV
+    keeps only the whole rows finished so far (a rerun with the same ``out`` resumes). ``progress``: a tqdm bar of points, or a function ``(done, total)``.
+    """
+    lo, hi = range
+    update, close = progress_bar(progress, "stability", "point")
+    with tempfile.TemporaryDirectory(prefix="magbubble-") as tmp:
+        if isinstance(scene_or_path, Scene):
+            stem = Path(scene_or_path.origin).stem or "scene"
+            path = Path(tmp) / f"{stem}.toml"
+            path.write_text(scene_or_path.to_toml())
+        elif isinstance(scene_or_path, (str, os.PathLike)):
+            path = Path(scene_or_path)
+        else:
+            raise TypeError(f"expected a Scene or a path to a scene file, got {type(scene_or_path).__name__}")
+        out_dir = Path(out) if out is not None else Path(tmp) / "out"
+        try:
+            curves, failed = _ext.stability(
+                os.fspath(path), freq_text(freq), os.fspath(out_dir), override_list(overrides), family_text(family),
+                method, vary, freq_key, f"{float(lo)!r}:{float(hi)!r}", float(tol),
+                None if abs_tol is None else float(abs_tol), int(scan), shard, update,
+            )
+        finally:
+            close()
+    parts = []
+    for fkey, fval, _csv, header, rows, _c, _r in curves:
+        df = frame(["index", *header], [[str(i), *fields] for i, fields in rows])
+        if fkey:
+            df.insert(0, fkey, _family_value(fval))
+        parts.append(df)
+    result = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
+    result.attrs.update(
+        csv=[c[2] for c in curves] if out is not None else [],
+        computed=sum(c[5] for c in curves),
+        resumed=sum(c[6] for c in curves),
+        failed=list(failed),
+    )
+    for line in failed:
+        warnings.warn(line, RuntimeWarning, stacklevel=2)
+    return result
+
+
+def sweep(
+    scene_or_path: SceneOrPath,
+    grid: Mapping[str, Union[str, Sequence[Any]]],
+    overrides: Optional[Mapping[str, Any]] = None,
+    *,
+    out: Optional[PathLike] = None,
+    shard: Optional[str] = None,
+    series: bool = False,
+    progress: Progress = True,
+) -> pd.DataFrame:
+    """A grid of runs in parallel (``magbubble sweep SCENE --grid KEY=V1,V2 …``): every
+    combination of the values in ``grid`` (the first key slowest), one row per run with its
+    parameters, ``status``, ``t_blow_up``, ``R_min``/``R_max``, ``max_shape``, ``max_a2`` … (the
+    columns of ``sweep.csv``, docs/user-guide.md).
+
+    ``grid`` maps a scene key to a list of values (``{"bubble.radius": [5e-6, 1e-5]}``, written
+    as ``--set`` text) or to the CLI's text (``"0.5e6:2e6:8:log"``, ``"1e6,2e6"``). ``overrides``
+    apply to every run (grid values win). With ``out`` the CSV (+ ``.meta.json``) is written
+    there, resumable and shardable (``shard="i/n"``, joined by ``magbubble merge``).
+    ``series=True`` adds a column ``series`` with each run's DataFrame (as :func:`run`'s; with
+    ``out`` also written to ``out/series/<index>.csv``). Invalid keys or values raise ValueError
+    (the messages of ``--set``) before any run; KeyboardInterrupt keeps the finished rows.
+    ``df.attrs``: ``csv``, ``computed``, ``resumed``.
+    """
+    scene = _scene(scene_or_path, overrides)
+    if not isinstance(grid, Mapping) or not grid:
+        raise TypeError("grid must be a non-empty dict {key: [values]} or {key: 'START:STOP:N'}")
+    axes = []
+    for key, values in grid.items():
+        if isinstance(values, str):
+            axes.append((key, [values], True))
+        else:
+            axes.append((key, [toml_text(v) for v in values], False))
+    update, close = progress_bar(progress, "sweep", "run")
+    try:
+        header, rows, computed, resumed, csv = _ext.sweep(
+            scene._inner, axes, None if out is None else os.fspath(out), shard, bool(series and out is not None),
+            bool(series), update,
+        )
+    finally:
+        close()
+    df = frame(header, [fields for fields, _ in rows])
+    if series:
+        df["series"] = [None if s is None else pd.DataFrame(s[1], columns=s[0], copy=False) for _, s in rows]
+    df.attrs.update(csv=[csv] if csv else [], computed=computed, resumed=resumed)
+    return df
+
+
+def _family_value(text: str) -> Any:
+    try:
+        return int(text)
+    except ValueError:
+        try:
+            return float(text)
+        except ValueError:
+            return text

@@ -1,0 +1,53 @@
+"""run(): the series bit for bit the CLI's series.csv, the summary its summary.json."""
+
+import csv
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import magbubble as mb
+
+
+def _read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
+
+
+@pytest.mark.parametrize(
+    "scene, sets",
+    [
+        ("scenes/radial_only.toml", {"run.duration": 20e-6}),
+        ("scenes/coil_static.toml", {"run.duration": 5e-6, "modes.max_order": 6}),
+    ],
+)
+def test_series_and_summary_equal_the_cli(cli, tmp_path, scene, sets):
+    args = ["run", scene, "--out", tmp_path]
+    for k, v in sets.items():
+        args += ["--set", f"{k}={v!r}"]
+    cli(*args)
+    header, values = _read_csv(tmp_path / "series.csv")
+    r = mb.run(scene, overrides=sets)
+    assert isinstance(r.series, pd.DataFrame)
+    assert list(r.series.columns) == header
+    assert r.series.shape == values.shape
+    ours = r.series.to_numpy()
+    assert ours.dtype == np.float64
+    # bit for bit (also the sign of zeros)
+    assert np.array_equal(ours.view(np.uint64), values.view(np.uint64))
+    summary = json.loads((tmp_path / "series.csv").with_name("summary.json").read_text())
+    assert list(r.summary) == list(summary)
+    for key in summary:
+        if key != "wall_seconds":
+            assert r.summary[key] == summary[key], key
+    assert r.status == "completed"
+    assert r.summary["rows"] == len(r.series)
+
+
+def test_blow_up_is_a_status():
+    r = mb.run("scenes/coil_static.toml", overrides={"run.duration": 40e-6}, progress=False)
+    assert r.status == "blow_up"
+    assert r.blow_up["mode"].startswith("a")
+    assert r.series["t"].iloc[-1] == pytest.approx(r.blow_up["t"])
