@@ -62,28 +62,34 @@ best() {
     echo "$b"
 }
 
-# name | repeat | arguments (the output directory is appended per binary)
+# name | repeat | arguments (the output directory is appended per binary) | extra arguments of
+# the current binary only (the stability default --tol became relative after e55fb60, whose
+# absolute 1e-3 is --abs-tol 1e-3 now: the same search tolerance)
 WORKLOADS=(
     "run coil_static (BL, k<=16)|$REPEAT_RUN|run scenes/coil_static.toml --set drive.amplitude=0.2 --out"
     "run no_field vorticity (monolithic)|$REPEAT_RUN|run scenes/no_field.toml --set drive.amplitude=0.2 --set modes.viscous=vorticity --out"
 )
 if [ "$RUNS_ONLY" = 0 ]; then
     WORKLOADS+=(
-        "stability coil_static k<=16|1|stability scenes/coil_static.toml --freq 0.5e6:6e6:64 --set modes.max_order=16 --out"
-        "stability no_field k<=32|1|stability scenes/no_field.toml --freq 0.5e6:6e6:64 --set modes.max_order=32 --out"
+        "stability coil_static k<=16|1|stability scenes/coil_static.toml --freq 0.5e6:6e6:64 --set modes.max_order=16 --out|--abs-tol 1e-3"
+        "stability no_field k<=32|1|stability scenes/no_field.toml --freq 0.5e6:6e6:64 --set modes.max_order=32 --out|--abs-tol 1e-3"
         "figure 6 (full resolution)|1|figure 6 --out"
     )
 fi
 
 printf "%-38s %12s %12s %8s\n" "workload" "$REF [s]" "current [s]" "ratio"
 for w in "${WORKLOADS[@]}"; do
-    IFS='|' read -r name rep args <<<"$w"
+    IFS='|' read -r name rep args extra <<<"$w"
     # shellcheck disable=SC2086
     t_old=$(best "$rep" "$WORK/ref" "$OLD" $args "$WORK/out-old")
     # shellcheck disable=SC2086
-    t_new=$(best "$rep" "$ROOT" "$NEW" $args "$WORK/out-new")
+    t_new=$(best "$rep" "$ROOT" "$NEW" $args "$WORK/out-new" $extra)
     ratio=$(awk "BEGIN { if ($t_new > 0) printf \"%.1f\", $t_old / $t_new; else print \"inf\" }")
     printf "%-38s %12s %12s %7sx\n" "$name" "$t_old" "$t_new" "$ratio"
-    rm -rf "$WORK/out-old" "$WORK/out-new"
+    # keep the last outputs of each workload for comparing the answers (out-old.N, out-new.N)
+    i=$(( ${i:-0} + 1 ))
+    rm -rf "$WORK/out-old.$i" "$WORK/out-new.$i"
+    mv "$WORK/out-old" "$WORK/out-old.$i"
+    mv "$WORK/out-new" "$WORK/out-new.$i"
 done
 echo "(reference worktree and build kept in $WORK; remove with: git worktree remove --force $WORK/ref)" >&2

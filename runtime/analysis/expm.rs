@@ -121,14 +121,18 @@ fn pade_solve(u: &DMatrix<f64>, v: &DMatrix<f64>) -> DMatrix<f64> {
             }
         }
     }
-    // Back substitution with U (upper part of P), column by column of Q.
-    for col in q.chunks_exact_mut(n) {
-        for c in (0..n).rev() {
-            let x = col[c] / p[c * n + c];
+    // Back substitution with U (upper part of P), for every column of Q at each pivot c: per
+    // column the operations and their order are those of a column-by-column substitution, but
+    // the n divisions of one pivot are independent (no chain of dependent divisions).
+    for c in (0..n).rev() {
+        let d = p[c * n + c];
+        let u = &p[c * n..c * n + c];
+        for col in q.chunks_exact_mut(n) {
+            let x = col[c] / d;
             col[c] = x;
             if x != 0.0 {
-                for (r, ur) in p[c * n..c * n + c].iter().enumerate() {
-                    col[r] -= ur * x;
+                for (v, ur) in col[..c].iter_mut().zip(u) {
+                    *v -= ur * x;
                 }
             }
         }

@@ -12,6 +12,7 @@ pub(crate) trait Scalar:
     const ZERO: Self;
     /// |x|₁-like magnitude for pivoting.
     fn mag(self) -> f64;
+    fn from_real(x: f64) -> Self;
 }
 
 impl Scalar for f64 {
@@ -19,12 +20,18 @@ impl Scalar for f64 {
     fn mag(self) -> f64 {
         self.abs()
     }
+    fn from_real(x: f64) -> Self {
+        x
+    }
 }
 
 impl Scalar for Complex<f64> {
     const ZERO: Self = Complex { re: 0.0, im: 0.0 };
     fn mag(self) -> f64 {
         self.re.abs() + self.im.abs()
+    }
+    fn from_real(x: f64) -> Self {
+        Complex { re: x, im: 0.0 }
     }
 }
 
@@ -83,6 +90,18 @@ impl<T: Scalar> ShiftedLu<T> {
         }
     }
 
+    /// Factors the dense matrix with entries `entry(i, j)` (a dense `ShiftedLu` only).
+    pub(crate) fn factor_matrix(&mut self, entry: impl Fn(usize, usize) -> T) -> Result<(), usize> {
+        debug_assert!(self.band.is_none(), "factor_matrix: dense only");
+        let n = self.n;
+        for i in 0..n {
+            for j in 0..n {
+                self.a[i * n + j] = entry(i, j);
+            }
+        }
+        self.factor_dense()
+    }
+
     fn factor_dense(&mut self) -> Result<(), usize> {
         let n = self.n;
         let a = &mut self.a;
@@ -108,12 +127,16 @@ impl<T: Scalar> ShiftedLu<T> {
                 }
             }
             let pivot = a[k * n + k];
-            for i in k + 1..n {
-                let m = a[i * n + k] / pivot;
-                a[i * n + k] = m;
+            // Row k (columns k+1..) against every later row: contiguous slices, no index checks
+            // in the inner loop (the same operations in the same order as the indexed loop).
+            let (top, bottom) = a.split_at_mut((k + 1) * n);
+            let rk = &top[k * n + k + 1..(k + 1) * n];
+            for row in bottom.chunks_exact_mut(n) {
+                let m = row[k] / pivot;
+                row[k] = m;
                 if m.mag() != 0.0 {
-                    for j in k + 1..n {
-                        a[i * n + j] = a[i * n + j] - m * a[k * n + j];
+                    for (x, &y) in row[k + 1..].iter_mut().zip(rk) {
+                        *x = *x - m * y;
                     }
                 }
             }
@@ -148,13 +171,19 @@ impl<T: Scalar> ShiftedLu<T> {
                 }
             }
             let pivot = a[idx(k, k)];
+            // Row i holds columns i − ml .. in order, so columns k+1..=last_col of rows k and i
+            // are contiguous slices.
+            let (top, bottom) = a.split_at_mut((k + 1) * w);
+            let rk = &top[idx(k, k + 1)..=idx(k, last_col)];
             for i in k + 1..=last_row {
-                let m = a[idx(i, k)] / pivot;
+                let row = &mut bottom[(i - k - 1) * w..(i - k) * w];
+                let c0 = k + ml - i; // column k in row i
+                let m = row[c0] / pivot;
                 self.l[k * ml + (i - k - 1)] = m;
-                a[idx(i, k)] = T::ZERO;
+                row[c0] = T::ZERO;
                 if m.mag() != 0.0 {
-                    for j in k + 1..=last_col {
-                        a[idx(i, j)] = a[idx(i, j)] - m * a[idx(k, j)];
+                    for (x, &y) in row[c0 + 1..=c0 + last_col - k].iter_mut().zip(rk) {
+                        *x = *x - m * y;
                     }
                 }
             }
@@ -171,14 +200,15 @@ impl<T: Scalar> ShiftedLu<T> {
                 for k in 0..n {
                     b.swap(k, self.piv[k]);
                     let bk = b[k];
-                    for i in k + 1..n {
-                        b[i] = b[i] - a[i * n + k] * bk;
+                    let col = a.get((k + 1) * n + k..).unwrap_or(&[]).iter().step_by(n);
+                    for (x, &l) in b[k + 1..].iter_mut().zip(col) {
+                        *x = *x - l * bk;
                     }
                 }
                 for k in (0..n).rev() {
                     let mut s = b[k];
-                    for j in k + 1..n {
-                        s = s - a[k * n + j] * b[j];
+                    for (&u, &x) in a[k * n + k + 1..(k + 1) * n].iter().zip(&b[k + 1..]) {
+                        s = s - u * x;
                     }
                     b[k] = s / a[k * n + k];
                 }
@@ -189,14 +219,16 @@ impl<T: Scalar> ShiftedLu<T> {
                 for k in 0..n {
                     b.swap(k, self.piv[k]);
                     let bk = b[k];
-                    for i in k + 1..=(k + ml).min(n - 1) {
-                        b[i] = b[i] - self.l[k * ml + (i - k - 1)] * bk;
+                    let last = (k + ml).min(n - 1);
+                    for (x, &l) in b[k + 1..=last].iter_mut().zip(&self.l[k * ml..]) {
+                        *x = *x - l * bk;
                     }
                 }
                 for k in (0..n).rev() {
                     let mut s = b[k];
-                    for j in k + 1..=(k + ml + mu).min(n - 1) {
-                        s = s - self.a[idx(k, j)] * b[j];
+                    let last = (k + ml + mu).min(n - 1);
+                    for (&u, &x) in self.a[idx(k, k) + 1..=idx(k, last)].iter().zip(&b[k + 1..=last]) {
+                        s = s - u * x;
                     }
                     b[k] = s / self.a[idx(k, k)];
                 }

@@ -66,13 +66,13 @@ impl NewtonMatrix {
     /// Evaluates J at (t, y), f0 = f(t, y); invalidates the factorisations. Counts one Jacobian
     /// evaluation and its rhs cost. `Err(component)` when J has a non-finite entry.
     pub(crate) fn evaluate(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], f0: &[f64], stats: &mut Stats) -> Result<(), usize> {
-        if matches!(self.kind, Kind::Unset | Kind::Structured { .. }) {
-            if let Some(jac) = sys.structured_jacobian(t, y) {
-                stats.jac_evals += 1;
-                stats.rhs_evals += jac.rhs_equivalents();
-                self.kind = Kind::Structured { jac, real: None, cplx: None };
-                return Ok(());
-            }
+        // A system may decline the structured form at some states (the bordered-band split of
+        // the boundary-layer model when J has a non-finite entry): the dense path then runs.
+        if let Some(jac) = sys.structured_jacobian(t, y) {
+            stats.jac_evals += 1;
+            stats.rhs_evals += jac.rhs_equivalents();
+            self.kind = Kind::Structured { jac, real: None, cplx: None };
+            return Ok(());
         }
         if !matches!(self.kind, Kind::Dense { .. }) {
             let (n, band) = (self.n, sys.bandwidth());

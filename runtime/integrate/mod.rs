@@ -12,6 +12,7 @@
 //! its variational equations (state and fundamental matrix) for Floquet analysis.
 //! See `docs/integrators.md` for the choices and the measurements.
 
+pub mod bordered;
 mod control;
 mod driver;
 mod explicit;

@@ -238,16 +238,20 @@ impl Radau5 {
         let c3q = h / self.h_old;
         let q = [c1 * c3q, c2 * c3q, c3q];
         let ti: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.ti[(i, j)]));
+        let [z0, z1, z2] = &mut self.z;
+        let [w0, w1, w2] = &mut self.w;
+        let (a1, a2, a3) = (&self.cont[1][..n], &self.cont[2][..n], &self.cont[3][..n]);
+        let (z0, z1, z2, w0, w1, w2) = (&mut z0[..n], &mut z1[..n], &mut z2[..n], &mut w0[..n], &mut w1[..n], &mut w2[..n]);
         for m in 0..n {
-            let (a1, a2, a3) = (self.cont[1][m], self.cont[2][m], self.cont[3][m]);
-            let mut zm = [0.0; 3];
-            for i in 0..3 {
-                zm[i] = q[i] * (a1 + (q[i] - (c2 - 1.0)) * (a2 + (q[i] - (c1 - 1.0)) * a3));
-                self.z[i][m] = zm[i];
-            }
-            for i in 0..3 {
-                self.w[i][m] = ti[i][0] * zm[0] + ti[i][1] * zm[1] + ti[i][2] * zm[2];
-            }
+            let (a1, a2, a3) = (a1[m], a2[m], a3[m]);
+            let zm: [f64; 3] = std::array::from_fn(|i| q[i] * (a1 + (q[i] - (c2 - 1.0)) * (a2 + (q[i] - (c1 - 1.0)) * a3)));
+            z0[m] = zm[0];
+            z1[m] = zm[1];
+            z2[m] = zm[2];
+            let w = |i: usize| ti[i][0] * zm[0] + ti[i][1] * zm[1] + ti[i][2] * zm[2];
+            w0[m] = w(0);
+            w1[m] = w(1);
+            w2[m] = w(2);
         }
     }
 
@@ -265,8 +269,8 @@ impl Radau5 {
                 return (Newton::Failed, newt, theta);
             }
             for i in 0..3 {
-                for m in 0..n {
-                    self.arg[m] = self.y[m] + self.z[i][m];
+                for ((a, y), z) in self.arg.iter_mut().zip(&self.y).zip(&self.z[i]) {
+                    *a = y + z;
                 }
                 sys.rhs(self.t + self.k.c[i] * h, &self.arg, &mut self.fz[i]);
             }
@@ -276,19 +280,25 @@ impl Radau5 {
             }
             newt += 1;
             let ti: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.ti[(i, j)]));
-            for m in 0..n {
-                let f = [self.fz[0][m], self.fz[1][m], self.fz[2][m]];
-                let a = |i: usize| ti[i][0] * f[0] + ti[i][1] * f[1] + ti[i][2] * f[2];
-                let (w1, w2, w3) = (self.w[0][m], self.w[1][m], self.w[2][m]);
-                self.z[0][m] = a(0) - fac1 * w1;
-                self.rc[m] = Complex::new(a(1) - alphn * w2 + betan * w3, a(2) - betan * w2 - alphn * w3);
+            {
+                let [f0, f1, f2] = &self.fz;
+                let [w0, w1, w2] = &self.w;
+                let (f0, f1, f2, w0, w1, w2) = (&f0[..n], &f1[..n], &f2[..n], &w0[..n], &w1[..n], &w2[..n]);
+                let (z0, rc) = (&mut self.z[0][..n], &mut self.rc[..n]);
+                for m in 0..n {
+                    let f = [f0[m], f1[m], f2[m]];
+                    let a = |i: usize| ti[i][0] * f[0] + ti[i][1] * f[1] + ti[i][2] * f[2];
+                    let (w1, w2, w3) = (w0[m], w1[m], w2[m]);
+                    z0[m] = a(0) - fac1 * w1;
+                    rc[m] = Complex::new(a(1) - alphn * w2 + betan * w3, a(2) - betan * w2 - alphn * w3);
+                }
             }
             self.nm.solve(&mut self.z[0]);
             self.nm.solve_complex(&mut self.rc);
             let mut sum = 0.0;
-            for m in 0..n {
-                let s2 = self.scal[m] * self.scal[m];
-                sum += (self.z[0][m].powi(2) + self.rc[m].re.powi(2) + self.rc[m].im.powi(2)) / s2;
+            for ((z, c), s) in self.z[0].iter().zip(&self.rc).zip(&self.scal) {
+                let s2 = s * s;
+                sum += (z.powi(2) + c.re.powi(2) + c.im.powi(2)) / s2;
             }
             let dyno = (sum / (3 * n).max(1) as f64).sqrt();
             if !dyno.is_finite() {
@@ -312,13 +322,20 @@ impl Radau5 {
             }
             dynold = dyno.max(f64::EPSILON);
             let t: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.t[(i, j)]));
-            for m in 0..n {
-                self.w[0][m] += self.z[0][m];
-                self.w[1][m] += self.rc[m].re;
-                self.w[2][m] += self.rc[m].im;
-                let w = [self.w[0][m], self.w[1][m], self.w[2][m]];
-                for i in 0..3 {
-                    self.z[i][m] = t[i][0] * w[0] + t[i][1] * w[1] + t[i][2] * w[2];
+            {
+                let [w0, w1, w2] = &mut self.w;
+                let [z0, z1, z2] = &mut self.z;
+                let (w0, w1, w2, z0, z1, z2) = (&mut w0[..n], &mut w1[..n], &mut w2[..n], &mut z0[..n], &mut z1[..n], &mut z2[..n]);
+                let rc = &self.rc[..n];
+                for m in 0..n {
+                    w0[m] += z0[m];
+                    w1[m] += rc[m].re;
+                    w2[m] += rc[m].im;
+                    let w = [w0[m], w1[m], w2[m]];
+                    let zz = |i: usize| t[i][0] * w[0] + t[i][1] * w[1] + t[i][2] * w[2];
+                    z0[m] = zz(0);
+                    z1[m] = zz(1);
+                    z2[m] = zz(2);
                 }
             }
             if self.faccon * dyno <= fnewt {
@@ -331,9 +348,14 @@ impl Radau5 {
     fn error_estimate(&mut self, sys: &dyn OdeSystem, h: f64) -> f64 {
         let n = self.y.len();
         let hee = self.k.dd.map(|d| d / h);
-        for m in 0..n {
-            self.f2[m] = hee[0] * self.z[0][m] + hee[1] * self.z[1][m] + hee[2] * self.z[2][m];
-            self.err_v[m] = self.f2[m] + self.f0[m];
+        {
+            let [z0, z1, z2] = &self.z;
+            let (z0, z1, z2, f0) = (&z0[..n], &z1[..n], &z2[..n], &self.f0[..n]);
+            let (f2, err_v) = (&mut self.f2[..n], &mut self.err_v[..n]);
+            for m in 0..n {
+                f2[m] = hee[0] * z0[m] + hee[1] * z1[m] + hee[2] * z2[m];
+                err_v[m] = f2[m] + f0[m];
+            }
         }
         self.nm.solve(&mut self.err_v);
         let mut err = self.rms(&self.err_v).max(1e-10);
@@ -468,16 +490,24 @@ impl super::Stepper for Radau5 {
                 let mut h_new = self.fixed.unwrap_or(proposed);
                 let t_new = if last { t_stop } else { self.t + h };
                 let [c1, c2, _] = self.k.c;
-                for m in 0..self.y.len() {
-                    let (z1, z2, z3) = (self.z[0][m], self.z[1][m], self.z[2][m]);
-                    self.y[m] += z3;
-                    let ak = (z1 - z2) / (c1 - c2);
-                    let acont3 = (ak - z1 / c1) / c2;
-                    self.cont[0][m] = self.y[m];
-                    self.cont[1][m] = (z2 - z3) / (c2 - 1.0);
-                    self.cont[2][m] = (ak - self.cont[1][m]) / (c1 - 1.0);
-                    self.cont[3][m] = self.cont[2][m] - acont3;
-                    self.scal[m] = self.atol + self.rtol * self.y[m].abs();
+                {
+                    let n = self.y.len();
+                    let [zz0, zz1, zz2] = &self.z;
+                    let (zz0, zz1, zz2) = (&zz0[..n], &zz1[..n], &zz2[..n]);
+                    let [k0, k1, k2, k3] = &mut self.cont;
+                    let (k0, k1, k2, k3) = (&mut k0[..n], &mut k1[..n], &mut k2[..n], &mut k3[..n]);
+                    let (y, scal) = (&mut self.y[..n], &mut self.scal[..n]);
+                    for m in 0..n {
+                        let (z1, z2, z3) = (zz0[m], zz1[m], zz2[m]);
+                        y[m] += z3;
+                        let ak = (z1 - z2) / (c1 - c2);
+                        let acont3 = (ak - z1 / c1) / c2;
+                        k0[m] = y[m];
+                        k1[m] = (z2 - z3) / (c2 - 1.0);
+                        k2[m] = (ak - k1[m]) / (c1 - 1.0);
+                        k3[m] = k2[m] - acont3;
+                        scal[m] = self.atol + self.rtol * y[m].abs();
+                    }
                 }
                 sys.rhs(t_new, &self.y, &mut self.f0);
                 self.stats.rhs_evals += 1;
@@ -517,8 +547,11 @@ impl super::Stepper for Radau5 {
     fn interpolate(&self, t: f64, out: &mut [f64]) {
         let [c1, c2, _] = self.k.c;
         let s = (t - self.t) / self.h_old.max(f64::MIN_POSITIVE);
-        for m in 0..out.len() {
-            out[m] = self.cont[0][m] + s * (self.cont[1][m] + (s - (c2 - 1.0)) * (self.cont[2][m] + (s - (c1 - 1.0)) * self.cont[3][m]));
+        let n = out.len();
+        let [k0, k1, k2, k3] = &self.cont;
+        let (k0, k1, k2, k3) = (&k0[..n], &k1[..n], &k2[..n], &k3[..n]);
+        for m in 0..n {
+            out[m] = k0[m] + s * (k1[m] + (s - (c2 - 1.0)) * (k2[m] + (s - (c1 - 1.0)) * k3[m]));
         }
     }
 }

@@ -143,4 +143,19 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         self.jacobian_into(t, y, jac);
         true
     }
+
+    /// The exact Jacobian split along its [`JacobianPattern`](super::linearize::JacobianPattern)
+    /// for the implicit steppers' linear solves: border R, Ṙ and the `band` lowest modes (R̈
+    /// depends on them, every mode row depends on R̈), interior the block band of the mode
+    /// couplings, half-width 3·band + 2 ([`crate::integrate::bordered`]). `None` (dense LU) when J
+    /// is not finite or the system is too small for the split to pay.
+    fn structured_jacobian(&self, t: f64, y: &[f64]) -> Option<Box<dyn crate::integrate::linear::StructuredJacobian>> {
+        let n = y.len();
+        let band = self.jacobian_pattern().band;
+        let mut jac = vec![0.0; n * n];
+        self.jacobian_into(t, y, &mut jac);
+        let w = 3 * band + 2;
+        crate::integrate::bordered::BorderedBand::new(&jac, n, 2 + 3 * band, w, w)
+            .map(|b| Box::new(b) as Box<dyn crate::integrate::linear::StructuredJacobian>)
+    }
 }

@@ -32,7 +32,7 @@ pub struct CsvWriter {
 /// exactly; when 17 digits are needed, the last digit may differ from std's choice.
 pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
     if !v.is_finite() {
-        out.extend_from_slice(format!("{v:e}").as_bytes());
+        out.extend_from_slice(if v.is_nan() { &b"NaN"[..] } else if v > 0.0 { &b"inf"[..] } else { &b"-inf"[..] });
         return;
     }
     let mut buf = zmij::Buffer::new();
@@ -42,9 +42,24 @@ pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
         _ => (false, s),
     };
     let (mant, exp) = match s.iter().position(|&c| c == b'e' || c == b'E') {
-        Some(p) => (&s[..p], std::str::from_utf8(&s[p + 1..]).ok().and_then(|e| e.parse::<i32>().ok()).unwrap_or(0)),
+        Some(p) => (&s[..p], parse_exponent(&s[p + 1..])),
         None => (s, 0),
     };
+    // Fast path: zmij's exponent form with a normalised mantissa "d" or "d.dd…d" (no trailing 0).
+    let normalised = match mant {
+        [d] => *d != b'0',
+        [d, b'.', .., last] => *d != b'0' && *last != b'0',
+        _ => false,
+    };
+    if normalised && mant.len() < s.len() {
+        if neg {
+            out.push(b'-');
+        }
+        out.extend_from_slice(mant);
+        out.push(b'e');
+        push_int(out, exp);
+        return;
+    }
     // digits without the point, and the position of the point among them
     let mut digits = [0u8; 32];
     let (mut nd, mut point) = (0usize, None);
@@ -73,7 +88,33 @@ pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
         out.extend_from_slice(&digits[lead + 1..=last]);
     }
     out.push(b'e');
-    out.extend_from_slice(e10.to_string().as_bytes());
+    push_int(out, e10);
+}
+
+/// The exponent digits zmij prints after `e` (`-7`, `+21`, `21`).
+fn parse_exponent(s: &[u8]) -> i32 {
+    let (neg, digits) = match s.first() {
+        Some(b'-') => (true, &s[1..]),
+        Some(b'+') => (false, &s[1..]),
+        _ => (false, s),
+    };
+    let e = digits.iter().take_while(|c| c.is_ascii_digit()).fold(0i32, |e, &c| e * 10 + i32::from(c - b'0'));
+    if neg { -e } else { e }
+}
+
+/// Appends a decimal exponent (|e| ≤ 400) without allocating.
+fn push_int(out: &mut Vec<u8>, e: i32) {
+    if e < 0 {
+        out.push(b'-');
+    }
+    let u = e.unsigned_abs();
+    if u >= 100 {
+        out.push(b'0' + (u / 100) as u8);
+    }
+    if u >= 10 {
+        out.push(b'0' + (u / 10 % 10) as u8);
+    }
+    out.push(b'0' + (u % 10) as u8);
 }
 
 impl CsvWriter {
@@ -181,5 +222,10 @@ mod tests {
             }
         }
         assert!(differ < 100, "{differ} values differ from std's digits");
+        for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            out.clear();
+            push_exp(&mut out, v);
+            assert_eq!(std::str::from_utf8(&out).unwrap(), format!("{v:e}"));
+        }
     }
 }

@@ -5,6 +5,7 @@ mod common;
 mod support;
 
 mod blow_up_time;
+mod bordered_lu;
 mod accuracy;
 mod cli_run;
 mod equations_jacobian;

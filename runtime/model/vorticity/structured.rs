@@ -36,45 +36,80 @@ pub struct StructuredJacobian {
     r_r: Vec<Vec<f64>>,
     r_rd: Vec<Vec<f64>>,
     /// P rows per mode: weights of Ĩ_int and of ∫(y⁻³−1)y^{−k}T dy on the interior nodes
-    pw: Vec<[Vec<f64>; 2]>,
+    /// node-major (entry i of mode k at `i * M + k`, as [`TriBatch`])
+    pw: [Vec<f64>; 2],
 }
 
-/// Thomas factors of a tridiagonal matrix (lower, 1/pivot, upper·(1/pivot) sweep).
-struct TriLu<T> {
+/// Thomas factors of the M tridiagonal matrices σI − L_k, stored node-major (entry i of mode k
+/// at `i * m + k`), so that the M independent recurrences of a sweep run side by side in the
+/// inner loop (issue 16, lever "batched tridiagonal solves"); per mode the operations and their
+/// order are those of a single Thomas sweep.
+struct TriBatch<T> {
+    m: usize,
     lower: Vec<T>,
     inv_beta: Vec<T>,
     gamma: Vec<T>,
 }
 
-impl<T: ComplexField<RealField = f64> + Copy> TriLu<T> {
-    fn new(sigma: T, rows: &Rows) -> Option<Self> {
-        let n = rows.diag.len();
-        let mut lower = vec![T::zero(); n];
-        let mut inv_beta = vec![T::zero(); n];
-        let mut gamma = vec![T::zero(); n];
-        let mut beta = sigma - T::from_real(rows.diag[0]);
-        for i in 0..n {
-            if i > 0 {
-                lower[i] = -T::from_real(rows.lower[i]);
-                gamma[i] = -T::from_real(rows.upper[i - 1]) * inv_beta[i - 1];
-                beta = sigma - T::from_real(rows.diag[i]) - lower[i] * gamma[i];
-            }
-            if beta == T::zero() {
-                return None;
-            }
-            inv_beta[i] = T::one() / beta;
+/// Per mode k, Σ_i v[i·M + k] w[i·M + k] (summed in the order of i), node-major like [`TriBatch`].
+fn dots<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: &[f64], m: usize) -> Vec<T> {
+    let mut acc = vec![T::zero(); m];
+    for (vi, wi) in v.chunks_exact(m.max(1)).zip(w.chunks_exact(m.max(1))) {
+        for k in 0..m {
+            acc[k] = acc[k] + vi[k] * T::from_real(wi[k]);
         }
-        Some(Self { lower, inv_beta, gamma })
     }
-    fn solve(&self, x: &mut [T]) {
-        let n = x.len();
-        x[0] *= self.inv_beta[0];
-        for i in 1..n {
-            x[i] = (x[i] - self.lower[i] * x[i - 1]) * self.inv_beta[i];
+    acc
+}
+
+impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
+    fn new(sigma: T, rows: &[Rows], ni: usize) -> Option<Self> {
+        let m = rows.len();
+        let mut lower = vec![T::zero(); ni * m];
+        let mut inv_beta = vec![T::zero(); ni * m];
+        let mut gamma = vec![T::zero(); ni * m];
+        for i in 0..ni {
+            for (k, r) in rows.iter().enumerate() {
+                let at = i * m + k;
+                let beta = if i == 0 {
+                    sigma - T::from_real(r.diag[0])
+                } else {
+                    lower[at] = -T::from_real(r.lower[i]);
+                    gamma[at] = -T::from_real(r.upper[i - 1]) * inv_beta[at - m];
+                    sigma - T::from_real(r.diag[i]) - lower[at] * gamma[at]
+                };
+                if beta == T::zero() {
+                    return None;
+                }
+                inv_beta[at] = T::one() / beta;
+            }
         }
-        for i in (0..n - 1).rev() {
-            let next = x[i + 1];
-            x[i] -= self.gamma[i + 1] * next;
+        Some(Self { m, lower, inv_beta, gamma })
+    }
+
+    /// x ← (σI − L_k)⁻¹ x for every mode k at once; x node-major (length ni·M).
+    fn solve(&self, x: &mut [T]) {
+        let m = self.m;
+        let n = x.len();
+        if n == 0 {
+            return;
+        }
+        for (v, ib) in x[..m].iter_mut().zip(&self.inv_beta[..m]) {
+            *v *= *ib;
+        }
+        for i in 1..n / m {
+            let (prev, cur) = x[(i - 1) * m..(i + 1) * m].split_at_mut(m);
+            let (l, ib) = (&self.lower[i * m..(i + 1) * m], &self.inv_beta[i * m..(i + 1) * m]);
+            for k in 0..m {
+                cur[k] = (cur[k] - l[k] * prev[k]) * ib[k];
+            }
+        }
+        for i in (0..n / m - 1).rev() {
+            let (cur, next) = x[i * m..(i + 2) * m].split_at_mut(m);
+            let g = &self.gamma[(i + 1) * m..(i + 2) * m];
+            for k in 0..m {
+                cur[k] -= g[k] * next[k];
+            }
         }
     }
 }
@@ -82,10 +117,12 @@ impl<T: ComplexField<RealField = f64> + Copy> TriLu<T> {
 /// The factorisation of σI − J (shares the Jacobian it was built from).
 pub struct StructuredLu<T: ComplexField<RealField = f64> + Copy> {
     jac: Rc<StructuredJacobian>,
-    tri: Vec<TriLu<T>>,
-    /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k
-    u: Vec<[Vec<T>; 3]>,
+    tri: TriBatch<T>,
+    /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k, node-major like [`TriBatch`]
+    u: [Vec<T>; 3],
     small: nalgebra::LU<T, nalgebra::Dyn, nalgebra::Dyn>,
+    /// Node-major scratch of [`StructuredLu::solve`].
+    scratch: std::cell::RefCell<Vec<T>>,
 }
 
 impl StructuredJacobian {
@@ -138,7 +175,7 @@ impl StructuredJacobian {
         let mut rows = Vec::with_capacity(m);
         let mut r_r = Vec::with_capacity(m);
         let mut r_rd = Vec::with_capacity(m);
-        let mut pw = Vec::with_capacity(m);
+        let mut pw = [vec![0.0; ni * m], vec![0.0; ni * m]];
         let apply = |rw: &Rows, tw: f64, tn: &[f64]| -> Vec<f64> {
             (0..ni)
                 .map(|i| {
@@ -158,7 +195,10 @@ impl StructuredJacobian {
             rows.push(base);
             r_r.push(apply(&d_r, tw, tn));
             r_rd.push(apply(&d_rd, tw, tn));
-            pw.push([op.wi[1..=ni].to_vec(), op.wj[1..=ni].to_vec()]);
+            for i in 0..ni {
+                pw[0][i * m + mi] = op.wi[1 + i];
+                pw[1][i * m + mi] = op.wj[1 + i];
+            }
         }
         Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw }
     }
@@ -166,8 +206,6 @@ impl StructuredJacobian {
     /// Factors σI − J. `None` if singular.
     pub fn factor<T: ComplexField<RealField = f64> + Copy>(self: &Rc<Self>, sigma: T) -> Option<StructuredLu<T>> {
         let (m, nz, ni) = (self.m, self.nz, self.ni);
-        let mut tri = Vec::with_capacity(m);
-        let mut u = Vec::with_capacity(m);
         let ns = nz + 2 * m;
         let mut s = DMatrix::<T>::zeros(ns, ns);
         for i in 0..nz {
@@ -179,19 +217,27 @@ impl StructuredJacobian {
                 s[(i, nz + q)] = -T::from_real(self.gp[(i, q)]);
             }
         }
+        let tri = TriBatch::new(sigma, &self.rows, ni)?;
+        let mut uc = vec![T::zero(); ni * m];
+        let mut ur = vec![T::zero(); ni * m];
+        let mut urd = vec![T::zero(); ni * m];
         for k in 0..m {
-            let t = TriLu::new(sigma, &self.rows[k])?;
-            let mut uc = vec![T::zero(); ni];
-            uc[0] = T::from_real(self.rows[k].lower[0]);
-            t.solve(&mut uc);
-            let mut ur: Vec<T> = self.r_r[k].iter().map(|&v| T::from_real(v)).collect();
-            t.solve(&mut ur);
-            let mut urd: Vec<T> = self.r_rd[k].iter().map(|&v| T::from_real(v)).collect();
-            t.solve(&mut urd);
-            for (kind, w) in self.pw[k].iter().enumerate() {
+            if ni > 0 {
+                uc[k] = T::from_real(self.rows[k].lower[0]);
+            }
+            for i in 0..ni {
+                ur[i * m + k] = T::from_real(self.r_r[k][i]);
+                urd[i * m + k] = T::from_real(self.r_rd[k][i]);
+            }
+        }
+        tri.solve(&mut uc);
+        tri.solve(&mut ur);
+        tri.solve(&mut urd);
+        for (kind, w) in self.pw.iter().enumerate() {
+            let (pu_all, pr_all, prd_all) = (dots(&uc, w, m), dots(&ur, w, m), dots(&urd, w, m));
+            for k in 0..m {
                 let q = kind * m + k; // π ordering = p ordering
-                let dot = |v: &[T]| v.iter().zip(w).fold(T::zero(), |acc, (a, b)| acc + *a * T::from_real(*b));
-                let (pu, pr, prd) = (dot(&uc), dot(&ur), dot(&urd));
+                let (pu, pr, prd) = (pu_all[k], pr_all[k], prd_all[k]);
                 let row = nz + q;
                 let tw_row = nz + k; // row of T_w,k in gz/gp
                 for j in 0..nz {
@@ -204,14 +250,13 @@ impl StructuredJacobian {
                 }
                 s[(row, row)] += T::one();
             }
-            tri.push(t);
-            u.push([uc, ur, urd]);
         }
         let small = s.lu();
         if !small.is_invertible() {
             return None;
         }
-        Some(StructuredLu { jac: Rc::clone(self), tri, u, small })
+        let scratch = std::cell::RefCell::new(vec![T::zero(); ni * m]);
+        Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, scratch })
     }
 }
 
@@ -219,12 +264,16 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
     /// Solves (σI − J) x = b in place (state layout of the monolithic system).
     pub fn solve(&self, b: &mut [T]) {
         let j = &*self.jac;
-        let (m, nz, nb) = (j.m, j.nz, j.nb);
-        // D_k⁻¹ b_T,k
+        let (m, nz, nb, ni) = (j.m, j.nz, j.nb, j.ni);
+        // D_k⁻¹ b_T,k, all modes at once on the node-major copy
+        let mut xt = self.scratch.borrow_mut();
         for k in 0..m {
             let o = 2 + k * nb + 3;
-            self.tri[k].solve(&mut b[o..o + j.ni]);
+            for (i, &v) in b[o..o + ni].iter().enumerate() {
+                xt[i * m + k] = v;
+            }
         }
+        self.tri.solve(&mut xt);
         let mut rhs = DVector::<T>::zeros(nz + 2 * m);
         rhs[0] = b[0];
         rhs[1] = b[1];
@@ -232,10 +281,10 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
             for c in 0..3 {
                 rhs[2 + 3 * k + c] = b[2 + k * nb + c];
             }
-            let o = 2 + k * nb + 3;
-            for (kind, w) in j.pw[k].iter().enumerate() {
-                rhs[nz + kind * m + k] =
-                    b[o..o + j.ni].iter().zip(w).fold(T::zero(), |acc, (a, ww)| acc + *a * T::from_real(*ww));
+        }
+        for (kind, w) in j.pw.iter().enumerate() {
+            for (k, d) in dots(&xt, w, m).into_iter().enumerate() {
+                rhs[nz + kind * m + k] = d;
             }
         }
         let x = match self.small.solve(&rhs) {
@@ -247,23 +296,27 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
         };
         b[0] = x[0];
         b[1] = x[1];
-        for k in 0..m {
+        let mut s = vec![T::zero(); m];
+        for (k, sk) in s.iter_mut().enumerate() {
             for c in 0..3 {
                 b[2 + k * nb + c] = x[2 + 3 * k + c];
             }
             // s_k = δT_w,k
             let tw_row = nz + k;
-            let mut sk = T::zero();
             for jj in 0..nz {
-                sk += T::from_real(j.gz[(tw_row, jj)]) * x[jj];
+                *sk += T::from_real(j.gz[(tw_row, jj)]) * x[jj];
             }
             for q in 0..2 * m {
-                sk += T::from_real(j.gp[(tw_row, q)]) * x[nz + q];
+                *sk += T::from_real(j.gp[(tw_row, q)]) * x[nz + q];
             }
-            let o = 2 + k * nb + 3;
-            let [uc, ur, urd] = &self.u[k];
-            for i in 0..j.ni {
-                b[o + i] += uc[i] * sk + ur[i] * x[0] + urd[i] * x[1];
+        }
+        let [uc, ur, urd] = &self.u;
+        let (x0, x1) = (x[0], x[1]);
+        for i in 0..ni {
+            let at = i * m;
+            for k in 0..m {
+                let a = at + k;
+                b[2 + k * nb + 3 + i] = xt[a] + (uc[a] * s[k] + ur[a] * x0 + urd[a] * x1);
             }
         }
     }
