@@ -26,6 +26,7 @@ mod floquet_orbits;
 mod floquet_periodic;
 mod hard_cases;
 mod lamb_km;
+mod km_effects;
 mod lamb_modes;
 mod integrators;
 mod liquid_gas;

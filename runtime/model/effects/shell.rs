@@ -134,6 +134,21 @@ impl Term for DilatationalViscosity {
         // S0 is linear in Ṙ (every monomial carries Rd once)
         jac.pressure[1] -= viscous::tension::s0(at.r(), self.r0, 1.0, 0.0, self.kappa_s);
     }
+    /// P ∋ −Ŝ0(R, Ṙ) with Ŝ0 linear in Ṙ (generated): dP/dt = −Ŝ0_R Ṙ − Ŝ0(R, 1) R̈, so
+    /// q = −Ŝ0_R(R, Ṙ) Ṙ = −Ŝ0_R(R, 1) Ṙ², s = −Ŝ0(R, 1) (= −4κ_s/R²); ∂q/∂Ṙ = −2Ŝ0_R(R, Ṙ),
+    /// ∂s/∂R = −Ŝ0_R(R, 1), ∂s/∂Ṙ = 0, and ∂q/∂R = −Ŝ0_RR Ṙ exact from Ŝ0_RR = −3Ŝ0_R/R, which
+    /// holds because the generated Ŝ0 ∝ Ṙ/R² (checked in tests/suite/km_effects.rs).
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        use viscous::tension::{s0, s0_dr};
+        let (r, rd, k) = (at.r(), at.rdot(), self.kappa_s);
+        let d1 = s0_dr(r, self.r0, rd, 0.0, k);
+        rate.q -= d1 * rd;
+        rate.s -= s0(r, self.r0, 1.0, 0.0, k);
+        rate.dq[0] -= -3.0 * d1 / r * rd;
+        rate.dq[1] -= 2.0 * d1;
+        rate.ds[0] -= s0_dr(r, self.r0, 1.0, 0.0, k);
+        true
+    }
 }
 
 /// The shell effects `shell` switches on, in a fixed order (none by default).
