@@ -76,6 +76,9 @@ impl ModeConst {
 pub struct BoundaryLayerSystem {
     pub(crate) eq: Equations,
     pub(crate) modes: Vec<ModeConst>,
+    /// R̈ needs ḃ_k (Keller–Miksis with a field, [`Equations::needs_bdot`]): the rhs then
+    /// evaluates (NS) first — ḃ does not depend on R̈ — and R̈ with it.
+    pub(crate) bdot_radial: bool,
 }
 
 impl BoundaryLayerSystem {
@@ -115,7 +118,9 @@ impl BoundaryLayerSystem {
         }
     }
 
-    /// R̈ at state y (M0 included), nondimensional.
+    /// R̈ at state y (M0 included), nondimensional, with the shape frozen (ḃ = 0 in dP/dt for
+    /// Keller–Miksis with a field: the radial equation along a prescribed shape; the coupled
+    /// rhs uses the closure's ḃ).
     pub fn radial_acceleration(&self, t: f64, y: &[f64]) -> f64 {
         self.eq.radial_acceleration(t, y)
     }
@@ -131,7 +136,16 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         let m = self.modes.len();
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
-        let rdd = self.eq.acceleration_at(t, y, p);
+        let rdd = if self.bdot_radial {
+            self.mode_rates(r, rd, 0.0, &gn[..m], &gt[..m], y, dy);
+            let mut bd = [0.0; MAX_MODES];
+            for (j, b) in bd[..m].iter_mut().enumerate() {
+                *b = dy[4 + 3 * j];
+            }
+            self.eq.acceleration_with(t, y, p, &bd[..m])
+        } else {
+            self.eq.acceleration_at(t, y, p)
+        };
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);

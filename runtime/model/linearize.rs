@@ -6,7 +6,7 @@
 //!
 //! Sparsity ([`JacobianPattern`]): with y = [R, Ṙ, (a, ȧ, b)_k], the Jacobian is an "arrow" —
 //! column 0 (R) is full, row 1 (R̈) sees R, Ṙ and the amplitudes the radial loads depend on
-//! (a_2, b_2 with a field), every ä and ḃ row sees R, Ṙ and, through R̈, row 1's columns — plus a
+//! (a_2, b_2 with a field; with Keller–Miksis also, through ḃ_2, the band of mode 2), every ä and ḃ row sees R, Ṙ and, through R̈, row 1's columns — plus a
 //! block band: mode k's rows see the (a, ȧ, b) of modes k ± 2j for j ≤ `band` (0 without a
 //! field: 3×3 diagonal blocks; 1 for the paper's coil and the dipole).
 
@@ -21,6 +21,9 @@ pub struct JacobianPattern {
     pub modes: usize,
     /// Half-width in modes of the mode-to-mode coupling.
     pub band: usize,
+    /// How many leading modes R̈ sees (`band`; twice that when R̈ sees ḃ: Keller–Miksis with a
+    /// field).
+    pub radial: usize,
 }
 
 impl JacobianPattern {
@@ -32,14 +35,14 @@ impl JacobianPattern {
         }
         // R̈ sees R, Ṙ and the amplitudes within the band of the zero-order (P_0) row.
         if i == 1 {
-            return j < 2 || block(j) < self.band;
+            return j < 2 || block(j) < self.radial;
         }
         // ȧ_k' = ȧ_k
         if (i - 2) % 3 == 0 {
             return j == i + 1;
         }
         // ä, ḃ rows: R, Ṙ, the band, and row 1's columns through R̈
-        j < 2 || block(i).abs_diff(block(j)) <= self.band || block(j) < self.band
+        j < 2 || block(i).abs_diff(block(j)) <= self.band || block(j) < self.radial
     }
 }
 
@@ -55,7 +58,9 @@ struct Lin {
 impl BoundaryLayerSystem {
     /// The Jacobian's sparsity (see the module doc).
     pub fn jacobian_pattern(&self) -> JacobianPattern {
-        JacobianPattern { modes: self.modes.len(), band: self.eq.terms().map(|t| t.band()).max().unwrap_or(0) }
+        let band = self.eq.terms().map(|t| t.band()).max().unwrap_or(0);
+        // through ḃ of the modes M0 sees, R̈ reaches one band further (KM with a field)
+        JacobianPattern { modes: self.modes.len(), band, radial: if self.bdot_radial { 2 * band } else { band } }
     }
 
     fn lin(&self, t: f64, y: &[f64], rdd: Option<f64>) -> Lin {
@@ -68,6 +73,22 @@ impl BoundaryLayerSystem {
         let mut drdd = vec![0.0; n];
         let rdd = match rdd {
             Some(v) => v,
+            None if self.bdot_radial => {
+                // ḃ and its rows first (they do not depend on R̈), then R̈ with them
+                let mut l = Lin { lj, rdd: 0.0, drdd, gn, gt };
+                let mut dy = vec![0.0; n];
+                self.mode_rates(y[0], y[1], 0.0, &gn[..m], &gt[..m], y, &mut dy);
+                let bd: Vec<f64> = (0..m).map(|j| dy[4 + 3 * j]).collect();
+                let (mut dbd, mut scratch) = (vec![0.0; m * n], vec![0.0; n]);
+                for j in 0..m {
+                    self.mode_rows(y, &l, j, &mut scratch, &mut dbd[j * n..(j + 1) * n]);
+                }
+                let mut g = vec![0.0; n];
+                self.eq.acceleration_gradient_with(t, y, p, &l.lj.pressure, Some((&bd, &dbd)), &mut g);
+                l.drdd = g;
+                l.rdd = self.eq.acceleration_with(t, y, p, &bd);
+                return l;
+            }
             None => {
                 self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut drdd);
                 self.eq.acceleration_at(t, y, p)

@@ -290,6 +290,15 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             "a magnetic field acts on the nanoparticle-laden shell: a free bubble (shell.c1 = shell.c2 = 0) has none",
         );
     }
+    // Keller–Miksis with a field needs ḃ_k in dM0/dt, which the boundary-layer system supplies
+    // (runtime/model/boundary_layer.rs) and the vorticity model does not yet.
+    if let (Some(cs), true, Viscous::Vorticity, true) = (liquid.sound_speed, field.is_some(), modes.viscous, modes.max_order > 0) {
+        c.push(
+            "liquid.sound_speed",
+            Some(fmt_num(cs)),
+            "Keller-Miksis with a magnetic field is supported with modes.viscous = \"boundary-layer\" only (dM0/dt needs the closure's db_k/dt, which the vorticity model does not provide yet)",
+        );
+    }
     let vorticity = build_vorticity(c, raw.vorticity);
     let run = build_run(c, raw.run, &bubble, &shell, &liquid);
 

@@ -27,6 +27,7 @@ mod floquet_periodic;
 mod hard_cases;
 mod lamb_km;
 mod km_effects;
+mod km_field;
 mod lamb_modes;
 mod integrators;
 mod liquid_gas;
