@@ -18,7 +18,7 @@
 //! The linearisation of the same expressions ([`WallLinear`], [`mode_partials`]) gives the exact
 //! Jacobian and A(t) ([`super::linearize`]).
 
-use super::effects::{At, LoadJacobian, Loads, PressureRate, Term};
+use super::effects::{At, BdotLoads, LoadJacobian, Loads, PressureRate, Term};
 use super::params::Params;
 use super::radial::RadialForm;
 
@@ -63,6 +63,22 @@ impl Equations {
             term.add(&at, &mut l);
         }
         l.pressure
+    }
+
+    /// Whether a term has shape loads proportional to ḃ_k ([`BdotLoads`]: the shell viscosity).
+    pub fn has_bdot_loads(&self) -> bool {
+        self.terms.iter().any(|t| t.has_bdot_loads())
+    }
+
+    /// The ḃ_k coefficients of the shape loads at (t, z), summed over the terms (overwritten).
+    pub fn bdot_loads(&self, t: f64, z: &[f64], c: &mut BdotLoads<'_>) {
+        for x in [&mut *c.cn, &mut *c.ct, &mut *c.cn_r, &mut *c.ct_r] {
+            x.fill(0.0);
+        }
+        let at = At { t, z };
+        for term in self.terms.iter().filter(|t| t.has_bdot_loads()) {
+            term.add_bdot_loads(&at, c);
+        }
     }
 
     /// R̈ from P (the radial form).

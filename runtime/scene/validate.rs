@@ -303,18 +303,14 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     let run = build_run(c, raw.run, &bubble, &shell, &liquid);
 
     // Shell viscosity (issue 11 part 3): the shape-mode viscous loads multiply ḃ_k, an output of
-    // the tangential balance, and are derived (membrane::viscous) but not wired yet.
+    // the tangential balance; the boundary-layer system solves for it (runtime/model/
+    // boundary_layer.rs), the vorticity model does not yet.
     for (key, v) in [("shell.shear_viscosity", shell.shear_viscosity), ("shell.dilatational_viscosity", shell.dilatational_viscosity)] {
-        let radial_only = key == "shell.dilatational_viscosity";
-        if v > 0.0 && (!radial_only || modes.max_order > 0) {
+        if v > 0.0 && modes.max_order > 0 && modes.viscous == Viscous::Vorticity {
             c.push(
                 key,
                 Some(fmt_num(v)),
-                if radial_only {
-                    "with shape modes (modes.max_order > 0): the shell-viscous shape-mode loads are derived but not wired yet; use it with modes.max_order = 0 (radial: 4 kappa_s (dR/dt)/R^2)"
-                } else {
-                    "the surface shear viscosity acts on the shape modes only, whose viscous loads are derived but not wired yet"
-                },
+                "with modes.viscous = \"vorticity\": the shell-viscous shape loads multiply db_k/dt, which only the boundary-layer closure solves for yet (use modes.viscous = \"boundary-layer\")",
             );
         }
     }

@@ -1,5 +1,5 @@
 //! Keller–Miksis with the shell's dilatational viscosity κ_s (issue 10 left part, issue 11 part 3
-//! radial): `DilatationalViscosity::add_rate` (runtime/model/effects/shell.rs) gives dP/dt of
+//! radial): `ShellViscosity::add_rate` (runtime/model/effects/shell.rs) gives dP/dt of
 //! −4κ_sṘ/R², so KM + κ_s is assembled. Checked against
 //!
 //! * the pressure's rate along a trajectory: a central difference of P(t, z(t)) equals q + s R̈;

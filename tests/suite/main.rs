@@ -28,6 +28,7 @@ mod hard_cases;
 mod lamb_km;
 mod km_effects;
 mod km_field;
+mod shell_viscosity;
 mod lamb_modes;
 mod integrators;
 mod liquid_gas;

@@ -162,6 +162,18 @@ impl PressureRate {
     }
 }
 
+/// Shape loads proportional to ḃ_k (the shell viscosity, issue 11 part 3): G_n,k ∋ cn[m] ḃ_k and
+/// G_t,k ∋ ct[m] ḃ_k, mode-diagonal, the coefficients depending on (t, R) only (∂/∂R in `cn_r`,
+/// `ct_r`). ḃ_k is an output of (NS) and its closure, so these loads make the closure implicit;
+/// the boundary-layer system solves it exactly (runtime/model/boundary_layer.rs).
+#[derive(Debug)]
+pub struct BdotLoads<'a> {
+    pub cn: &'a mut [f64],
+    pub ct: &'a mut [f64],
+    pub cn_r: &'a mut [f64],
+    pub ct_r: &'a mut [f64],
+}
+
 /// One load of the model. See the module doc; implementors are the files of this directory.
 ///
 /// Contract:
@@ -197,4 +209,12 @@ pub trait Term: std::fmt::Debug {
     fn add_rate(&self, _at: &At<'_>, _rate: &mut PressureRate) -> bool {
         false
     }
+    /// Whether the term has shape loads proportional to ḃ_k ([`BdotLoads`]; default: none).
+    fn has_bdot_loads(&self) -> bool {
+        false
+    }
+    /// Adds the term's ḃ_k coefficients (for m < `c.cn.len()`); called only when
+    /// [`has_bdot_loads`](Term::has_bdot_loads). Not part of [`add`](Term::add) or
+    /// [`add_jacobian`](Term::add_jacobian), which see the state z only.
+    fn add_bdot_loads(&self, _at: &At<'_>, _c: &mut BdotLoads<'_>) {}
 }

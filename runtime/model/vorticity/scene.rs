@@ -283,7 +283,23 @@ pub fn damped_spectrum(scene: &Scene) -> Result<DampedSpectrum, FullModelError> 
         Viscous::Vorticity => ("vorticity", damped_spectrum_full(&c, &fm.grid, 0.0, r0)),
         Viscous::BoundaryLayer => {
             let bl = fm.model.boundary_layer().expect("checked in from_scene");
-            ("boundary-layer", damped_spectrum_boundary_layer(&c, 0.0, r0, |k, _| bl.delta(k / 2 - 1, r0)))
+            if bl.equations().has_bdot_loads() {
+                // shell viscosity: loads in ȧ and ḃ too, which the stiffness-only determinant
+                // does not carry; the roots are the eigenvalues of each mode's block of the exact
+                // linear system A at rest (the oscillatory pair; none if overdamped)
+                let (a, _) = bl.linear_modes(0.0, r0, 0.0, 0.0);
+                let found = (0..fm.model.orders().len())
+                    .map(|j| {
+                        let block = a.view((3 * j, 3 * j), (3, 3)).clone_owned();
+                        let eig = block.complex_eigenvalues();
+                        let top = eig.iter().max_by(|x, y| x.im.total_cmp(&y.im)).copied();
+                        top.filter(|s| s.im > 0.0).map(|s| super::linear::DampedMode::from_root(fm.model.orders()[j], s))
+                    })
+                    .collect();
+                ("boundary-layer", found)
+            } else {
+                ("boundary-layer", damped_spectrum_boundary_layer(&c, 0.0, r0, |k, _| bl.delta(k / 2 - 1, r0)))
+            }
         }
     };
     let shape = found
