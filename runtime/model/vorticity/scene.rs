@@ -286,14 +286,15 @@ pub fn damped_spectrum(scene: &Scene) -> Result<DampedSpectrum, FullModelError> 
             if bl.equations().has_bdot_loads() {
                 // shell viscosity: loads in ȧ and ḃ too, which the stiffness-only determinant
                 // does not carry; the roots are the eigenvalues of each mode's block of the exact
-                // linear system A at rest (the oscillatory pair; none if overdamped)
+                // linear system A at rest (the oscillatory pair; overdamped: the slowest real root)
                 let (a, _) = bl.linear_modes(0.0, r0, 0.0, 0.0);
                 let found = (0..fm.model.orders().len())
                     .map(|j| {
                         let block = a.view((3 * j, 3 * j), (3, 3)).clone_owned();
                         let eig = block.complex_eigenvalues();
                         let top = eig.iter().max_by(|x, y| x.im.total_cmp(&y.im)).copied();
-                        top.filter(|s| s.im > 0.0).map(|s| super::linear::DampedMode::from_root(fm.model.orders()[j], s))
+                        let slowest = eig.iter().max_by(|x, y| x.re.total_cmp(&y.re)).copied();
+                        top.filter(|s| s.im > 0.0).or(slowest).map(|s| super::linear::DampedMode::from_root(fm.model.orders()[j], s))
                     })
                     .collect();
                 ("boundary-layer", found)
