@@ -25,6 +25,7 @@ mod floquet_mathieu;
 mod floquet_orbits;
 mod floquet_periodic;
 mod hard_cases;
+mod hard_shell;
 mod lamb_km;
 mod km_effects;
 mod km_field;
