@@ -98,8 +98,8 @@ max_order = 0
 duration = 1e-5
 sample_interval = $dt_out
 [run.integrator]
-method = "dop853"
-rtol = 1e-14
+method = "dopri5"
+rtol = 1e-12
 atol = 1e-16
 EOF
 }
