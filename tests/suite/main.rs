@@ -26,6 +26,7 @@ mod floquet_orbits;
 mod floquet_periodic;
 mod hard_cases;
 mod hard_shell;
+mod bending_cutoff;
 mod lamb_km;
 mod km_effects;
 mod km_field;
