@@ -11,6 +11,7 @@ pub mod critical;
 pub mod expm;
 pub mod floquet;
 pub mod frequencies;
+pub mod grid;
 pub mod periodic;
 pub mod shooting;
 pub mod stability;

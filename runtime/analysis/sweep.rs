@@ -21,6 +21,7 @@ use std::collections::BTreeMap;
 use std::fs::{self, File, OpenOptions};
 use std::io::{BufRead, BufReader, IsTerminal, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 /// Errors of a sweep or a merge: which file, which index, why.
@@ -121,6 +122,28 @@ pub struct SweepReport {
     pub rows: Vec<(usize, Vec<String>)>,
     pub computed: usize,
     pub resumed: usize,
+    /// Whether [`Control::cancel`] stopped the sweep before every point was done (the rows
+    /// are then the whole rows finished so far; a rerun resumes).
+    pub cancelled: bool,
+}
+
+/// `retry(index, fields)`: whether a finished row is computed again instead of resumed.
+pub type RetryFn<'a> = dyn Fn(usize, &[String]) -> bool + 'a;
+
+/// How [`run_with`] is driven, beyond the sweep itself (all optional).
+#[derive(Clone, Copy, Default)]
+pub struct Control<'a> {
+    /// Draw a progress bar on stderr when it is a terminal.
+    pub progress_bar: bool,
+    /// Checked before each point starts: once set, no new point starts, the rows finished so
+    /// far are kept (whole) and [`SweepReport::cancelled`] is set.
+    pub cancel: Option<&'a AtomicBool>,
+    /// Called after each finished point with (points finished in this call, points this call
+    /// computes), from the worker thread that finished it.
+    pub on_point: Option<&'a (dyn Fn(usize, usize) + Sync)>,
+    /// A finished row for which `retry(index, fields)` holds (an error row) is computed again
+    /// instead of being resumed.
+    pub retry: Option<&'a RetryFn<'a>>,
 }
 
 /// Runs `compute(index)` for every index of `shard` in 0..meta.total that is not already in
@@ -146,32 +169,49 @@ where
     F: Fn(usize) -> Vec<String> + Sync,
     R: Fn(&[String]) -> bool,
 {
+    let retry = |_: usize, fields: &[String]| retry(fields);
+    let control = Control { progress_bar: progress, retry: Some(&retry), ..Control::default() };
+    run_with(Some(csv), meta, &control, |i| Some(compute(i)))
+}
+
+/// The general form of [`run`]: `csv` may be `None` (rows kept in memory only), `control` adds
+/// cancellation, a progress callback and retried rows, and `compute` may return `None` for a
+/// point it gave up on because of the cancel flag (no row is written for it).
+pub fn run_with<F>(csv: Option<&Path>, meta: &SweepMeta, control: &Control, compute: F) -> Result<SweepReport, SweepError>
+where
+    F: Fn(usize) -> Option<Vec<String>> + Sync,
+{
     let full_header = header_line(&meta.header);
     let mut done: BTreeMap<usize, Vec<String>> = BTreeMap::new();
-    if csv.exists() {
-        let old = read_meta(csv)?;
-        if old != *meta {
-            let why = if old.fingerprint != meta.fingerprint {
-                "fingerprint differs".to_string()
-            } else {
-                format!("shard {}/{} or size {} differs", old.shard.index, old.shard.count, old.total)
-            };
-            return Err(SweepError::Mismatch { path: csv.to_path_buf(), why });
+    let mut file = None;
+    if let Some(csv) = csv {
+        if csv.exists() {
+            let old = read_meta(csv)?;
+            if old != *meta {
+                let why = if old.fingerprint != meta.fingerprint {
+                    "fingerprint differs".to_string()
+                } else {
+                    format!("shard {}/{} or size {} differs", old.shard.index, old.shard.count, old.total)
+                };
+                return Err(SweepError::Mismatch { path: csv.to_path_buf(), why });
+            }
+            done = read_rows(csv, &full_header)?;
+            if let Some(retry) = control.retry {
+                done.retain(|&i, fields| !retry(i, fields));
+            }
+        } else if let Some(dir) = csv.parent().filter(|d| !d.as_os_str().is_empty()) {
+            fs::create_dir_all(dir).map_err(io(dir))?;
         }
-        done = read_rows(csv, &full_header)?;
-        done.retain(|_, fields| !retry(fields));
-    } else if let Some(dir) = csv.parent().filter(|d| !d.as_os_str().is_empty()) {
-        fs::create_dir_all(dir).map_err(io(dir))?;
+        write_atomic(&meta_path(csv), &serde_json::to_string_pretty(meta).expect("meta serialises"))?;
+        // Rewrite what is valid (drops a torn last line), then append.
+        write_atomic(csv, &render(&full_header, &done))?;
+        file = Some(OpenOptions::new().append(true).open(csv).map_err(io(csv))?);
     }
-    write_atomic(&meta_path(csv), &serde_json::to_string_pretty(meta).expect("meta serialises"))?;
-    // Rewrite what is valid (drops a torn last line), then append.
-    write_atomic(csv, &render(&full_header, &done))?;
     let resumed = done.len();
     let pending: Vec<usize> =
         (0..meta.total).filter(|&i| meta.shard.owns(i) && !done.contains_key(&i)).collect();
-    let file = OpenOptions::new().append(true).open(csv).map_err(io(csv))?;
     let sink = Mutex::new((file, Vec::<(usize, Vec<String>)>::new()));
-    let bar = if progress && std::io::stderr().is_terminal() {
+    let bar = if control.progress_bar && std::io::stderr().is_terminal() {
         let b = ProgressBar::new(pending.len() as u64);
         if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} points  {elapsed} (eta {eta})") {
             b.set_style(style);
@@ -180,17 +220,30 @@ where
     } else {
         ProgressBar::hidden()
     };
+    let (cancel, on_point) = (control.cancel, control.on_point);
+    let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let failure: Mutex<Option<SweepError>> = Mutex::new(None);
     pending.par_iter().for_each(|&i| {
-        let fields = compute(i);
-        let line = row_line(i, &fields);
+        if cancelled() {
+            return;
+        }
+        let Some(fields) = compute(i) else { return };
         let mut guard = sink.lock().unwrap_or_else(|p| p.into_inner());
-        let res = guard.0.write_all(line.as_bytes()).and_then(|_| guard.0.flush());
-        if let Err(e) = res {
-            failure.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(SweepError::Io { path: csv.to_path_buf(), source: e });
+        if let (Some(f), Some(csv)) = (guard.0.as_mut(), csv) {
+            // One write per row: an interrupted process leaves whole rows (or one torn last
+            // line, which the next run discards).
+            let res = f.write_all(row_line(i, &fields).as_bytes()).and_then(|_| f.flush());
+            if let Err(e) = res {
+                failure.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(SweepError::Io { path: csv.to_path_buf(), source: e });
+            }
         }
         guard.1.push((i, fields));
+        let finished = guard.1.len();
+        drop(guard);
         bar.inc(1);
+        if let Some(f) = on_point {
+            f(finished, pending.len());
+        }
     });
     bar.finish_and_clear();
     if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
@@ -199,8 +252,11 @@ where
     let (_, fresh) = sink.into_inner().unwrap_or_else(|p| p.into_inner());
     let computed = fresh.len();
     done.extend(fresh);
-    write_atomic(csv, &render(&full_header, &done))?;
-    Ok(SweepReport { rows: done.into_iter().collect(), computed, resumed })
+    if let Some(csv) = csv {
+        write_atomic(csv, &render(&full_header, &done))?;
+    }
+    let cancelled = computed < pending.len();
+    Ok(SweepReport { rows: done.into_iter().collect(), computed, resumed, cancelled })
 }
 
 /// Joins shard CSVs (each with its sidecar) into `output` (+ sidecar, shard 0/1), after checking

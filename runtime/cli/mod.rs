@@ -14,6 +14,7 @@ pub mod modes;
 pub mod run;
 pub mod scene;
 pub mod stability;
+pub mod sweep;
 
 #[derive(Debug, Parser)]
 #[command(name = "magbubble", version, about = "Oscillations of an encapsulated magnetic microbubble")]
@@ -37,8 +38,10 @@ pub enum Command {
     Floquet(floquet::FloquetArgs),
     /// Stability diagrams: critical pressure (or current) against frequency.
     Stability(stability::StabilityArgs),
-    /// Join the shards of a sharded stability sweep.
+    /// Join the shards of a sharded stability sweep or grid sweep.
     Merge(stability::MergeArgs),
+    /// A grid of runs over scene keys, in parallel: one CSV row per run.
+    Sweep(sweep::SweepArgs),
     /// Time-step convergence of the full model (fig 3).
     Convergence(convergence::ConvergenceArgs),
     /// Boundary-layer vs full vorticity model on one scene (fig 4).
@@ -96,6 +99,7 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Floquet(a) => floquet::run(&a),
         Command::Stability(a) => stability::run(&a),
         Command::Merge(a) => stability::merge(&a),
+        Command::Sweep(a) => sweep::run(&a),
         Command::Convergence(a) => convergence::run(&a),
         Command::Compare(a) => compare::run(&a),
         Command::Accuracy(a) => accuracy::run(&a),

@@ -45,15 +45,7 @@ pub fn default_out_dir(scene: &Path) -> PathBuf {
     Path::new("out").join(stem)
 }
 
-/// CSV header of a scene: t, R, then a_k, b_k for k = 2, 4, …, N.
-pub fn series_header(scene: &Scene) -> Vec<String> {
-    let mut h = vec!["t".to_string(), "R".to_string()];
-    for k in scene.modes.orders() {
-        h.push(format!("a{k}"));
-        h.push(format!("b{k}"));
-    }
-    h
-}
+pub use crate::output::series_header;
 
 /// `summary.json`.
 #[derive(Serialize)]

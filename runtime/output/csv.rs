@@ -1,8 +1,20 @@
 //! Streaming CSV: rows are formatted and written as they come (bounded memory).
 
 use super::{AtomicFile, OutputError};
+use crate::scene::Scene;
 use std::io::Write;
 use std::path::Path;
+
+/// The header of a run's `series.csv`: t, R, then a_k, b_k for k = 2, 4, …, N (shared by `run`,
+/// `sweep --keep-series` and the Python binding).
+pub fn series_header(scene: &Scene) -> Vec<String> {
+    let mut h = vec!["t".to_string(), "R".to_string()];
+    for k in scene.modes.orders() {
+        h.push(format!("a{k}"));
+        h.push(format!("b{k}"));
+    }
+    h
+}
 
 /// A CSV file with a fixed header, written atomically (see [`AtomicFile`]).
 #[derive(Debug)]

@@ -16,9 +16,9 @@ mod progress;
 
 pub use atomic::{AtomicFile, OutputDir};
 pub use console::{flush_out, write_err, write_out, StdoutError};
-pub use csv::CsvWriter;
+pub use csv::{series_header, CsvWriter};
 #[cfg(unix)]
-pub use interrupt::clean_up_on_signal;
+pub use interrupt::{cancel_on_signal, cancelling_signal, clean_up_on_signal};
 pub use progress::Progress;
 
 use std::path::Path;

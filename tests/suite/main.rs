@@ -49,6 +49,7 @@ mod stability_args;
 mod stability_criteria;
 mod stability_series_window;
 mod stability_sweep;
+mod sweep_grid;
 mod vorticity_linear;
 mod vorticity_scene;
 mod vorticity_structured;

@@ -1,0 +1,199 @@
+//! Expanding and validating a grid ([`plan_grid`]): nothing runs and nothing is written until
+//! every key, value and combination has passed the scene validator.
+
+use super::GridError;
+use crate::scene::schema::{self, Kind};
+use crate::scene::{path_exists, Scene, SceneTemplate};
+
+/// One value of a grid axis: a `--set` value as text (`1e6`, `vorticity`, `{ 2 = 1e-8 }`), or a
+/// number (set as an integer for an integer key when it is integral, else as a float).
+#[derive(Debug, Clone, PartialEq)]
+pub enum GridValue {
+    Text(String),
+    Number(f64),
+}
+
+/// One key of a grid and its values, in order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridAxis {
+    pub key: String,
+    pub values: Vec<GridValue>,
+}
+
+impl GridAxis {
+    /// An axis of numbers (e.g. from Python: `grid={"bubble.radius": [2e-6, 3e-6]}`).
+    pub fn numbers(key: impl Into<String>, values: &[f64]) -> GridAxis {
+        GridAxis { key: key.into(), values: values.iter().map(|&v| GridValue::Number(v)).collect() }
+    }
+
+    /// An axis of `--set` value texts.
+    pub fn texts<S: AsRef<str>>(key: impl Into<String>, values: &[S]) -> GridAxis {
+        GridAxis { key: key.into(), values: values.iter().map(|v| GridValue::Text(v.as_ref().trim().to_string())).collect() }
+    }
+
+    /// Parses `--grid KEY=V1,V2,…` (values as `--set` takes them) or `KEY=START:STOP:N[:log]`
+    /// (N numbers from START to STOP, linear or logarithmic, as `stability --freq`).
+    pub fn parse(spec: &str) -> Result<GridAxis, GridError> {
+        let bad = |why: String| GridError::Grid { what: format!("--grid '{spec}'"), why };
+        let (key, list) = spec.split_once('=').ok_or_else(|| bad("expected KEY=V1,V2,… or KEY=START:STOP:N[:log]".into()))?;
+        let key = key.trim();
+        let list = list.trim();
+        let p: Vec<&str> = list.split(':').map(str::trim).collect();
+        let is_range = !list.contains(',') && (p.len() == 3 || p.len() == 4) && p[..2].iter().all(|t| t.parse::<f64>().is_ok());
+        if !is_range {
+            return Ok(GridAxis::texts(key, &list.split(',').collect::<Vec<_>>()));
+        }
+        let (a, b): (f64, f64) = (p[0].parse().unwrap_or(f64::NAN), p[1].parse().unwrap_or(f64::NAN));
+        let n: usize = p[2].parse().map_err(|_| bad(format!("N = '{}' must be a positive integer", p[2])))?;
+        let log = match p.get(3).copied() {
+            None | Some("lin") => false,
+            Some("log") => true,
+            Some(other) => return Err(bad(format!("spacing '{other}' must be lin or log"))),
+        };
+        if !(a.is_finite() && b.is_finite() && a <= b && n >= 1) {
+            return Err(bad("need finite START ≤ STOP and N ≥ 1".into()));
+        }
+        if log && a <= 0.0 {
+            return Err(bad("a log range needs START > 0".into()));
+        }
+        let u = |i: usize| if n == 1 { 0.0 } else { i as f64 / (n - 1) as f64 };
+        let values: Vec<f64> = (0..n).map(|i| if log { a * (b / a).powf(u(i)) } else { a + (b - a) * u(i) }).collect();
+        Ok(GridAxis::numbers(key, &values))
+    }
+}
+
+/// A validated grid: the keys, the value texts as set, and the scene of every point.
+#[derive(Debug, Clone)]
+pub struct GridPlan {
+    pub(super) axes: Vec<(String, Vec<String>)>,
+    pub(super) scenes: Vec<Scene>,
+    /// Mode orders with a `max_*` column (those of the largest `modes.max_order` of the grid).
+    pub(super) orders: Vec<usize>,
+    pub(super) fingerprint: String,
+}
+
+impl GridPlan {
+    /// Number of points (runs) of the whole grid.
+    pub fn len(&self) -> usize {
+        self.scenes.len()
+    }
+
+    /// Whether the grid has no point (never: [`plan_grid`] refuses an empty axis).
+    pub fn is_empty(&self) -> bool {
+        self.scenes.is_empty()
+    }
+
+    /// The grid keys, in axis order.
+    pub fn keys(&self) -> Vec<&str> {
+        self.axes.iter().map(|(k, _)| k.as_str()).collect()
+    }
+
+    /// The axes: each key with its values as set (the text of the CSV's parameter columns).
+    pub fn axes(&self) -> &[(String, Vec<String>)] {
+        &self.axes
+    }
+
+    /// The value texts of point `index`, one per axis (first axis slowest).
+    pub fn values(&self, index: usize) -> Vec<&str> {
+        let mut rest = index;
+        let mut out = vec![""; self.axes.len()];
+        for (slot, (_, vs)) in out.iter_mut().zip(&self.axes).rev() {
+            *slot = &vs[rest % vs.len()];
+            rest /= vs.len();
+        }
+        out
+    }
+
+    /// The validated scene of point `index`.
+    pub fn scene(&self, index: usize) -> &Scene {
+        &self.scenes[index]
+    }
+
+    /// The CSV header after `index`: the grid keys, then [`super::row::result_header`] (one
+    /// `max_a<k>`, `max_b<k>` pair per mode of the grid's largest `modes.max_order`).
+    pub fn header(&self) -> Vec<String> {
+        let mut h: Vec<String> = self.axes.iter().map(|(k, _)| k.clone()).collect();
+        h.extend(super::row::result_header(&self.orders));
+        h
+    }
+
+    /// What the grid computes (the resolved base scene and the axes): a CSV of another
+    /// fingerprint is never appended to, and shards merge only with equal fingerprints.
+    pub fn fingerprint(&self) -> &str {
+        &self.fingerprint
+    }
+}
+
+/// A grid value as `--set` text.
+fn value_text(key: &str, v: &GridValue) -> Result<String, String> {
+    match v {
+        GridValue::Text(t) if t.is_empty() => Err("empty value".into()),
+        GridValue::Text(t) if t.contains([',', '\n', '\r']) => Err(format!("value '{t}' contains a comma or a line break")),
+        GridValue::Text(t) => Ok(t.clone()),
+        GridValue::Number(x) if !x.is_finite() => Err(format!("value {x} is not a finite number")),
+        GridValue::Number(x) => {
+            let int = schema::param(key).is_some_and(|p| p.kind == Kind::Int);
+            Ok(if int && x.fract() == 0.0 && x.abs() < 9e15 { format!("{}", *x as i64) } else { format!("{x:e}") })
+        }
+    }
+}
+
+/// Expands and validates a grid over `template` (the scene with its `--set` overrides; the grid
+/// values override those). Errors, before anything runs: no axis, a key given twice or not in
+/// the schema, an empty axis, a value given twice, a value the scene rejects (the `--set`
+/// message, naming key and value), a combination the scene rejects (naming the point), or a
+/// grid of more than `usize` points.
+pub fn plan_grid(template: &SceneTemplate, axes: &[GridAxis]) -> Result<GridPlan, GridError> {
+    let grid_err = |what: String, why: String| GridError::Grid { what, why };
+    if axes.is_empty() {
+        return Err(grid_err("grid".into(), "no axis: give at least one --grid KEY=V1,V2,…".into()));
+    }
+    let mut texts: Vec<(String, Vec<String>)> = Vec::new();
+    let mut total: usize = 1;
+    for axis in axes {
+        let key = axis.key.trim();
+        let what = format!("--grid {key}");
+        if texts.iter().any(|(k, _)| k == key) {
+            return Err(grid_err(what, "key given twice; list all its values in one --grid".into()));
+        }
+        if !path_exists(key) {
+            // The message of `--set` for an unknown key.
+            let shown = axis.values.first().and_then(|v| value_text(key, v).ok()).unwrap_or_else(|| "0".into());
+            let e = template.with_overrides(&[format!("{key}={shown}")]).err();
+            return match e {
+                Some(source) => Err(GridError::Scene { context: what, source }),
+                None => Err(grid_err(what, "no such scene key".into())),
+            };
+        }
+        if axis.values.is_empty() {
+            return Err(grid_err(what, "no values".into()));
+        }
+        let mut vs = Vec::new();
+        for v in &axis.values {
+            let t = value_text(key, v).map_err(|why| grid_err(what.clone(), why))?;
+            if vs.contains(&t) {
+                return Err(grid_err(what, format!("value {t} given twice")));
+            }
+            template
+                .with_overrides(&[format!("{key}={t}")])
+                .map_err(|source| GridError::Scene { context: format!("--grid {key}={t}"), source })?;
+            vs.push(t);
+        }
+        total = total.checked_mul(vs.len()).ok_or_else(|| grid_err("grid".into(), "too many points".into()))?;
+        texts.push((key.to_string(), vs));
+    }
+    let mut plan = GridPlan { axes: texts, scenes: Vec::with_capacity(total), orders: Vec::new(), fingerprint: String::new() };
+    for index in 0..total {
+        let sets: Vec<String> = plan.keys().iter().zip(plan.values(index)).map(|(k, v)| format!("{k}={v}")).collect();
+        let scene = template
+            .with_overrides(&sets)
+            .map_err(|source| GridError::Scene { context: format!("grid point {index} ({})", sets.join(", ")), source })?
+            .into_scene();
+        plan.scenes.push(scene);
+    }
+    plan.orders = plan.scenes.iter().max_by_key(|s| s.modes.max_order).map_or_else(Vec::new, |s| s.modes.orders().collect());
+    let base = serde_json::to_string(template.scene()).unwrap_or_default();
+    let axes_text: Vec<String> = plan.axes.iter().map(|(k, vs)| format!("{k}={}", vs.join(","))).collect();
+    plan.fingerprint = format!("magbubble sweep v1; grid {}; scene {base}", axes_text.join(" "));
+    Ok(plan)
+}

@@ -1,0 +1,87 @@
+//! `magbubble sweep SCENE --grid KEY=V1,V2,… […] [--set k=v]… [--out DIR] [--shard i/n]
+//! [--keep-series]`: a grid of runs in parallel, one CSV row per run, resumable, shardable and
+//! mergeable (`magbubble merge`). The work is [`crate::analysis::grid`]; docs/user-guide.md
+//! describes the CSV.
+
+use crate::analysis::grid::{self, GridAxis, GridOptions, GridStatus};
+use crate::analysis::sweep::Shard;
+use crate::scene::SceneTemplate;
+use anyhow::Context as _;
+use std::path::PathBuf;
+
+#[derive(Debug, clap::Args)]
+pub struct SweepArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// A grid axis: KEY=V1,V2,… (values as --set takes them) or KEY=START:STOP:N[:log]
+    /// (repeatable; the grid is every combination, the first --grid slowest).
+    #[arg(long = "grid", value_name = "KEY=V1,V2,…", required = true)]
+    pub grid: Vec<String>,
+    /// Override a scene key for every run, KEY=VALUE (repeatable; --grid values win).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output directory: sweep.csv (+ .meta.json), series/<index>.csv with --keep-series.
+    #[arg(long, default_value = "sweep-out")]
+    pub out: PathBuf,
+    /// Shard i/n of the grid points (default from SLURM_ARRAY_TASK_ID/COUNT).
+    #[arg(long)]
+    pub shard: Option<String>,
+    /// Write each run's series to DIR/series/<index>.csv (the format of `run`'s series.csv).
+    #[arg(long)]
+    pub keep_series: bool,
+}
+
+pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
+    let shard = match &args.shard {
+        Some(s) => Shard::parse(s)?,
+        None => Shard::from_env()?.unwrap_or(Shard::ALL),
+    };
+    let axes = args.grid.iter().map(|g| GridAxis::parse(g)).collect::<Result<Vec<_>, _>>()?;
+    let template = SceneTemplate::load(&args.scene, &args.set)?;
+    let plan = grid::plan_grid(&template, &axes)?;
+    #[cfg(unix)]
+    let cancel = Some(crate::output::cancel_on_signal());
+    #[cfg(not(unix))]
+    let cancel = None;
+    let options = GridOptions {
+        out: Some(&args.out),
+        shard: Some(shard),
+        keep_series: args.keep_series,
+        cancel,
+        progress_bar: true,
+        ..GridOptions::default()
+    };
+    let outcome = grid::run_grid(&plan, &options).with_context(|| format!("sweep of {}", args.scene.display()))?;
+    let csv = outcome.csv.clone().unwrap_or_default();
+    let count = |s: GridStatus| outcome.rows.iter().filter(|r| r.status == s).count();
+    noteln!(
+        "{}: {} runs ({} computed, {} resumed): {} completed, {} blow_up, {} failed",
+        csv.display(),
+        outcome.rows.len(),
+        outcome.computed,
+        outcome.resumed,
+        count(GridStatus::Completed),
+        count(GridStatus::BlowUp),
+        count(GridStatus::Failed)
+    );
+    if outcome.cancelled {
+        noteln!("interrupted: {} finished rows kept in {}; rerun the same command to resume", outcome.rows.len(), csv.display());
+        crate::output::flush_out()?;
+        #[cfg(unix)]
+        std::process::exit(128 + crate::output::cancelling_signal().unwrap_or(libc::SIGINT));
+        #[cfg(not(unix))]
+        std::process::exit(130);
+    }
+    if let Some(first) = outcome.rows.iter().find(|r| r.status == GridStatus::Failed) {
+        anyhow::bail!(
+            "{} of {} runs failed (first: index {}, {}: {}); their rows are in {}",
+            count(GridStatus::Failed),
+            outcome.rows.len(),
+            first.index,
+            plan.keys().iter().zip(&first.values).map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(", "),
+            first.note,
+            csv.display()
+        );
+    }
+    Ok(())
+}
