@@ -27,6 +27,7 @@ mod floquet_periodic;
 mod hard_cases;
 mod hard_shell;
 mod bending_cutoff;
+mod free_bubble_stability;
 mod lamb_km;
 mod km_effects;
 mod km_field;
