@@ -68,3 +68,20 @@ fn figure_5_on_a_free_bubble_finds_critical_pressures() {
     assert!(rows.iter().any(|r| r.contains("5e5") && r.contains(",critical,2")), "{csv}");
     assert!(rows.iter().filter(|r| r.contains("stable_throughout")).count() >= 8, "{csv}");
 }
+
+/// `modes --damped` on a free bubble: the (a, ȧ) block's eigenvalues, s = −γ ± i√(ω_L² − γ²) with
+/// the closed-form γ above and Lamb's ω_L² = (k−1)(k+1)(k+2)σ/(ρR0³).
+#[test]
+fn free_bubble_damped_spectrum_is_the_boundary_layer_decay_of_lamb_modes() {
+    use magbubble::model::vorticity::scene::damped_spectrum;
+    let s = scene::load_str(FREE, "free (test)", &[] as &[&str]).unwrap();
+    let d = damped_spectrum(&s).unwrap();
+    for m in &d.shape {
+        let k = m.k as f64;
+        let gamma = -multiplier(k, 1e6).ln() * 1e6;
+        let wl2 = (k - 1.0) * (k + 1.0) * (k + 2.0) * 0.072 / (1000.0 * 1e-15);
+        let w = (wl2 - gamma * gamma).sqrt();
+        eprintln!("k = {k}: decay {:.6e} vs {gamma:.6e}, ω {:.6e} vs {w:.6e}", m.decay_per_s, m.omega_rad_s);
+        assert!((m.decay_per_s / gamma - 1.0).abs() < 1e-9 && (m.omega_rad_s / w - 1.0).abs() < 1e-9, "{m:?}");
+    }
+}
