@@ -22,7 +22,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None },
         drive: Some(Drive { amplitude: 0.5, frequency_hz: 1e6 }),
         field,
-        modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto },
+        modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear },
         vorticity: VorticityGrid { y_max: 2.0, points: 200, stretching: 1.0, scheme: VorticityScheme::Monolithic },
         run: Run {
             duration: 100e-6,
@@ -45,6 +45,16 @@ fn coil(current: Current) -> Option<Field> {
     }))
 }
 
+/// The fig-12 bubble without its membrane, with water's surface tension, N = 16 (issue 12: the
+/// quadratic rhs against the linear rhs of the same scene).
+fn free_bubble(coupling: Coupling) -> Scene {
+    let mut s = fig12(16, None, Method::Dopri5);
+    s.shell = Shell::mooney_rivlin(0.0, 0.0, 20e-9, 1.0, MembraneForm::Paper);
+    s.shell.surface_tension = 0.072;
+    s.modes.coupling = coupling;
+    s
+}
+
 fn rhs_costs(c: &mut Criterion) {
     let cases: Vec<(&str, Scene)> = vec![
         ("rhs/radial_only", fig12(0, None, Method::Dopri5)),
@@ -52,6 +62,8 @@ fn rhs_costs(c: &mut Criterion) {
         ("rhs/N16_static_coil", fig12(16, coil(Current::Static { value: 100e3 }), Method::Dopri5)),
         ("rhs/N16_ac_coil", fig12(16, coil(Current::Cosine { amplitude: 150e3, frequency_hz: 5e5 }), Method::Dopri5)),
         ("rhs/N16_dipole", fig12(16, Some(Field::Dipole(Dipole { moment: 1.0, distance: 0.01 })), Method::Dopri5)),
+        ("rhs/N16_free_gamma_linear", free_bubble(Coupling::Linear)),
+        ("rhs/N16_free_gamma_quadratic", free_bubble(Coupling::Quadratic)),
     ];
     for (name, s) in cases {
         let m = Model::from_scene(&s).unwrap();

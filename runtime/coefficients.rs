@@ -57,3 +57,50 @@ impl Monomial {
         self.powers.iter().try_fold(self.coeff, |acc, (s, p)| value(s).map(|v| acc * v.powi(*p)))
     }
 }
+
+impl quadratic::Term {
+    /// The coefficient on target j of first(l)·second(m) (docs/architecture.md, the quadratic
+    /// module): s_j C(j, l, m) N(l, m, j)/D; 0 outside the selection rules or the tables.
+    pub fn value(&self, j: usize, l: usize, m: usize) -> f64 {
+        if self.radial_only && j != 0 {
+            return 0.0;
+        }
+        let c = quadratic_lookup::ppp(l, m, j) * (2.0 * j as f64 + 1.0) / 2.0;
+        if c == 0.0 {
+            return 0.0;
+        }
+        let x = [l as f64, m as f64, j as f64];
+        let n: f64 = self.numerator.iter().map(|(e, v)| v * x[0].powi(e[0] as i32) * x[1].powi(e[1] as i32) * x[2].powi(e[2] as i32)).sum();
+        let d = if self.denominator { (x[0] + 1.0) * (x[1] + 1.0) * (x[2] + 1.0) } else { 1.0 };
+        let s = if j == 0 { 1.0 } else { -1.0 };
+        s * c * n / d
+    }
+
+    /// The prefactor at the given symbol values (rho, gamma, R, Rd, Rdd, pg, kappa); None if one is unknown.
+    pub fn prefactor_at(&self, value: impl Fn(&str) -> Option<f64>) -> Option<f64> {
+        self.prefactor.iter().try_fold(1.0, |acc, (s, p)| value(s).map(|v| acc * v.powi(*p)))
+    }
+}
+
+impl quadratic::Amp2 {
+    /// Index of a, ȧ, ä.
+    pub fn order(self) -> usize {
+        match self {
+            quadratic::Amp2::A => 0,
+            quadratic::Amp2::Ad => 1,
+            quadratic::Amp2::Add => 2,
+        }
+    }
+}
+
+pub mod quadratic_lookup {
+    //! Lookups in the generated triple-product tensors.
+    use super::quadratic::PPP;
+
+    /// ∫ P_l P_m P_j dx for even modes 2 ≤ l, m ≤ KMAX and even j ≤ KMAX (0 when not allowed).
+    pub fn ppp(l: usize, m: usize, j: usize) -> f64 {
+        let (l, m) = (l.min(m) as u16, l.max(m) as u16);
+        let j = j as u16;
+        PPP.binary_search_by(|e| (e.0, e.1, e.2).cmp(&(l, m, j))).map_or(0.0, |i| PPP[i].3)
+    }
+}

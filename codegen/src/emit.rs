@@ -269,6 +269,7 @@ pub fn rust(d: &Derived) -> Result<String, CodegenError> {
     let kmax = Literal::usize_unsuffixed(d.kmax);
     let fields = d.fields.iter().map(field);
     let membrane = membrane(d)?;
+    let quadratic = crate::emit_quadratic::rust(d);
     let tokens = quote! {
         /// Largest mode of the tables (build setting MAGBUBBLE_KMAX).
         pub const KMAX: usize = #kmax;
@@ -315,6 +316,7 @@ pub fn rust(d: &Derived) -> Result<String, CodegenError> {
         }
         #(#fields)*
         #membrane
+        #quadratic
     };
     let file: syn::File = syn::parse2(tokens).map_err(|e| CodegenError::Emit(e.to_string()))?;
     Ok(format!("{}{}", header(d), prettyplease::unparse(&file)))
@@ -376,5 +378,5 @@ pub fn markdown(d: &Derived) -> String {
             s += "\n";
         }
     }
-    s
+    s + &crate::emit_quadratic::markdown(d)
 }

@@ -9,6 +9,7 @@
 pub mod algebra;
 pub mod derive;
 pub mod emit;
+pub mod emit_quadratic;
 pub mod error;
 pub mod spec;
 
@@ -58,11 +59,16 @@ pub struct Derived {
     pub fields: Vec<FieldData>,
     /// One per shell law of `derivations/shell/`, sorted by name.
     pub membranes: Vec<Membrane>,
+    /// The quadratic coupling of a free bubble, when `quadratic.rs` exists.
+    pub quadratic: Option<derive::quadratic::QuadraticData>,
 }
 
 /// Mechanics specs (not fields): the equilibrium of stresses, the stresses of a strain energy,
 /// the loads of a shape energy.
 pub const MECHANICS: [&str; 4] = ["kinematics.rs", "membrane.rs", "hyperelastic.rs", "shape.rs"];
+
+/// The spec of the quadratic mode coupling (optional: no file, no quadratic table).
+pub const QUADRATIC: &str = "quadratic.rs";
 
 /// The directory of the shell laws, inside the derivations directory.
 pub const LAWS_DIR: &str = "shell";
@@ -80,7 +86,7 @@ pub fn field_files(dir: &Path) -> Result<Vec<String>, CodegenError> {
     let mut v: Vec<String> = rd
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".rs") && !MECHANICS.contains(&n.as_str()))
+        .filter(|n| n.ends_with(".rs") && !MECHANICS.contains(&n.as_str()) && n != QUADRATIC)
         .collect();
     v.sort();
     Ok(v)
@@ -161,7 +167,15 @@ pub fn derive(cfg: &Config) -> Result<Derived, CodegenError> {
         }
     }
     specs.extend(membranes.iter().map(|m| m.spec_path.clone()));
-    Ok(Derived { kmax: cfg.kmax, specs, fields, membranes })
+    let quadratic = if cfg.derivations.join(QUADRATIC).is_file() {
+        let s = read_spec(cfg, QUADRATIC)?;
+        derive::quadratic::check_spec(&s)?;
+        specs.push(s.path.clone());
+        Some(derive::quadratic::derive_cached(&s.path).map_err(|m| CodegenError::Structure { spec: s.path.clone(), message: m })?)
+    } else {
+        None
+    };
+    Ok(Derived { kmax: cfg.kmax, specs, fields, membranes, quadratic })
 }
 
 /// Generate the Rust tables and the markdown review table.

@@ -17,8 +17,7 @@
 //! `no_orbit` when stability ends that way — it is never counted as unstable.
 
 use super::bisect::{self, Eval, Outcome, Verdict};
-use super::stability::{floquet, prepare, series_unstable, Criterion, FloquetOptions, SeriesOptions, StabilityError};
-use crate::model::Model;
+use super::stability::{base_model, floquet, prepare, series_unstable, Criterion, FloquetOptions, SeriesOptions, StabilityError};
 use crate::scene::Scene;
 use serde::Serialize;
 
@@ -105,7 +104,7 @@ struct Seen {
 
 /// Floquet verdict at one scene with the cheap-first step counts of the module doc.
 fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, Seen), StabilityError> {
-    let model = Model::from_scene(scene)?;
+    let model = base_model(scene)?;
     let prep = match prepare(&model, scene, opts) {
         Ok(prep) => prep,
         Err(StabilityError::Orbit(e)) => {

@@ -42,6 +42,8 @@ pub enum FloquetError {
     NonFiniteMatrix { t: f64, row: usize, col: usize },
     #[error("the monodromy matrix overflowed or became NaN (block {block}): the system grows faster than f64 can hold")]
     NonFiniteMonodromy { block: usize },
+    #[error("singular stage matrix σI − A(t) at t = {t} in the implicit monodromy")]
+    SingularStage { t: f64 },
     #[error("the blocks returned by LinearPeriodic::blocks do not partition 0..{dim}")]
     BadBlocks { dim: usize },
 }

@@ -10,10 +10,12 @@
 //! with A = diag(Ŝ1) − ∂M_n/∂a, B = diag(Ŝ2) − ∂M_n/∂b, A_a = diag(Ŝ11) − ∂M_t/∂a,
 //! B_b = diag(Ŝ12) − ∂M_t/∂b (the paper prints B_a⁻¹ and omits 𝒟). The magnetic couplings of the
 //! even modes are read from the model's loads (the generated tables); eigenvalues are matched to
-//! k by the largest component of their eigenvector. Odd k decouple from the even ones; they are
-//! computed from the membrane law plus the shell effects (surface tension, bending) mode by mode
-//! (their field couplings are not assembled by the model, which simulates even modes only:
-//! `field_couplings = false` in the output says so).
+//! k by the largest component of their eigenvector. Odd k decouple from the even ones (every
+//! table offset is even) and are unforced (no table has a zero-order load on an odd P_j), so the
+//! model simulates the even modes only; their frequencies here come from the membrane law plus
+//! the shell effects (surface tension, bending) and, with a field, the odd couplings of the same
+//! generated tables ([`crate::field::loads::MagneticLoads::odd`]), so `field_couplings` is true
+//! for every k (issue 13 part 6).
 //! Without a field: ω_k² = 12(c1+c2)(k−1)(k+1)(k+2)/[ρR0³(2k²+2k−1)].
 
 use crate::model::effects::{a_index, LoadJacobian};
@@ -31,6 +33,10 @@ pub enum FrequencyError {
     KmaxTooSmall { kmax: usize },
     #[error("B_b (tangential stiffness on b) is singular at R0: no quasi-static b")]
     SingularTangential,
+    #[error(transparent)]
+    Field(#[from] crate::field::FieldError),
+    #[error("--kmax: mode k = {k} with a field needs couplings beyond the generated tables (k ≤ {kmax}); use --kmax ≤ {kmax}")]
+    BeyondTables { k: usize, kmax: usize },
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -110,8 +116,70 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
         })
     };
     let (a, b, aa, bb) = (pick(true, 0), pick(true, 2), pick(false, 0), pick(false, 2));
-    // No tangential load at all (a free bubble, issue 10: G_t ≡ 0): b does not feed back on the
-    // normal balance, ω² = 𝒟A (Lamb's ω_k² with surface tension).
+    let scale: Vec<f64> = bl.modes().iter().map(|md| (md.k + 1.0) / (p.rho * p.r0)).collect();
+    let mut shape: Vec<ShapeFrequency> =
+        quasi_static_spectrum(a, b, aa, bb, &scale)?.into_iter().map(|(m, w2)| wrap(w2, 2 * (m + 1), true)).collect();
+    // Odd modes: the membrane law plus surface tension and bending, and with a field its odd
+    // couplings (k → k ± 2 among odd k, from the same generated tables; see the module doc).
+    let (c1, c2) = p.membrane_args;
+    let sc = crate::model::Scales::from_scene(&s);
+    let odd: Vec<usize> = (3..=kmax).step_by(2).collect();
+    if odd.is_empty() {
+        shape.sort_by(|x, y| x.k.cmp(&y.k).then(x.omega_sq_nondim.total_cmp(&y.omega_sq_nondim)));
+        return Ok(Frequencies { radial, shape, t_star: ts });
+    }
+    let no = odd.len();
+    let (mut a, mut b, mut aa, mut bb) =
+        (DMatrix::zeros(no, no), DMatrix::zeros(no, no), DMatrix::zeros(no, no), DMatrix::zeros(no, no));
+    for (m, &k) in odd.iter().enumerate() {
+        let kf = k as f64;
+        // the elastic law, plus surface tension and bending when the scene has them
+        let x = crate::model::effects::shell::extra_stiffness(&s.shell, &sc, p.r0, r, kf);
+        a[(m, m)] = (mem.s1)(r, p.r0, c1, c2, kf) + x[0];
+        b[(m, m)] = (mem.s2)(r, p.r0, c1, c2, kf) + x[1];
+        aa[(m, m)] = (mem.s11)(r, p.r0, c1, c2, kf) + x[2];
+        bb[(m, m)] = (mem.s12)(r, p.r0, c1, c2, kf) + x[3];
+    }
+    if let Some(field) = &s.field {
+        if let Some(&k) = odd.last().filter(|&&k| k > crate::coefficients::KMAX) {
+            return Err(FrequencyError::BeyondTables { k, kmax: crate::coefficients::KMAX });
+        }
+        let source = crate::field::FieldSource::from_scene(field, &s.shell, s.bubble.radius)?;
+        let loads = crate::field::loads::MagneticLoads::odd(&source, no, sc.length, sc.pressure, sc.time)?;
+        let mut y = vec![0.0; 2 + 3 * no];
+        y[0] = r;
+        let f = loads.factors(0.0, r);
+        for m in 0..no {
+            let (mut gn, mut gt) = (vec![0.0; y.len()], vec![0.0; y.len()]);
+            // G = Ŝ·(a, b) − M (effects/magnetic.rs): the magnetic gradient enters with −1.
+            loads.add_row_gradient(&f, m + 1, &y, true, -1.0, &mut gn);
+            loads.add_row_gradient(&f, m + 1, &y, false, -1.0, &mut gt);
+            for j in 0..no {
+                a[(m, j)] += gn[a_index(j)];
+                b[(m, j)] += gn[a_index(j) + 2];
+                aa[(m, j)] += gt[a_index(j)];
+                bb[(m, j)] += gt[a_index(j) + 2];
+            }
+        }
+    }
+    let scale: Vec<f64> = odd.iter().map(|&k| (k as f64 + 1.0) / (p.rho * p.r0)).collect();
+    shape.extend(quasi_static_spectrum(a, b, aa, bb, &scale)?.into_iter().map(|(m, w2)| wrap(w2, odd[m], true)));
+    shape.sort_by(|x, y| x.k.cmp(&y.k).then(x.omega_sq_nondim.total_cmp(&y.omega_sq_nondim)));
+    Ok(Frequencies { radial, shape, t_star: ts })
+}
+
+/// (mode index, ω²) of 𝒟(A − B B_b⁻¹ A_a) (the module doc's formula; 𝒟 = diag(`scale`)), each
+/// eigenvalue matched to the mode holding the largest part of its eigenvector. Without a
+/// tangential load (G_t ≡ 0, a free bubble) b does not feed back: ω² = spec 𝒟A. A diagonal
+/// matrix (no field) is read mode by mode.
+fn quasi_static_spectrum(
+    a: DMatrix<f64>,
+    b: DMatrix<f64>,
+    aa: DMatrix<f64>,
+    bb: DMatrix<f64>,
+    scale: &[f64],
+) -> Result<Vec<(usize, f64)>, FrequencyError> {
+    let n = scale.len();
     let no_tangential = b.iter().chain(aa.iter()).chain(bb.iter()).all(|&x| x == 0.0);
     let mut w = if no_tangential {
         a
@@ -119,43 +187,18 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
         let bb_inv = bb.try_inverse().ok_or(FrequencyError::SingularTangential)?;
         a - b * bb_inv * aa
     };
-    for m in 0..n {
-        let scale = (bl.modes()[m].k + 1.0) / (p.rho * p.r0);
-        w.row_mut(m).scale_mut(scale);
+    for (m, sc) in scale.iter().enumerate() {
+        w.row_mut(m).scale_mut(*sc);
     }
-    let mut shape = Vec::new();
-    // Uncoupled (no field): the spectrum is the diagonal, mode by mode (also avoids the
-    // eigen-solver on a zero matrix: a free bubble without surface tension has ω_k = 0).
-    let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || w[(i, j)] == 0.0));
-    if diagonal {
-        for m in 0..n {
-            shape.push(wrap(w[(m, m)], 2 * (m + 1), true));
-        }
+    if (0..n).all(|i| (0..n).all(|j| i == j || w[(i, j)] == 0.0)) {
+        return Ok((0..n).map(|m| (m, w[(m, m)])).collect());
     }
-    for mu in if diagonal { Vec::new() } else { crate::analysis::floquet::eigenvalues(&w) } {
-        let weights = crate::analysis::floquet::eigenvector_weights(&w, mu);
-        let m = weights.iter().enumerate().fold(0, |best, (i, &v)| if v > weights[best] { i } else { best });
-        shape.push(wrap(mu.re, 2 * (m + 1), true));
-    }
-    // Odd modes: the membrane law plus surface tension and bending (see the module doc).
-    let coupled_field = !eq.has("magnetic");
-    let (c1, c2) = p.membrane_args;
-    let sc = crate::model::Scales::from_scene(&s);
-    for k in (3..=kmax).step_by(2) {
-        let kf = k as f64;
-        // the elastic law, plus surface tension and bending when the scene has them
-        let x = crate::model::effects::shell::extra_stiffness(&s.shell, &sc, p.r0, r, kf);
-        let (s1, s2, s11, s12) = (
-            (mem.s1)(r, p.r0, c1, c2, kf) + x[0],
-            (mem.s2)(r, p.r0, c1, c2, kf) + x[1],
-            (mem.s11)(r, p.r0, c1, c2, kf) + x[2],
-            (mem.s12)(r, p.r0, c1, c2, kf) + x[3],
-        );
-        // No tangential load (a free bubble, G_t ≡ 0 as for the even modes above): b does not
-        // feed back, ω² = (k+1)Ŝ1/(ρR0) — Lamb's ω_k² with surface tension, zero without it.
-        let s_eff = if s2 == 0.0 && s11 == 0.0 && s12 == 0.0 { s1 } else { s1 - s2 * s11 / s12 };
-        shape.push(wrap((kf + 1.0) / (p.rho * p.r0) * s_eff, k, coupled_field));
-    }
-    shape.sort_by(|x, y| x.k.cmp(&y.k).then(x.omega_sq_nondim.total_cmp(&y.omega_sq_nondim)));
-    Ok(Frequencies { radial, shape, t_star: ts })
+    Ok(crate::analysis::floquet::eigenvalues(&w)
+        .into_iter()
+        .map(|mu| {
+            let weights = crate::analysis::floquet::eigenvector_weights(&w, mu);
+            let m = weights.iter().enumerate().fold(0, |best, (i, &v)| if v > weights[best] { i } else { best });
+            (m, mu.re)
+        })
+        .collect())
 }

@@ -8,8 +8,10 @@
 
 pub mod bisect;
 pub mod critical;
+pub mod critical_accuracy;
 pub mod expm;
 pub mod floquet;
+pub mod floquet_full;
 pub mod frequencies;
 pub mod grid;
 pub mod periodic;

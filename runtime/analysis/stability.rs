@@ -13,6 +13,10 @@
 //! R = R0, Ṙ = 0 with p∞(t) substituted: R̈ = (p_g0 − p∞(t) − Ŝ0(R0) + M0)/(ρR0). This ignores the
 //! radial resonance (audit 14).
 //!
+//! **Closure**: with `modes.viscous = "vorticity"` the shape system is the full model's
+//! (a, ȧ, b, T)_k along the same radial orbit ([`super::floquet_full`], issue 13 part 4); the
+//! orbit, the multiples and the report are the same as for the boundary layer.
+//!
 //! **Time series**: the nonlinear boundary-layer model from a seeded shape perturbation over a
 //! fixed number of drive periods; see [`series_unstable`].
 
@@ -20,7 +24,9 @@ use super::floquet::{self, LinearPeriodic};
 use super::periodic::{self, PeriodicOrbit, RkFlow, ShootingOptions};
 use crate::integrate::OdeSystem;
 use crate::model::{BoundaryLayerSystem, Model, ModelError};
-use crate::scene::{Current, Field, Scene};
+use super::floquet_full::FullShape;
+use crate::model::vorticity::scene::SceneCoupling;
+use crate::scene::{Current, Field, Scene, Viscous};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -128,6 +134,19 @@ pub struct FloquetReport {
     pub transient_s: f64,
     pub convergence: Option<Convergence>,
     pub variant: Variant,
+    /// The viscous closure of the shape system: "boundary-layer" or "vorticity" (issue 13 part 4).
+    pub closure: &'static str,
+}
+
+/// The boundary-layer model of `scene` whatever its `modes.viscous` says: the radial equation
+/// and the loads the full model shares (the closure is chosen in [`prepare`]).
+pub fn base_model(scene: &Scene) -> Result<Model, StabilityError> {
+    if scene.modes.viscous == Viscous::BoundaryLayer {
+        return Ok(Model::from_scene(scene)?);
+    }
+    let mut bl = scene.clone();
+    bl.modes.viscous = Viscous::BoundaryLayer;
+    Ok(Model::from_scene(&bl)?)
 }
 
 /// Frequencies [Hz] of everything periodic in the scene (drive with ε_p ≠ 0, alternating
@@ -259,7 +278,12 @@ impl ShapeSystem<'_> {
 /// Floquet, a periodic drive for the time series): checked once before a sweep, so that a
 /// scene the criterion cannot judge is one error, not a CSV of error rows.
 pub fn check_scene(scene: &Scene, criterion: Criterion) -> Result<(), StabilityError> {
-    let model = Model::from_scene(scene)?;
+    let model = base_model(scene)?;
+    if criterion == Criterion::Series && scene.modes.viscous == Viscous::Vorticity {
+        return Err(StabilityError::Scene(
+            "the time-series criterion runs the boundary-layer model only; with modes.viscous = \"vorticity\" use --criterion floquet".into(),
+        ));
+    }
     match criterion {
         Criterion::Floquet => model.boundary_layer().map(|_| ()).ok_or(StabilityError::NoShapeModes),
         Criterion::Series if drive_frequencies(scene).is_empty() && scene.drive.is_none() => {
@@ -283,6 +307,8 @@ fn radial_damping_rate(radial: &Radial) -> f64 {
 pub struct Prepared<'a> {
     model: &'a Model,
     shape: ShapeSystem<'a>,
+    /// `Some`: the full vorticity model's shape system along the same orbit.
+    full: Option<FullShape<'a>>,
     /// Orbit period (nondimensional) and its multiple of the drive period.
     period: f64,
     multiple: usize,
@@ -309,6 +335,16 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
     let drive_period_s = (!freqs.is_empty()).then_some(drive_period_s);
     let full = bl.dim();
     let n = full - 2;
+    let full_shape = match scene.modes.viscous {
+        Viscous::BoundaryLayer => None,
+        Viscous::Vorticity => {
+            let v = &scene.vorticity;
+            let grid = crate::model::vorticity::Grid::new(v.y_max, v.points, v.stretching)
+                .map_err(|e| StabilityError::Scene(format!("vorticity grid: {e}")))?;
+            let coupling = SceneCoupling::of(model).ok_or(StabilityError::NoShapeModes)?;
+            Some(FullShape { coupling, grid, coupled: bl.jacobian_pattern().band > 0 })
+        }
+    };
     match opts.variant {
         Variant::Orbit => {
             let radial = Radial { bl, full };
@@ -333,6 +369,7 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
             Ok(Prepared {
                 model,
                 shape: ShapeSystem { bl, n, radial: Box::new(f) },
+                full: full_shape,
                 period: orbit.period(),
                 multiple: orbit.multiple,
                 drive_period_s,
@@ -352,6 +389,7 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
             Ok(Prepared {
                 model,
                 shape: ShapeSystem { bl, n, radial: Box::new(f) },
+                full: full_shape,
                 period: tp,
                 multiple: 1,
                 drive_period_s,
@@ -368,16 +406,27 @@ impl Prepared<'_> {
     /// The monodromy's spectrum with `steps` Magnus steps per drive period.
     pub fn spectrum(&self, steps: usize) -> Result<floquet::Spectrum, StabilityError> {
         let steps = steps.max(1) * self.multiple;
-        let mut mono = floquet::monodromy(&self.shape, 0.0, self.period, steps)?;
-        if self.shape.b_free() {
-            // the neutral b_k blocks of a free bubble are not part of the verdict (ShapeSystem::b_free)
-            let keep: Vec<bool> = mono.blocks.iter().map(|b| !(b.len() == 1 && b[0] % 3 == 2)).collect();
-            let mut k = keep.iter();
-            mono.blocks.retain(|_| *k.next().unwrap());
-            let mut k = keep.iter();
-            mono.matrices.retain(|_| *k.next().unwrap());
+        match &self.full {
+            None => {
+                let mut mono = floquet::monodromy(&self.shape, 0.0, self.period, steps)?;
+                if self.shape.b_free() {
+                    // the neutral b_k blocks of a free bubble are not part of the verdict (ShapeSystem::b_free)
+                    let keep: Vec<bool> = mono.blocks.iter().map(|b| !(b.len() == 1 && b[0] % 3 == 2)).collect();
+                    let mut k = keep.iter();
+                    mono.blocks.retain(|_| *k.next().unwrap());
+                    let mut k = keep.iter();
+                    mono.matrices.retain(|_| *k.next().unwrap());
+                }
+                Ok(mono.spectrum())
+            }
+            Some(full) => {
+                let radial = |t: f64| {
+                    let (r, rd, _) = (self.shape.radial)(t);
+                    (r, rd)
+                };
+                Ok(full.monodromy(&radial, 0.0, self.period, steps)?.spectrum())
+            }
         }
-        Ok(mono.spectrum())
     }
 
     /// The orbit's minimal period in drive periods.
@@ -391,9 +440,10 @@ impl Prepared<'_> {
         let length = self.model.scales().length;
         // Mode: the k whose (a, ȧ, b) components hold the largest share of the critical eigenvector.
         let orders = self.model.orders();
+        let stride = self.full.as_ref().map_or(3, |f| f.block_len());
         let mut share = vec![0.0; orders.len()];
         for &(i, w) in &spec.components {
-            share[i / 3] += w;
+            share[i / stride] += w;
         }
         let m = share.iter().enumerate().fold(0, |b, (i, &w)| if w > share[b] { i } else { b });
         FloquetReport {
@@ -413,13 +463,14 @@ impl Prepared<'_> {
             transient_s: self.transient * ts,
             convergence,
             variant,
+            closure: if self.full.is_some() { "vorticity" } else { "boundary-layer" },
         }
     }
 }
 
 /// Floquet analysis of `scene` (see the module doc).
 pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, StabilityError> {
-    let model = Model::from_scene(scene)?;
+    let model = base_model(scene)?;
     let prep = prepare(&model, scene, opts)?;
     let spec = prep.spectrum(opts.magnus_steps)?;
     let convergence = if opts.convergence_check {

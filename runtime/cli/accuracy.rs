@@ -34,10 +34,18 @@ pub struct AccuracyArgs {
     /// Write the work–precision plot (error against wall time).
     #[arg(long)]
     pub plot: bool,
+    /// Instead of the time-series study: the error of the critical ε_p at this drive frequency
+    /// [Hz] against its cost, per Magnus steps, mode cutoff N, closure, grid and SDIRK steps
+    /// (issue 13 part 5; writes critical.csv and critical.json).
+    #[arg(long, value_name = "FREQ_HZ")]
+    pub critical: Option<f64>,
 }
 
 pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
     let scene = scene::load(&args.scene, &args.set).with_context(|| format!("loading {}", args.scene.display()))?;
+    if let Some(f) = args.critical {
+        return super::accuracy_critical::run(args, &scene, f);
+    }
     let mut opts = if args.quick { AccuracyOptions::quick() } else { AccuracyOptions::full() };
     if let Some(r) = args.repeats {
         if r == 0 {
@@ -51,7 +59,9 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         }
         opts.duration = Some(d);
     }
+    let spinner = crate::output::Spinner::new("accuracy study");
     let report = accuracy_study(&scene, &opts).context("accuracy study")?;
+    drop(spinner);
     outln!(
         "reference: {} (estimated error {:.2e}, {:.2} s); compared over {:.3e} s, {} samples; t* = {:.4e} s",
         report.reference,
@@ -66,10 +76,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         "{:>10} {:>11} {:>11} {:>11} {:>11} {:>10} {:>9} {:>8}  status",
         "method", "setting", "e_R", "e_a", "error", "wall s", "rhs", "rejected"
     );
-    let out = args.out.clone().unwrap_or_else(|| {
-        let stem = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from("out").join(format!("{stem}-accuracy"))
-    });
+    let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "accuracy"));
     let dir = OutputDir::create(&out)?;
     let header = ["method", "setting", "e_r", "e_a", "error", "wall_seconds", "rhs_evals", "steps", "rejected"];
     let mut csv = CsvWriter::create(&dir.join("accuracy.csv"), &header)?;

@@ -39,10 +39,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             rel_cell(d.mean_rel_diff, d.mean_abs_diff)
         );
     }
-    let out = args.out.clone().unwrap_or_else(|| {
-        let stem = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from("out").join(format!("{stem}-compare"))
-    });
+    let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "compare"));
     let dir = OutputDir::create(&out)?;
     runs.write_csv(&dir.join("compare.csv"))?;
     #[derive(serde::Serialize)]

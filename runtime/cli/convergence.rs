@@ -58,10 +58,7 @@ pub fn run(args: &ConvergenceArgs) -> anyhow::Result<()> {
     );
     let report = convergence_study(&c, &fm.grid, &fm.initial_state(), duration / ts, args.reference_dt, &args.multiples)
         .context("the reference run failed (reduce --reference-dt)")?;
-    let out = args.out.clone().unwrap_or_else(|| {
-        let stem = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from("out").join(format!("{stem}-convergence"))
-    });
+    let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "convergence"));
     let dir = OutputDir::create(&out)?;
     let mut csv = CsvWriter::create(&dir.join("convergence.csv"), &["dt_prime", "dt_s", "e_s", "e_f", "worst_k", "seconds"])?;
     outln!("{:>12} {:>12} {:>12} {:>8} {:>9}", "dt'", "e_s", "e_f", "worst k", "seconds");

@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 pub mod accuracy;
+mod accuracy_critical;
 pub mod coefficients;
 pub mod compare;
 pub mod convergence;

@@ -37,6 +37,17 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     execute(args, sim::simulate)
 }
 
+/// The default output directory of a command on a scene, the one rule of every command that
+/// writes a directory (docs/user-guide.md "Where output goes"): `out/<scene file stem>` for
+/// `run`, `out/<scene file stem>-<command>` for the others (`-stability`, `-sweep`, `-accuracy`,
+/// `-convergence`, `-compare`).
+pub fn default_out_for(scene: &Path, command: &str) -> PathBuf {
+    let base = default_out_dir(scene);
+    let mut name = base.file_name().map(|s| s.to_os_string()).unwrap_or_default();
+    name.push(format!("-{command}"));
+    base.with_file_name(name)
+}
+
 /// The default output directory of a scene: `out/<file stem>`.
 pub fn default_out_dir(scene: &Path) -> PathBuf {
     let stem = scene

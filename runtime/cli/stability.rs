@@ -41,8 +41,9 @@ pub struct StabilityArgs {
     /// Coarse scan intervals before bisection.
     #[arg(long, default_value_t = 8)]
     pub scan: usize,
-    #[arg(long, default_value = "stability-out")]
-    pub out: PathBuf,
+    /// Output directory (default: out/<scene file stem>-stability).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// Also draw the diagram (stability.svg/png: critical value against frequency, one curve
     /// per family) and the first-unstable-mode staircase (stability_mode.svg/png) into --out.
     /// Ignored for a shard (plot the merged CSV).
@@ -215,6 +216,7 @@ pub fn error_fields(message: &str) -> Vec<String> {
 
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     let Plan { freqs, lo, hi, shard, freq_key, families } = plan(args)?;
+    let out_dir = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "stability"));
     let scene_text = std::fs::read_to_string(&args.scene).with_context(|| format!("reading {}", args.scene.display()))?;
     let mut plotted: Vec<(String, PathBuf)> = Vec::new();
     let mut failed = Vec::new();
@@ -235,7 +237,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         };
         let stem = if fkey.is_empty() { "stability".to_string() } else { format!("stability_{fkey}={fval}") };
         let name = if shard == Shard::ALL { format!("{stem}.csv") } else { format!("{stem}.shard-{}-of-{}.csv", shard.index, shard.count) };
-        let csv = args.out.join(name);
+        let csv = out_dir.join(name);
         let mut header = vec![freq_key.clone()];
         header.extend(CRITICAL_HEADER.iter().map(|s| s.to_string()));
         let meta = SweepMeta {
@@ -281,8 +283,8 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             noteln!("--plot: skipped for a shard; plot the merged CSV");
         } else {
             let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
-            let saved = crate::plot::stability_plot(&plotted, &args.out, "stability", &y_label, false)
-                .with_context(|| format!("plotting the stability diagram into {}", args.out.display()))?;
+            let saved = crate::plot::stability_plot(&plotted, &out_dir, "stability", &y_label, false)
+                .with_context(|| format!("plotting the stability diagram into {}", out_dir.display()))?;
             for s in saved {
                 noteln!("wrote {} and {}", s.svg.display(), s.png.display());
             }

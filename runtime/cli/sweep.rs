@@ -21,8 +21,9 @@ pub struct SweepArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Output directory: sweep.csv (+ .meta.json), series/<index>.csv with --keep-series.
-    #[arg(long, default_value = "sweep-out")]
-    pub out: PathBuf,
+    /// Output directory (default: out/<scene file stem>-sweep).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// Shard i/n of the grid points (default from SLURM_ARRAY_TASK_ID/COUNT).
     #[arg(long)]
     pub shard: Option<String>,
@@ -43,8 +44,9 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     let cancel = Some(crate::output::cancel_on_signal());
     #[cfg(not(unix))]
     let cancel = None;
+    let out_dir = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "sweep"));
     let options = GridOptions {
-        out: Some(&args.out),
+        out: Some(&out_dir),
         shard: Some(shard),
         keep_series: args.keep_series,
         cancel,

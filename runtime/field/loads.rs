@@ -67,6 +67,19 @@ impl MagneticLoads {
     /// Builds the loads of `source` for `modes` shape modes (k = 2..=2·modes).
     /// `r0` [m] and `p_unit` [Pa] are the length and pressure scales, `t_star` [s] the time scale.
     pub fn new(source: &FieldSource, modes: usize, r0: f64, p_unit: f64, t_star: f64) -> Result<Self, FieldError> {
+        Self::with_parity(source, modes, 0, r0, p_unit, t_star)
+    }
+
+    /// The loads of the **odd** shape modes k = 3, 5, …, 2·modes + 1 (state layout
+    /// [R, Ṙ, (a_k, ȧ_k, b_k)_k odd], row r ↔ k = 2r + 1, row 0 (k = 1, no shape mode) zero).
+    /// Every table offset is even, so the odd modes couple among themselves only, and no table has
+    /// a zero-order load on an odd P_j: they are unforced (the model simulates the even modes;
+    /// `modes` uses these for the odd frequencies with a field, issue 13 part 6).
+    pub fn odd(source: &FieldSource, modes: usize, r0: f64, p_unit: f64, t_star: f64) -> Result<Self, FieldError> {
+        Self::with_parity(source, modes, 1, r0, p_unit, t_star)
+    }
+
+    fn with_parity(source: &FieldSource, modes: usize, parity: usize, r0: f64, p_unit: f64, t_star: f64) -> Result<Self, FieldError> {
         let table = source.table;
         if table.components.len() > MAX_COMPONENTS {
             return Err(FieldError::UnknownSymbol {
@@ -110,13 +123,14 @@ impl MagneticLoads {
             let k_static = k_si * r0.powi(zero_power) / p_unit;
             let mut zero_n = vec![0.0; rows];
             let mut zero_t = vec![0.0; rows];
+            let own_row = |j: usize| j % 2 == parity && j / 2 < rows && (parity == 0 || j >= 3);
             for &(j, v) in c.zero_normal {
-                if j % 2 == 0 && j / 2 < rows {
+                if own_row(j) {
                     zero_n[j / 2] += v;
                 }
             }
             for &(j, v) in c.zero_tangential {
-                if j >= 2 && j % 2 == 0 && j / 2 < rows {
+                if j >= 2 && own_row(j) {
                     zero_t[j / 2] += v;
                 }
             }
@@ -124,14 +138,15 @@ impl MagneticLoads {
             let mut band_t = vec![0.0; rows * stride];
             for cp in c.couplings {
                 for row in 0..rows {
-                    let k = 2 * row;
-                    if k > KMAX {
+                    let k = 2 * row + parity;
+                    if k > KMAX || (parity == 1 && row == 0) {
                         continue;
                     }
                     let Some(value) = cp.values.get(k).copied().flatten() else { continue };
                     let src = k as i64 + cp.offset as i64;
                     // a_0 = b_0 = 0 and a_{N+2} = b_{N+2} = 0 (FORMULATION §4.1).
-                    if src < 2 || src > 2 * modes as i64 || src % 2 != 0 {
+                    let par = parity as i64;
+                    if src < 2 + par || src > 2 * modes as i64 + par || src % 2 != par {
                         continue;
                     }
                     let d = (cp.offset / 2) as i64 + width as i64;
@@ -337,6 +352,43 @@ mod tests {
             include_h4: false,
         };
         FieldSource::from_scene(&Field::Coil(coil), &shell, 10e-6).unwrap()
+    }
+
+    /// The odd rows read the tables at odd k: ∂M/∂(a, b)_{k+offset} = ℋ·R^(m−1)·value(k) for
+    /// every coupling of the coil table, nothing else, and no zero-order load.
+    #[test]
+    fn odd_rows_hold_the_table_values_at_odd_k() {
+        let src = source(Current::Static { value: 1e5 }, None);
+        let modes = 5; // k = 3, 5, 7, 9, 11
+        let odd = MagneticLoads::odd(&src, modes, 10e-6, 2e4, 2.236e-6).unwrap();
+        let mut y = vec![0.0; 2 + 3 * modes];
+        y[0] = 1.0;
+        let f = odd.factors(0.0, 1.0);
+        let c = &src.table.components[0];
+        assert_eq!(src.table.components.len(), 1);
+        let mut nonzero = 0;
+        for m in 0..modes {
+            let k = 2 * m + 3;
+            assert_eq!((odd.normal(&f, m, &y), odd.tangential(&f, m, &y)), (0.0, 0.0), "k = {k}: unforced");
+            for normal in [true, false] {
+                let mut g = vec![0.0; y.len()];
+                odd.add_row_gradient(&f, m + 1, &y, normal, 1.0, &mut g);
+                let mut expected = vec![0.0; y.len()];
+                for cp in c.couplings.iter().filter(|cp| (cp.load == Load::Normal) == normal) {
+                    let Some(v) = cp.at(k) else { continue };
+                    let s = k as i64 + cp.offset as i64;
+                    if (3..=2 * modes as i64 + 1).contains(&s) {
+                        let at = 2 + 3 * ((s as usize - 3) / 2) + if cp.amp == Amp::B { 2 } else { 0 };
+                        expected[at] += f.coupling[0] * v;
+                    }
+                }
+                for (i, (got, want)) in g.iter().zip(&expected).enumerate().skip(1) {
+                    assert!((got - want).abs() <= 1e-14 * want.abs().max(1e-300), "k = {k}, normal {normal}, index {i}: {got} vs {want}");
+                    nonzero += usize::from(*want != 0.0);
+                }
+            }
+        }
+        assert!(nonzero >= 3 * modes, "the couplings are there: {nonzero}");
     }
 
     #[test]

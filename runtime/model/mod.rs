@@ -34,7 +34,7 @@ use crate::coefficients::KMAX;
 use crate::field::{loads::MagneticLoads, FieldError, FieldSource};
 use effects::Term;
 use crate::integrate::OdeSystem;
-use crate::scene::{BoundaryLayerFrequency, Scene, Viscous};
+use crate::scene::{BoundaryLayerFrequency, Coupling, Scene, Viscous};
 use boundary_layer::ModeConst;
 
 /// Errors assembling a model from a (validated) scene.
@@ -117,6 +117,27 @@ impl Model {
         terms.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
+        }
+        // issue 12: the quadratic coupling, last (nothing is assembled for `linear`)
+        if scene.modes.coupling == Coupling::Quadratic && !orders.is_empty() {
+            check_quadratic(scene)?;
+            let mut inner: Vec<Box<dyn Term>> =
+                vec![Box::new(effects::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa })];
+            if params.pv != 0.0 {
+                inner.push(Box::new(effects::vapour::VapourPressure { pv: params.pv }));
+            }
+            inner.push(Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }));
+            inner.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
+            let gamma = scene.shell.surface_tension / (scales.pressure * scales.length);
+            terms.push(Box::new(effects::quadratic::QuadraticCoupling::new(
+                params.rho,
+                gamma,
+                params.three_kappa,
+                params.pg0,
+                params.r0,
+                &kf,
+                inner,
+            )));
         }
         let form: Box<dyn RadialForm> = match params.sound_speed {
             None => Box::new(radial::Incompressible),
@@ -308,6 +329,28 @@ impl Model {
     pub fn blow_up_margin(&self, y: &[f64]) -> f64 {
         blow_up::margin(y, &self.orders, self.blow_up_threshold)
     }
+}
+
+/// `modes.coupling = "quadratic"`: only what its second-order terms are derived for (issue 12).
+fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
+    let refuse = |reason: &'static str| Err(ModelError::Unsupported { key: "modes.coupling", value: "quadratic".into(), reason });
+    let sh = &scene.shell;
+    if !sh.is_free() || !sh.law.is_mooney_rivlin() {
+        return refuse("the second-order terms are derived for a free bubble only (surface tension, no membrane law: set shell.c1 = shell.c2 = 0); the membrane laws' are not derived yet");
+    }
+    if sh.bending_modulus != 0.0 || sh.shear_viscosity != 0.0 || sh.dilatational_viscosity != 0.0 {
+        return refuse("the second-order terms of bending and of the shell viscosities are not derived yet (shell.bending_modulus, shell.*_viscosity must be 0)");
+    }
+    if scene.field.is_some() {
+        return refuse("the second-order terms of the magnetic loads are not derived yet (remove [field])");
+    }
+    if scene.liquid.sound_speed.is_some() {
+        return refuse("the quadratic terms are derived for an incompressible liquid (remove liquid.sound_speed)");
+    }
+    if scene.modes.viscous == Viscous::Vorticity {
+        return refuse("the quadratic terms are assembled with the boundary-layer closure only (modes.viscous = \"boundary-layer\")");
+    }
+    Ok(())
 }
 
 fn eq_of(system: &System) -> &Equations {

@@ -17,6 +17,8 @@ pub struct Axis {
     pub scale: Scale,
     /// `None`: fitted to the finite data (plus a small margin).
     pub range: Option<(f64, f64)>,
+    /// Only whole numbers are labelled (mode numbers k; issue 15 "integer ticks").
+    pub integer: bool,
 }
 
 impl Axis {
@@ -25,6 +27,7 @@ impl Axis {
             label: label.into(),
             scale: Scale::Linear,
             range: None,
+            integer: false,
         }
     }
     pub fn log(label: impl Into<String>) -> Self {
@@ -32,6 +35,7 @@ impl Axis {
             label: label.into(),
             scale: Scale::Log,
             range: None,
+            integer: false,
         }
     }
     /// Linear when `log` is false, logarithmic otherwise.
@@ -41,6 +45,11 @@ impl Axis {
         } else {
             Self::linear(label)
         }
+    }
+    /// Label whole numbers only (a mode-number axis).
+    pub fn integer(mut self) -> Self {
+        self.integer = true;
+        self
     }
     pub fn range(mut self, lo: f64, hi: f64) -> Self {
         self.range = Some((lo, hi));

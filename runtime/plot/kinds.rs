@@ -105,7 +105,7 @@ pub fn phase_portrait(title: &str, x_label: &str, y_label: &str, curves: &[Curve
 /// `curves`: x = k, y = ω_k in the unit named by `y_label` (e.g. `"ω_k [rad/s]"`, `"ω_k t* [–]"`).
 pub fn omega_vs_k(title: &str, y_label: &str, curves: &[Curve], log_y: bool) -> Figure {
     let mut p = Panel::new(
-        Axis::linear("mode number k"),
+        Axis::linear("mode number k").integer(),
         Axis::with_scale(y_label, log_y),
     )
     .legend(Legend::UpperLeft);
@@ -134,7 +134,7 @@ pub fn stability_diagram(
 
 /// First unstable mode number against the driving frequency (fig 5b), as a staircase.
 pub fn first_unstable_mode(title: &str, x_label: &str, curves: &[Curve]) -> Figure {
-    let mut p = Panel::new(Axis::linear(x_label), Axis::linear("first unstable mode k"))
+    let mut p = Panel::new(Axis::linear(x_label), Axis::linear("first unstable mode k").integer())
         .legend(Legend::UpperLeft);
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::steps(c.label.clone(), c.x.clone(), c.y.clone()).color(i));

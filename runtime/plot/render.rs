@@ -326,8 +326,9 @@ where
             v
         }
     };
-    let xfmt = move |v: &f64| tick_label(snap(*v, xr));
-    let yfmt = move |v: &f64| tick_label(snap(*v, yr));
+    let (xi, yi) = (panel.x.integer, panel.y.integer);
+    let xfmt = move |v: &f64| axis_tick_label(snap(*v, xr), xi);
+    let yfmt = move |v: &f64| axis_tick_label(snap(*v, yr), yi);
     chart
         .configure_mesh()
         .x_desc(panel.x.label.as_str())
@@ -469,6 +470,17 @@ fn staircase(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 }
 
 /// Compact tick text: `0`, `0.25`, `150`, `1e-5`, `2.5e6`.
+/// A tick label; on an integer axis (mode numbers) a tick between whole numbers gets none.
+pub(crate) fn axis_tick_label(v: f64, integer: bool) -> String {
+    if integer && (v - v.round()).abs() > 1e-9 * v.abs().max(1.0) {
+        return String::new();
+    }
+    if integer {
+        return format!("{}", v.round() as i64);
+    }
+    tick_label(v)
+}
+
 pub(crate) fn tick_label(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return if v == 0.0 { "0".into() } else { format!("{v}") };
@@ -483,4 +495,18 @@ pub(crate) fn tick_label(v: f64) -> String {
     let s = format!("{v:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     s.to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::axis_tick_label;
+
+    #[test]
+    fn integer_axes_label_whole_numbers_only() {
+        assert_eq!(axis_tick_label(8.0, true), "8");
+        assert_eq!(axis_tick_label(7.999999999999, true), "8");
+        assert_eq!(axis_tick_label(7.5, true), "");
+        assert_eq!(axis_tick_label(0.25, true), "");
+        assert_eq!(axis_tick_label(7.5, false), super::tick_label(7.5));
+    }
 }

@@ -2,8 +2,9 @@
 //! key is valid on its own:
 //!
 //! - **derived quantities**: the time scale t* and the nondimensional groups the model computes
-//!   (FORMULATION §4.5) must be finite and within [1e-12, 1e12] (a frequency, viscosity or
-//!   susceptibility of 1e308 passes its own range but overflows the equations). The problem is
+//!   (FORMULATION §4.5) must be finite and at most 1e12 in magnitude (a frequency, viscosity or
+//!   susceptibility of 1e308 passes its own range but overflows the equations); the scales the
+//!   equations divide by or raise to large powers (Re, R(0)/R0, 3κ) also at least 1e-12. The problem is
 //!   reported on the key the user set: of the keys a group is made of, the one farthest (in
 //!   decades) from its default;
 //! - **budgets**: a fixed-step run needs `run.duration / run.integrator.dt` steps, an adaptive
@@ -49,20 +50,23 @@ pub fn check(s: &Scene) -> Vec<Issue> {
     if 3.0 * kappa > 1e3 {
         issues.push(blame(&[("gas.polytropic_exponent", kappa)], "gives (R0/R)^(3 kappa) with 3 kappa > 1000, which overflows for any |R/R0 - 1| > 0.7 %".into()));
     }
-    let mut group = |name: &str, value: f64, zero_ok: bool, keys: &[(&'static str, f64)]| {
-        let ok = value.is_finite() && value.abs() <= GROUP_MAX && (value.abs() >= 1.0 / GROUP_MAX || (zero_ok && value == 0.0));
+    // `scale`: the group is a scale the equations divide by or raise to large powers (Re, R(0)/R0,
+    // 3κ), bounded on both sides; every other group is an additive load or a rate, where a tiny
+    // value is exact in double precision (only negligible), so only its size is bounded (the
+    // review of issue 15: c2 = 1e-14 N/m, Ṙ(0) = 1e-20 m/s, ε = 1e-20 m or p0 = 1e-8 Pa were
+    // refused as "cannot be evaluated").
+    let mut group = |name: &str, value: f64, scale: bool, keys: &[(&'static str, f64)]| {
+        let ok = value.is_finite() && value.abs() <= GROUP_MAX && (!scale || value.abs() >= 1.0 / GROUP_MAX);
         if !ok {
+            let bound = if scale { "outside [1e-12, 1e12]" } else { "above 1e12 in magnitude" };
             issues.push(blame(
                 keys,
-                format!(
-                    "gives {name} = {}, outside [1e-12, 1e12]: the equations cannot be evaluated in double precision",
-                    fmt_sig(value)
-                ),
+                format!("gives {name} = {}, {bound}: the equations cannot be evaluated in double precision", fmt_sig(value)),
             ));
         }
     };
     let eta = s.liquid.viscosity;
-    group("Re = sqrt(2 rho c1 R0)/eta", (2.0 * rho * c1 * r0).sqrt() / eta, false,
+    group("Re = sqrt(2 rho c1 R0)/eta", (2.0 * rho * c1 * r0).sqrt() / eta, true,
         &[("liquid.viscosity", eta), ("liquid.density", rho), ("shell.c1", c1_key), ("bubble.radius", r0)]);
     let p0 = s.liquid.ambient_pressure;
     group("P = p0 R0/c1", p0 * r0 / c1, false, &[("liquid.ambient_pressure", p0), ("bubble.radius", r0), ("shell.c1", c1_key)]);
@@ -71,14 +75,14 @@ pub fn check(s: &Scene) -> Vec<Issue> {
     if pg0 != p0 {
         group("p_g0 R0/c1", pg0 * r0 / c1, false, &[("gas.reference_pressure", pg0), ("bubble.radius", r0), ("shell.c1", c1_key)]);
     }
-    group("alpha = c2/c1", s.shell.c2 / c1, true, &[("shell.c2", s.shell.c2), ("shell.c1", c1_key)]);
-    group("the gas exponent 3 kappa", 3.0 * kappa, false, &[("gas.polytropic_exponent", kappa)]);
+    group("alpha = c2/c1", s.shell.c2 / c1, false, &[("shell.c2", s.shell.c2), ("shell.c1", c1_key)]);
+    group("the gas exponent 3 kappa", 3.0 * kappa, true, &[("gas.polytropic_exponent", kappa)]);
     let eps = s.shell.thickness;
     group("eps/R0", eps / r0, false, &[("shell.thickness", eps), ("bubble.radius", r0)]);
     let ri = s.bubble.initial.radius;
-    group("R(0)/R0", ri / r0, false, &[("bubble.initial.radius", ri), ("bubble.radius", r0)]);
+    group("R(0)/R0", ri / r0, true, &[("bubble.initial.radius", ri), ("bubble.radius", r0)]);
     let v = s.bubble.initial.velocity;
-    group("dR/dt(0) t*/R0", v * t_star / r0, true, &[("bubble.initial.velocity", v), ("bubble.radius", r0)]);
+    group("dR/dt(0) t*/R0", v * t_star / r0, false, &[("bubble.initial.velocity", v), ("bubble.radius", r0)]);
     let dur = s.run.duration;
     group("run.duration/t*", dur / t_star, false, &[("run.duration", dur)]);
     // Forcing frequencies (per t*) and the fastest one, for the adaptive budget.
@@ -89,7 +93,7 @@ pub fn check(s: &Scene) -> Vec<Issue> {
     };
     if let Some(d) = &s.drive {
         freq("drive.frequency_hz", d.frequency_hz, &mut group);
-        group("eps_p p0 R0/c1", d.amplitude * p0 * r0 / c1, true, &[("drive.amplitude", d.amplitude), ("liquid.ambient_pressure", p0)]);
+        group("eps_p p0 R0/c1", d.amplitude * p0 * r0 / c1, false, &[("drive.amplitude", d.amplitude), ("liquid.ambient_pressure", p0)]);
     }
     let chi = s.shell.susceptibility;
     match &s.field {
@@ -105,12 +109,12 @@ pub fn check(s: &Scene) -> Vec<Issue> {
                 freq("field.coil.distance_oscillation.frequency_hz", o.frequency_hz, &mut group);
             }
             let h = c.turns * current.1 / c.distance;
-            group("the magnetic stress mu0 |chi| eps H^2 / c1 (H = N1 I / a)", MU0 * chi.abs() * eps * h * h / c1, true,
+            group("the magnetic stress mu0 |chi| eps H^2 / c1 (H = N1 I / a)", MU0 * chi.abs() * eps * h * h / c1, false,
                 &[("shell.susceptibility", chi), current, ("field.coil.turns", c.turns), ("field.coil.distance", c.distance), ("shell.thickness", eps)]);
         }
         Some(Field::Dipole(d)) => {
             let h = d.moment / d.distance.powi(3);
-            group("the magnetic stress mu0 |chi| eps H^2 / c1 (H = M / z^3)", MU0 * chi.abs() * eps * h * h / c1, true,
+            group("the magnetic stress mu0 |chi| eps H^2 / c1 (H = M / z^3)", MU0 * chi.abs() * eps * h * h / c1, false,
                 &[("shell.susceptibility", chi), ("field.dipole.moment", d.moment), ("field.dipole.distance", d.distance), ("shell.thickness", eps)]);
         }
         None => {}

@@ -128,6 +128,7 @@ pub struct RawModes {
     pub max_order: Option<i64>,
     pub viscous: Option<String>,
     pub boundary_layer_frequency: Option<String>,
+    pub coupling: Option<String>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

@@ -305,6 +305,10 @@ pub static SCHEMA: &[Param] = &[
     p("modes.boundary_layer_frequency", K::Choice(&["auto", "natural"]), "", D::Str("auto"), Rg::None,
       "omega in delta_k (eq 3.1)", "Frequency of delta_k = min(sqrt(nu/omega), R/(2k)): `auto` = omega_d \
        when driven, omega_k otherwise; `natural` = omega_k always (FORMULATION audit 13)."),
+    p("modes.coupling", K::Choice(&["linear", "quadratic"]), "", D::Str("linear"), Rg::None,
+      "issue 12", "Order of the shape-mode equations: `linear` (the paper's) or `quadratic` (plus the \
+       second-order mode coupling of a free bubble, docs/model.md \"Quadratic mode coupling\"; free bubble \
+       with surface tension only, boundary-layer closure, incompressible liquid, no field)."),
     section("vorticity", D::Present, "Radial grid y = r/R in [1, y_max] of the vorticity PDE (modes.viscous = \"vorticity\")."),
     p("vorticity.y_max", K::Float, "", D::Float(3.0),
       Rg::Between { lo: 1.0, hi: f64::INFINITY, lo_incl: false, hi_incl: false }, "Y_max",

@@ -244,12 +244,23 @@ pub enum BoundaryLayerFrequency {
     Natural,
 }
 
+/// Order of the shape-mode equations in the amplitudes (issue 12).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Coupling {
+    /// The linear mode equations (the paper's; the default).
+    Linear,
+    /// Plus the second-order (quadratic) mode coupling of a free bubble (docs/model.md).
+    Quadratic,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Modes {
     /// Largest even shape mode N; 0 = radial only. Modes are k = 2, 4, …, N.
     pub max_order: usize,
     pub viscous: Viscous,
     pub boundary_layer_frequency: BoundaryLayerFrequency,
+    pub coupling: Coupling,
 }
 
 impl Modes {

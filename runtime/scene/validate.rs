@@ -179,6 +179,11 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             "auto" => BoundaryLayerFrequency::Auto,
             other => unreachable!("schema choice {other}"),
         },
+        coupling: match c.choice("modes.coupling", rm.coupling.as_deref()) {
+            "quadratic" => Coupling::Quadratic,
+            "linear" => Coupling::Linear,
+            other => unreachable!("schema choice {other}"),
+        },
     };
     // Mode keys are compared with the largest *valid* order (an invalid one is reported already).
     let order_limit =

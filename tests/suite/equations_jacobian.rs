@@ -37,6 +37,11 @@ fn scenes() -> Vec<Scene> {
         .map(|s| load(format!("scenes/{s}.toml"), &["modes.max_order=16"]).expect("shipped scene"))
         .collect();
     v.push(load("scenes/coil_static.toml", &["modes.max_order=16", "shell.form=\"tension\""]).expect("tension"));
+    // issue 12: the quadratic coupling of a free bubble with surface tension
+    v.push(
+        load("scenes/free_bubble.toml", &["modes.max_order=16", "shell.surface_tension=0.072", "modes.coupling=\"quadratic\""])
+            .expect("quadratic"),
+    );
     v
 }
 
@@ -97,7 +102,7 @@ proptest! {
     #![proptest_config(config(24))]
 
     #[test]
-    fn boundary_layer_jacobian_matches_differences(which in 0usize..7, (t, y) in state(2 + 3 * 8)) {
+    fn boundary_layer_jacobian_matches_differences(which in 0usize..8, (t, y) in state(2 + 3 * 8)) {
         let scene = &scenes()[which];
         let model = Model::from_scene(scene).unwrap();
         let bl = model.boundary_layer().unwrap();

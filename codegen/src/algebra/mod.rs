@@ -4,6 +4,7 @@
 pub mod dual;
 pub mod legendre;
 pub mod poly;
+pub mod triple;
 
 pub use dual::Dual;
 pub use poly::{Mono, Poly};

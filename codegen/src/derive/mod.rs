@@ -5,5 +5,7 @@
 pub mod eval;
 pub mod field;
 pub mod fit;
+pub mod fit3;
 pub mod membrane;
 pub mod project;
+pub mod quadratic;

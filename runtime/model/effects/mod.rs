@@ -22,6 +22,7 @@ pub mod drive;
 pub mod gas;
 pub mod magnetic;
 pub mod membrane;
+pub mod quadratic;
 pub mod shell;
 pub mod vapour;
 pub mod viscosity;

@@ -33,7 +33,15 @@ pub struct SceneCoupling<'m> {
     y: RefCell<Vec<f64>>,
 }
 
-impl SceneCoupling<'_> {
+impl<'m> SceneCoupling<'m> {
+    /// The coupling of a boundary-layer model with shape modes (its radial equation and loads;
+    /// `None` for a radial-only model).
+    pub fn of(model: &'m Model) -> Option<Self> {
+        let bl = model.boundary_layer()?;
+        let orders = model.orders();
+        Some(SceneCoupling { bl, orders, y: RefCell::new(vec![0.0; 2 + 3 * orders.len()]) })
+    }
+
     /// Fills the boundary-layer state layout z = [R, Ṙ, (a, ȧ, b)_k] the terms read.
     fn fill(&self, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> std::cell::RefMut<'_, Vec<f64>> {
         let mut y = self.y.borrow_mut();
@@ -123,6 +131,14 @@ impl FullModel {
         if scene.modes.max_order == 0 {
             return Err(FullModelError::NoModes);
         }
+        if scene.modes.coupling == crate::scene::Coupling::Quadratic {
+            return Err(super::super::ModelError::Unsupported {
+                key: "modes.coupling",
+                value: "quadratic".into(),
+                reason: "the quadratic terms are assembled with the boundary-layer closure only (modes.viscous = \"boundary-layer\")",
+            }
+            .into());
+        }
         let mut bl_scene = scene.clone();
         bl_scene.modes.viscous = Viscous::BoundaryLayer;
         let model = Model::from_scene(&bl_scene)?;
@@ -140,8 +156,7 @@ impl FullModel {
     }
 
     pub fn coupling(&self) -> SceneCoupling<'_> {
-        let bl = self.model.boundary_layer().expect("checked in from_scene");
-        SceneCoupling { bl, orders: self.model.orders(), y: RefCell::new(vec![0.0; 2 + 3 * self.model.orders().len()]) }
+        SceneCoupling::of(&self.model).expect("checked in from_scene")
     }
 
     /// Nondimensional initial state (T = 0).

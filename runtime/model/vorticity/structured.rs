@@ -91,6 +91,32 @@ pub struct StructuredLu<T: ComplexField<RealField = f64> + Copy> {
 impl StructuredJacobian {
     /// Builds J of `sys` at (t, y) by structured differencing.
     pub fn new(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> Rc<Self> {
+        Rc::new(Self::build(sys, t, y))
+    }
+
+    /// J restricted to the shape variables (a, ȧ, b, T)_k with R, Ṙ held on a prescribed
+    /// orbit: the R, Ṙ rows and columns are zeroed, so (σI − J)x = b with b_R = b_Ṙ = 0 gives
+    /// x_R = x_Ṙ = 0 and the shape part of x solves the shape block of σI − J (the linear system
+    /// of the full-model Floquet analysis, [`crate::analysis::floquet_full`]).
+    pub fn shape_only(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> Rc<Self> {
+        let mut j = Self::build(sys, t, y);
+        for c in 0..j.gz.ncols() {
+            j.gz[(0, c)] = 0.0;
+            j.gz[(1, c)] = 0.0;
+        }
+        for r in 0..j.gz.nrows() {
+            j.gz[(r, 0)] = 0.0;
+            j.gz[(r, 1)] = 0.0;
+        }
+        for c in 0..j.gp.ncols() {
+            j.gp[(0, c)] = 0.0;
+            j.gp[(1, c)] = 0.0;
+        }
+        j.r_r.iter_mut().chain(j.r_rd.iter_mut()).for_each(|v| v.fill(0.0));
+        Rc::new(j)
+    }
+
+    fn build(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> Self {
         let ops = sys.operators();
         let m = ops.len();
         let nz = 2 + 3 * m;
@@ -134,7 +160,7 @@ impl StructuredJacobian {
             r_rd.push(apply(&d_rd, tw, tn));
             pw.push([op.wi[1..=ni].to_vec(), op.wj[1..=ni].to_vec()]);
         }
-        Rc::new(Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw })
+        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw }
     }
 
     /// Factors σI − J. `None` if singular.

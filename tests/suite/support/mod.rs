@@ -3,3 +3,4 @@ pub mod shell_energy;
 pub mod quadrature;
 pub mod quadrature_h4;
 pub mod jacobian;
+pub mod potential_flow;
