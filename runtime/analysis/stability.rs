@@ -251,9 +251,26 @@ impl LinearPeriodic for ShapeSystem<'_> {
     fn blocks(&self) -> Vec<Vec<usize>> {
         if self.bl.jacobian_pattern().band > 0 {
             vec![(0..self.n).collect()]
+        } else if self.b_free() {
+            (0..self.n / 3).flat_map(|m| [vec![3 * m, 3 * m + 1], vec![3 * m + 2]]).collect()
         } else {
             (0..self.n / 3).map(|m| vec![3 * m, 3 * m + 1, 3 * m + 2]).collect()
         }
+    }
+}
+
+impl ShapeSystem<'_> {
+    /// Whether no b_k feeds back into the (a, ȧ) rows (a free bubble: surface tension and bending
+    /// have no tangential stiffness, S2 = S12 = 0, no field). A(t) is then block lower-triangular,
+    /// the (a, ȧ) blocks carry the shape's multipliers, and each b_k block only relabels material
+    /// points: ḃ = Ṙb/R + (terms in a, ȧ) gives the multiplier R(T)/R(0) = 1 on any orbit, neutral
+    /// and not a shape instability. Checked on A at a generic (t, R, Ṙ, R̈).
+    fn b_free(&self) -> bool {
+        if self.bl.jacobian_pattern().band > 0 {
+            return false;
+        }
+        let (a, _) = self.bl.linear_modes(0.1, 1.1, 0.3, -0.2);
+        (0..self.n / 3).all(|m| (0..self.n).all(|i| i % 3 == 2 || a[(i, 3 * m + 2)] == 0.0))
     }
 }
 
@@ -390,7 +407,18 @@ impl Prepared<'_> {
     pub fn spectrum(&self, steps: usize) -> Result<floquet::Spectrum, StabilityError> {
         let steps = steps.max(1) * self.multiple;
         match &self.full {
-            None => Ok(floquet::monodromy(&self.shape, 0.0, self.period, steps)?.spectrum()),
+            None => {
+                let mut mono = floquet::monodromy(&self.shape, 0.0, self.period, steps)?;
+                if self.shape.b_free() {
+                    // the neutral b_k blocks of a free bubble are not part of the verdict (ShapeSystem::b_free)
+                    let keep: Vec<bool> = mono.blocks.iter().map(|b| !(b.len() == 1 && b[0] % 3 == 2)).collect();
+                    let mut k = keep.iter();
+                    mono.blocks.retain(|_| *k.next().unwrap());
+                    let mut k = keep.iter();
+                    mono.matrices.retain(|_| *k.next().unwrap());
+                }
+                Ok(mono.spectrum())
+            }
             Some(full) => {
                 let radial = |t: f64| {
                     let (r, rd, _) = (self.shape.radial)(t);

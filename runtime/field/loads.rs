@@ -197,6 +197,11 @@ impl MagneticLoads {
     #[inline]
     pub fn factors(&self, t: f64, r: f64) -> Factors {
         self.evaluations.fetch_add(1, Ordering::Relaxed);
+        self.factors_uncounted(t, r)
+    }
+
+    #[inline]
+    fn factors_uncounted(&self, t: f64, r: f64) -> Factors {
         let (cr, dr) = if self.is_static() {
             (1.0, 1.0)
         } else {
@@ -256,6 +261,58 @@ impl MagneticLoads {
             grad[0] += scale
                 * (c.zero_power as f64 * f.zero[i] * zero[row] + c.coupling_power as f64 * f.coupling[i] * s)
                 / r;
+        }
+    }
+
+    /// The time derivative of the prefactors, dK_c/dt times R^p (same layout as [`Factors`]).
+    fn factors_dt(&self, t: f64, r: f64) -> Factors {
+        let mut f = Factors { zero: [0.0; MAX_COMPONENTS], coupling: [0.0; MAX_COMPONENTS] };
+        if self.is_static() {
+            return f;
+        }
+        let (cr, crd) = self.current_omega.map_or((1.0, 0.0), |w| ((w * t).cos(), -w * (w * t).sin()));
+        let (dr, drd) = self.distance.map_or((1.0, 0.0), |(b, w)| (1.0 + b * (w * t).cos(), -b * w * (w * t).sin()));
+        // d(x^p)/dt = p x^(p−1) ẋ, written so that p = 0 gives 0 (no 0·∞ at x = 0)
+        let dpow = |x: f64, xd: f64, p: i32| if p == 0 { 0.0 } else { p as f64 * x.powi(p - 1) * xd };
+        for (i, c) in self.comps.iter().enumerate() {
+            let kd = c.k_static
+                * (dpow(cr, crd, c.current_power) * dr.powi(c.distance_power) + cr.powi(c.current_power) * dpow(dr, drd, c.distance_power));
+            f.zero[i] = kd * r.powi(c.zero_power);
+            f.coupling[i] = kd * r.powi(c.coupling_power);
+        }
+        f
+    }
+
+    /// Adds `scale` × the rate of M0 along the motion to `rate` (Keller–Miksis, issue 10):
+    /// dM0/dt = ∂M0/∂t + ∂M0/∂R Ṙ + Σ ∂M0/∂a ȧ + Σ ∂M0/∂b ḃ, the last sum as `db` (ḃ is the
+    /// closure's, [`crate::model::effects::PressureRate`]); exact partials of the rest in `dq`,
+    /// `dq_shape`, and ∂(∂M0/∂b)/∂R in `db_dr`. With M0 = Σ_c K_c(t)[R^{p0} z_c + R^{p1} S_c],
+    /// S_c = Σ (α a + β b) over the row-0 band: affine in (a, b), powers of R, so all exact.
+    pub fn add_radial_rate(&self, t: f64, y: &[f64], scale: f64, rate: &mut crate::model::effects::PressureRate) {
+        let (r, rd) = (y[0], y[1]);
+        let f = self.factors_uncounted(t, r);
+        let fd = self.factors_dt(t, r);
+        for (i, c) in self.comps.iter().enumerate() {
+            let (p0, p1) = (c.zero_power as f64, c.coupling_power as f64);
+            let (z, f0, f1, f0d, f1d) = (c.zero_n[0], f.zero[i], f.coupling[i], fd.zero[i], fd.coupling[i]);
+            let (mut s, mut sa) = (0.0, 0.0); // S_c and Σ α ȧ
+            for (j, at) in self.band_sources(0) {
+                let (al, be) = (c.band_n[j], c.band_n[j + 1]);
+                s += al * y[at] + be * y[at + 2];
+                sa += al * y[at + 1];
+                let m = (at - 2) / 3;
+                rate.dq_shape[3 * m] += scale * (f1d * al + rd * p1 * f1 * al / r);
+                rate.dq_shape[3 * m + 1] += scale * f1 * al;
+                rate.dq_shape[3 * m + 2] += scale * (f1d * be + rd * p1 * f1 * be / r);
+                rate.db[m] += scale * f1 * be;
+                rate.db_dr[m] += scale * p1 * f1 * be / r;
+            }
+            rate.q += scale * (f0d * z + f1d * s + rd * (p0 * f0 * z + p1 * f1 * s) / r + f1 * sa);
+            rate.dq[0] += scale
+                * (p0 * f0d * z / r + p1 * f1d * s / r
+                    + rd * (p0 * (p0 - 1.0) * f0 * z + p1 * (p1 - 1.0) * f1 * s) / (r * r)
+                    + p1 * f1 * sa / r);
+            rate.dq[1] += scale * (p0 * f0 * z + p1 * f1 * s) / r;
         }
     }
 

@@ -13,7 +13,7 @@
 //! R̈ enters ä_k, so the radial equation (§4.1) is evaluated first. The exact Jacobian and the
 //! linear mode system A(t) are in [`super::linearize`].
 
-use super::effects::MAX_MODES;
+use super::effects::{BdotLoads, MAX_MODES};
 use super::equations::{mode_rates, wall_source, Equations, Wall, WallLinear};
 use super::params::Params;
 
@@ -76,7 +76,17 @@ impl ModeConst {
 pub struct BoundaryLayerSystem {
     pub(crate) eq: Equations,
     pub(crate) modes: Vec<ModeConst>,
+    /// R̈ needs ḃ_k (Keller–Miksis with a field, [`Equations::needs_bdot`]): the rhs then
+    /// evaluates (NS) first — ḃ does not depend on R̈ — and R̈ with it.
+    pub(crate) bdot_radial: bool,
+    /// Some shape loads are proportional to ḃ_k (shell viscosity, [`Equations::has_bdot_loads`]):
+    /// [`apply_bdot_loads`](Self::apply_bdot_loads) solves (NS) for ḃ_k first.
+    pub(crate) bdot_loads: bool,
 }
+
+/// Per mode, what [`BoundaryLayerSystem::apply_bdot_loads`] found: the coefficients
+/// (cn, ct, ∂cn/∂R, ∂ct/∂R) of the ḃ_k loads and ḃ_k itself.
+pub(crate) type BdotMode = [f64; 5];
 
 impl BoundaryLayerSystem {
     /// δ_k = min(√(ν/ω), R/(2k)) (eq 3.1).
@@ -115,7 +125,38 @@ impl BoundaryLayerSystem {
         }
     }
 
-    /// R̈ at state y (M0 included), nondimensional.
+    /// With shape loads cn ḃ_k, ct ḃ_k (shell viscosity): solves (NS) for ḃ_k exactly and adds
+    /// them to `gn`, `gt` (which hold the loads of the state on entry), writing (cn, ct, cn_r,
+    /// ct_r, ḃ) per mode into `out`. (NS) with the boundary layer reads ḃ = E + cA, E =
+    /// Ṙb/R − ȧ/(k+1) − 2Ṙa/((k+1)R), c = δ/(R + 2δ) (Ĩ = δT_w/R, T_w = A/(1 + 2δ/R)), and
+    /// A = A0 − R ct ḃ/η (A0 of the state's G_t): ḃ = (E + cA0)/(1 + cR ct/η), one linear equation
+    /// per mode (the ḃ loads are mode-diagonal). No-op (returns false) without such loads.
+    pub(crate) fn apply_bdot_loads(&self, t: f64, y: &[f64], gn: &mut [f64], gt: &mut [f64], out: &mut [BdotMode]) -> bool {
+        if !self.bdot_loads {
+            return false;
+        }
+        let m = self.modes.len();
+        let (mut cn, mut ct, mut cnr, mut ctr) = ([0.0; MAX_MODES], [0.0; MAX_MODES], [0.0; MAX_MODES], [0.0; MAX_MODES]);
+        let mut c = BdotLoads { cn: &mut cn[..m], ct: &mut ct[..m], cn_r: &mut cnr[..m], ct_r: &mut ctr[..m] };
+        self.eq.bdot_loads(t, y, &mut c);
+        let (r, rd, eta) = (y[0], y[1], self.eq.params.eta);
+        for (j, mc) in self.modes.iter().enumerate() {
+            let (k, i) = (mc.k, 2 + 3 * j);
+            let (a, ad, b) = (y[i], y[i + 1], y[i + 2]);
+            let e = rd * b / r - ad / (k + 1.0) - 2.0 * rd * a / ((k + 1.0) * r);
+            let delta = mc.delta(r);
+            let cw = delta / (r + 2.0 * delta);
+            let bd = (e + cw * wall_source(k, eta, r, rd, a, ad, gt[j])) / (1.0 + cw * r * ct[j] / eta);
+            gn[j] += cn[j] * bd;
+            gt[j] += ct[j] * bd;
+            out[j] = [cn[j], ct[j], cnr[j], ctr[j], bd];
+        }
+        true
+    }
+
+    /// R̈ at state y (M0 included), nondimensional, with the shape frozen (ḃ = 0 in dP/dt for
+    /// Keller–Miksis with a field: the radial equation along a prescribed shape; the coupled
+    /// rhs uses the closure's ḃ).
     pub fn radial_acceleration(&self, t: f64, y: &[f64]) -> f64 {
         self.eq.radial_acceleration(t, y)
     }
@@ -131,7 +172,19 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         let m = self.modes.len();
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
-        let rdd = self.eq.acceleration_at(t, y, p);
+        if self.bdot_loads {
+            self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut [[0.0; 5]; MAX_MODES]);
+        }
+        let rdd = if self.bdot_radial {
+            self.mode_rates(r, rd, 0.0, &gn[..m], &gt[..m], y, dy);
+            let mut bd = [0.0; MAX_MODES];
+            for (j, b) in bd[..m].iter_mut().enumerate() {
+                *b = dy[4 + 3 * j];
+            }
+            self.eq.acceleration_with(t, y, p, &bd[..m])
+        } else {
+            self.eq.acceleration_at(t, y, p)
+        };
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);

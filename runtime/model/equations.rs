@@ -18,7 +18,7 @@
 //! The linearisation of the same expressions ([`WallLinear`], [`mode_partials`]) gives the exact
 //! Jacobian and A(t) ([`super::linearize`]).
 
-use super::effects::{At, LoadJacobian, Loads, PressureRate, Term};
+use super::effects::{At, BdotLoads, LoadJacobian, Loads, PressureRate, Term};
 use super::params::Params;
 use super::radial::RadialForm;
 
@@ -65,6 +65,22 @@ impl Equations {
         l.pressure
     }
 
+    /// Whether a term has shape loads proportional to ḃ_k ([`BdotLoads`]: the shell viscosity).
+    pub fn has_bdot_loads(&self) -> bool {
+        self.terms.iter().any(|t| t.has_bdot_loads())
+    }
+
+    /// The ḃ_k coefficients of the shape loads at (t, z), summed over the terms (overwritten).
+    pub fn bdot_loads(&self, t: f64, z: &[f64], c: &mut BdotLoads<'_>) {
+        for x in [&mut *c.cn, &mut *c.ct, &mut *c.cn_r, &mut *c.ct_r] {
+            x.fill(0.0);
+        }
+        let at = At { t, z };
+        for term in self.terms.iter().filter(|t| t.has_bdot_loads()) {
+            term.add_bdot_loads(&at, c);
+        }
+    }
+
     /// R̈ from P (the radial form).
     #[inline]
     pub fn acceleration(&self, r: f64, rd: f64, pressure: f64) -> f64 {
@@ -100,19 +116,78 @@ impl Equations {
         self.form.acceleration_rate(self.params.rho, z[0], z[1], pressure, &rate)
     }
 
+    /// R̈ at (t, z) from P along the motion whose ḃ_k (the closure's, not a state variable) is
+    /// `bdot`: the rate's Σ ∂P/∂b_k ḃ_k part included ([`PressureRate`]). For a form without the
+    /// rate, or a rate without a ḃ part, exactly [`acceleration_at`](Self::acceleration_at).
+    #[inline]
+    pub fn acceleration_with(&self, t: f64, z: &[f64], pressure: f64, bdot: &[f64]) -> f64 {
+        if !self.form.needs_rate() {
+            return self.acceleration(z[0], z[1], pressure);
+        }
+        let (mut rate, _) = self.rate(t, z);
+        for (m, bd) in bdot.iter().enumerate() {
+            rate.q += rate.db[m] * bd;
+        }
+        self.form.acceleration_rate(self.params.rho, z[0], z[1], pressure, &rate)
+    }
+
+    /// Whether R̈ along the motion needs ḃ (a compressible form and a pressure depending on b:
+    /// Keller–Miksis with a field). Evaluated at a generic state.
+    pub fn needs_bdot(&self) -> bool {
+        if !self.form.needs_rate() {
+            return false;
+        }
+        let z = vec![1.0; 2 + 3 * self.orders.len()];
+        self.rate(0.0, &z).0.has_bdot()
+    }
+
     /// ∂R̈/∂z (length of `grad`) at (t, z) given P and its gradient: the chain rule through P and,
-    /// for a form that needs it, through the rate (q, s).
+    /// for a form that needs it, through the rate (q, s); the shape frozen (ḃ = 0, as
+    /// [`acceleration_at`](Self::acceleration_at)).
     pub fn acceleration_gradient_at(&self, t: f64, z: &[f64], pressure: f64, dp: &[f64], grad: &mut [f64]) {
+        self.acceleration_gradient_with(t, z, pressure, dp, None, grad)
+    }
+
+    /// ∂R̈/∂z of [`acceleration_with`](Self::acceleration_with): with `bdot = Some((ḃ, ∂ḃ/∂z))`
+    /// (∂ḃ_m/∂z_j at `dbdot[m * n + j]`, n = z.len()) the ḃ part's chain rule is included.
+    pub fn acceleration_gradient_with(
+        &self,
+        t: f64,
+        z: &[f64],
+        pressure: f64,
+        dp: &[f64],
+        bdot: Option<(&[f64], &[f64])>,
+        grad: &mut [f64],
+    ) {
         if !self.form.needs_rate() {
             return self.acceleration_gradient(z[0], z[1], pressure, dp, grad);
         }
-        let (rate, _) = self.rate(t, z);
+        let (mut rate, _) = self.rate(t, z);
+        if let Some((bd, _)) = bdot {
+            for (m, x) in bd.iter().enumerate() {
+                rate.q += rate.db[m] * x;
+            }
+        }
         let d = self.form.partials_rate(self.params.rho, z[0], z[1], pressure, &rate);
         for (g, x) in grad.iter_mut().zip(dp) {
             *g = d[2] * x;
         }
         for j in 0..2 {
             grad[j] += d[j] + d[3] * rate.dq[j] + d[4] * rate.ds[j];
+        }
+        let n = grad.len();
+        for j in 2..n {
+            grad[j] += d[3] * rate.dq_shape[j - 2];
+        }
+        if let Some((bd, dbd)) = bdot {
+            for (m, x) in bd.iter().enumerate() {
+                grad[0] += d[3] * rate.db_dr[m] * x;
+                if rate.db[m] != 0.0 {
+                    for j in 0..n {
+                        grad[j] += d[3] * rate.db[m] * dbd[m * n + j];
+                    }
+                }
+            }
         }
     }
 

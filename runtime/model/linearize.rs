@@ -6,11 +6,11 @@
 //!
 //! Sparsity ([`JacobianPattern`]): with y = [R, Ṙ, (a, ȧ, b)_k], the Jacobian is an "arrow" —
 //! column 0 (R) is full, row 1 (R̈) sees R, Ṙ and the amplitudes the radial loads depend on
-//! (a_2, b_2 with a field), every ä and ḃ row sees R, Ṙ and, through R̈, row 1's columns — plus a
+//! (a_2, b_2 with a field; with Keller–Miksis also, through ḃ_2, the band of mode 2), every ä and ḃ row sees R, Ṙ and, through R̈, row 1's columns — plus a
 //! block band: mode k's rows see the (a, ȧ, b) of modes k ± 2j for j ≤ `band` (0 without a
 //! field: 3×3 diagonal blocks; 1 for the paper's coil and the dipole).
 
-use super::boundary_layer::BoundaryLayerSystem;
+use super::boundary_layer::{BdotMode, BoundaryLayerSystem};
 use super::effects::{a_index, LoadJacobian, MAX_MODES};
 use super::equations::{mode_partials, var, wall_source, wall_source_partials};
 use nalgebra::{DMatrix, DVector};
@@ -21,6 +21,9 @@ pub struct JacobianPattern {
     pub modes: usize,
     /// Half-width in modes of the mode-to-mode coupling.
     pub band: usize,
+    /// How many leading modes R̈ sees (`band`; twice that when R̈ sees ḃ: Keller–Miksis with a
+    /// field).
+    pub radial: usize,
 }
 
 impl JacobianPattern {
@@ -32,14 +35,14 @@ impl JacobianPattern {
         }
         // R̈ sees R, Ṙ and the amplitudes within the band of the zero-order (P_0) row.
         if i == 1 {
-            return j < 2 || block(j) < self.band;
+            return j < 2 || block(j) < self.radial;
         }
         // ȧ_k' = ȧ_k
         if (i - 2) % 3 == 0 {
             return j == i + 1;
         }
         // ä, ḃ rows: R, Ṙ, the band, and row 1's columns through R̈
-        j < 2 || block(i).abs_diff(block(j)) <= self.band || block(j) < self.band
+        j < 2 || block(i).abs_diff(block(j)) <= self.band || block(j) < self.radial
     }
 }
 
@@ -50,12 +53,17 @@ struct Lin {
     drdd: Vec<f64>,
     gn: [f64; MAX_MODES],
     gt: [f64; MAX_MODES],
+    /// The ḃ_k loads per mode when there are any ([`BoundaryLayerSystem::apply_bdot_loads`];
+    /// `gn`, `gt` then include them).
+    bdot: Option<Vec<BdotMode>>,
 }
 
 impl BoundaryLayerSystem {
     /// The Jacobian's sparsity (see the module doc).
     pub fn jacobian_pattern(&self) -> JacobianPattern {
-        JacobianPattern { modes: self.modes.len(), band: self.eq.terms().map(|t| t.band()).max().unwrap_or(0) }
+        let band = self.eq.terms().map(|t| t.band()).max().unwrap_or(0);
+        // through ḃ of the modes M0 sees, R̈ reaches one band further (KM with a field)
+        JacobianPattern { modes: self.modes.len(), band, radial: if self.bdot_radial { 2 * band } else { band } }
     }
 
     fn lin(&self, t: f64, y: &[f64], rdd: Option<f64>) -> Lin {
@@ -65,15 +73,33 @@ impl BoundaryLayerSystem {
         self.eq.load_jacobian(t, y, &mut lj);
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
+        let mut bdot = vec![[0.0; 5]; m];
+        let bdot = self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut bdot).then_some(bdot);
         let mut drdd = vec![0.0; n];
         let rdd = match rdd {
             Some(v) => v,
+            None if self.bdot_radial => {
+                // ḃ and its rows first (they do not depend on R̈), then R̈ with them
+                let mut l = Lin { lj, rdd: 0.0, drdd, gn, gt, bdot };
+                let mut dy = vec![0.0; n];
+                self.mode_rates(y[0], y[1], 0.0, &gn[..m], &gt[..m], y, &mut dy);
+                let bd: Vec<f64> = (0..m).map(|j| dy[4 + 3 * j]).collect();
+                let (mut dbd, mut scratch) = (vec![0.0; m * n], vec![0.0; n]);
+                for j in 0..m {
+                    self.mode_rows(y, &l, j, &mut scratch, &mut dbd[j * n..(j + 1) * n]);
+                }
+                let mut g = vec![0.0; n];
+                self.eq.acceleration_gradient_with(t, y, p, &l.lj.pressure, Some((&bd, &dbd)), &mut g);
+                l.drdd = g;
+                l.rdd = self.eq.acceleration_with(t, y, p, &bd);
+                return l;
+            }
             None => {
                 self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut drdd);
                 self.eq.acceleration_at(t, y, p)
             }
         };
-        Lin { lj, rdd, drdd, gn, gt }
+        Lin { lj, rdd, drdd, gn, gt, bdot }
     }
 
     /// Rows of (ä, ḃ) of mode index m as gradients over y (length n): `out_a`, `out_b`.
@@ -89,15 +115,28 @@ impl BoundaryLayerSystem {
         let w = mc.wall_linear(r, src, &wall_source_partials(mc.k, p.eta, r, rd, a, gt));
         let (da, db) = mode_partials(mc.k, p.rho, p.eta, r, rd, l.rdd, a, ad, b, gn, &w);
         let (gn_row, gt_row) = (l.lj.gn_row(m), l.lj.gt_row(m));
-        for (out, d) in [(out_a, &da), (out_b, &db)] {
+        // ḃ loads (cn, ct, cn_r, ct_r, ḃ): at fixed ḃ they add ḃ·(cn_r, ct_r) to the R column
+        let c = l.bdot.as_ref().map(|v| v[m]);
+        let (cn_r_b, ct_r_b) = c.map_or((0.0, 0.0), |c| (c[2] * c[4], c[3] * c[4]));
+        for (out, d) in [(&mut *out_a, &da), (&mut *out_b, &db)] {
             for j in 0..out.len() {
                 out[j] = d[RDD] * l.drdd[j] + d[GN] * gn_row[j] + d[GT] * gt_row[j];
             }
-            out[0] += d[R];
+            out[0] += d[R] + d[GN] * cn_r_b + d[GT] * ct_r_b;
             out[1] += d[RD];
             out[i] += d[A];
             out[i + 1] += d[AD];
             out[i + 2] += d[B];
+        }
+        // and through ḃ itself: ḃ = ḃ_std(…, G_n0 + cn ḃ, G_t0 + ct ḃ) is solved exactly, so
+        // dḃ = (partial row)/(1 − ∂ḃ_std/∂G_n cn − ∂ḃ_std/∂G_t ct), and ä gains (∂ä/∂G·c) dḃ
+        if let Some(c) = c {
+            let den = 1.0 - db[GN] * c[0] - db[GT] * c[1];
+            let via = da[GN] * c[0] + da[GT] * c[1];
+            for j in 0..out_b.len() {
+                out_b[j] /= den;
+                out_a[j] += via * out_b[j];
+            }
         }
     }
 

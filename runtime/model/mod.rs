@@ -182,7 +182,7 @@ impl Model {
                 })
                 .collect();
             effects.push(format!("shape modes k=2..{} (boundary layer)", scene.modes.max_order));
-            System::BoundaryLayer(BoundaryLayerSystem { eq, modes })
+            System::BoundaryLayer(BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes })
         };
         effects.extend(self_labels(eq_of(&system)));
 

@@ -233,11 +233,11 @@ pub static SCHEMA: &[Param] = &[
       "Helfrich bending stiffness (zero spontaneous curvature): normal load (k-1)k(k+1)(k+2) k_b a_k/R^4 \
        on each mode, no radial load. 0 = off."),
     p("shell.shear_viscosity", K::Float, "Pa s m", D::Float(0.0), Rg::NonNegative, "mu_s",
-      "Surface shear viscosity of a Kelvin-Voigt shell. Its loads act on the shape modes only; they are \
-       derived (membrane::viscous) but not wired into the mode equations yet, so a value > 0 is rejected. 0 = off."),
+      "Surface shear viscosity of a Kelvin-Voigt shell (derivations/shell/viscous.rs, tension form). \
+       Its loads act on the shape modes only (boundary-layer closure; not with modes.viscous = \"vorticity\"). 0 = off."),
     p("shell.dilatational_viscosity", K::Float, "kg/s", D::Float(0.0), Rg::NonNegative, "kappa_s",
-      "Surface dilatational viscosity (Marmottant-type): radial load 4 kappa_s (dR/dt)/R^2. Radial runs \
-       only (modes.max_order = 0): its shape-mode loads are derived but not wired yet. 0 = off."),
+      "Surface dilatational viscosity (Marmottant-type): radial load 4 kappa_s (dR/dt)/R^2 and its shape-mode \
+       loads (boundary-layer closure; not with modes.viscous = \"vorticity\" and shape modes). 0 = off."),
     p("shell.surface_tension", K::Float, "N/m", D::Float(0.0), Rg::NonNegative, "gamma",
       "Isotropic surface tension: 2 gamma/R in the radial balance, Lamb's (k-1)(k+2) gamma/R^2 a_k on \
        each mode (tension form, derivations/shell/surface_tension.rs). 0 = off."),

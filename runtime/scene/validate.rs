@@ -295,22 +295,27 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             "a magnetic field acts on the nanoparticle-laden shell: a free bubble (shell.c1 = shell.c2 = 0) has none",
         );
     }
+    // Keller–Miksis with a field needs ḃ_k in dM0/dt, which the boundary-layer system supplies
+    // (runtime/model/boundary_layer.rs) and the vorticity model does not yet.
+    if let (Some(cs), true, Viscous::Vorticity, true) = (liquid.sound_speed, field.is_some(), modes.viscous, modes.max_order > 0) {
+        c.push(
+            "liquid.sound_speed",
+            Some(fmt_num(cs)),
+            "Keller-Miksis with a magnetic field is supported with modes.viscous = \"boundary-layer\" only (dM0/dt needs the closure's db_k/dt, which the vorticity model does not provide yet)",
+        );
+    }
     let vorticity = build_vorticity(c, raw.vorticity);
     let run = build_run(c, raw.run, &bubble, &shell, &liquid);
 
     // Shell viscosity (issue 11 part 3): the shape-mode viscous loads multiply ḃ_k, an output of
-    // the tangential balance, and are derived (membrane::viscous) but not wired yet.
+    // the tangential balance; the boundary-layer system solves for it (runtime/model/
+    // boundary_layer.rs), the vorticity model does not yet.
     for (key, v) in [("shell.shear_viscosity", shell.shear_viscosity), ("shell.dilatational_viscosity", shell.dilatational_viscosity)] {
-        let radial_only = key == "shell.dilatational_viscosity";
-        if v > 0.0 && (!radial_only || modes.max_order > 0) {
+        if v > 0.0 && modes.max_order > 0 && modes.viscous == Viscous::Vorticity {
             c.push(
                 key,
                 Some(fmt_num(v)),
-                if radial_only {
-                    "with shape modes (modes.max_order > 0): the shell-viscous shape-mode loads are derived but not wired yet; use it with modes.max_order = 0 (radial: 4 kappa_s (dR/dt)/R^2)"
-                } else {
-                    "the surface shear viscosity acts on the shape modes only, whose viscous loads are derived but not wired yet"
-                },
+                "with modes.viscous = \"vorticity\": the shell-viscous shape loads multiply db_k/dt, which only the boundary-layer closure solves for yet (use modes.viscous = \"boundary-layer\")",
             );
         }
     }

@@ -4,7 +4,7 @@
 //! call (counted: `Model::magnetic_evaluations`). The loads are affine in (a, b) with couplings
 //! k → k, k ± 2 (wider for H4 fields); the zero-order parts ℋ2, ℋ¹2 are the forcing.
 
-use super::{At, LoadJacobian, Loads, Term};
+use super::{At, LoadJacobian, Loads, PressureRate, Term};
 use crate::field::loads::MagneticLoads;
 
 #[derive(Debug)]
@@ -36,6 +36,12 @@ impl Term for MagneticTerm {
     }
     fn evaluations(&self) -> u64 {
         self.loads.evaluations()
+    }
+    /// P ∋ +M0: its rate, exact ([`MagneticLoads::add_radial_rate`]); the ḃ part goes to
+    /// `rate.db` (the closure's ḃ, added by the boundary-layer system).
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        self.loads.add_radial_rate(at.t, at.z, 1.0, rate);
+        true
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let l = &self.loads;

@@ -127,7 +127,14 @@ impl LoadJacobian {
 /// * s = ∂P/∂Ṙ (the viscous −4ηṘ/R gives s = −4η/R),
 ///
 /// and their exact derivatives with respect to (R, Ṙ), for the exact Jacobian.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+///
+/// A pressure that depends on the shape amplitudes (the magnetic M0 on a_2, b_2, …) adds
+/// Σ ∂P/∂a_m ȧ_m to q (ȧ is a state variable) and the exact ∂q/∂(a, ȧ, b) to `dq_shape`; its
+/// Σ ∂P/∂b_m ḃ_m part is kept apart in `db` because ḃ_m is not a state variable but an output of
+/// the tangential closure (NS): the model adds it where it knows ḃ
+/// ([`super::equations::Equations::acceleration_with`], the boundary-layer system) and takes
+/// ḃ = 0 (frozen shape) where the shape is prescribed (a radial equation on its own).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PressureRate {
     pub q: f64,
     pub s: f64,
@@ -135,6 +142,37 @@ pub struct PressureRate {
     pub dq: [f64; 2],
     /// (∂s/∂R, ∂s/∂Ṙ)
     pub ds: [f64; 2],
+    /// ∂q/∂(a_m, ȧ_m, b_m) at index 3m, 3m + 1, 3m + 2 (zero unless P depends on the shape).
+    pub dq_shape: [f64; 3 * MAX_MODES],
+    /// ∂P/∂b_m: dP/dt ∋ Σ_m db[m] ḃ_m (see above).
+    pub db: [f64; MAX_MODES],
+    /// ∂db[m]/∂R (db depends on t and R only: the loads are affine in the amplitudes).
+    pub db_dr: [f64; MAX_MODES],
+}
+
+impl Default for PressureRate {
+    fn default() -> Self {
+        Self { q: 0.0, s: 0.0, dq: [0.0; 2], ds: [0.0; 2], dq_shape: [0.0; 3 * MAX_MODES], db: [0.0; MAX_MODES], db_dr: [0.0; MAX_MODES] }
+    }
+}
+
+impl PressureRate {
+    /// Whether dP/dt has a ḃ part (some db[m] ≠ 0).
+    pub fn has_bdot(&self) -> bool {
+        self.db.iter().any(|&x| x != 0.0)
+    }
+}
+
+/// Shape loads proportional to ḃ_k (the shell viscosity, issue 11 part 3): G_n,k ∋ cn[m] ḃ_k and
+/// G_t,k ∋ ct[m] ḃ_k, mode-diagonal, the coefficients depending on (t, R) only (∂/∂R in `cn_r`,
+/// `ct_r`). ḃ_k is an output of (NS) and its closure, so these loads make the closure implicit;
+/// the boundary-layer system solves it exactly (runtime/model/boundary_layer.rs).
+#[derive(Debug)]
+pub struct BdotLoads<'a> {
+    pub cn: &'a mut [f64],
+    pub ct: &'a mut [f64],
+    pub cn_r: &'a mut [f64],
+    pub ct_r: &'a mut [f64],
 }
 
 /// One load of the model. See the module doc; implementors are the files of this directory.
@@ -172,4 +210,12 @@ pub trait Term: std::fmt::Debug {
     fn add_rate(&self, _at: &At<'_>, _rate: &mut PressureRate) -> bool {
         false
     }
+    /// Whether the term has shape loads proportional to ḃ_k ([`BdotLoads`]; default: none).
+    fn has_bdot_loads(&self) -> bool {
+        false
+    }
+    /// Adds the term's ḃ_k coefficients (for m < `c.cn.len()`); called only when
+    /// [`has_bdot_loads`](Term::has_bdot_loads). Not part of [`add`](Term::add) or
+    /// [`add_jacobian`](Term::add_jacobian), which see the state z only.
+    fn add_bdot_loads(&self, _at: &At<'_>, _c: &mut BdotLoads<'_>) {}
 }

@@ -6,15 +6,15 @@
 //!   (k−1)(k+2)γ/R² a_k on G_n,k, nothing on b_k or G_t;
 //! * Helfrich bending k_b (`bending.rs`, first variation of (k_b/2)∫(κ1+κ2)² dA):
 //!   (k−1)k(k+1)(k+2)k_b/R⁴ a_k on G_n,k, no radial load;
-//! * surface dilatational viscosity κ_s (`viscous.rs`): −4κ_sṘ/R² in the radial balance. Its
-//!   shape-mode loads (and all of the shear viscosity's) multiply ḃ_k too, which is not a state
-//!   variable but an output of (NS) and its closure: they are derived and tested but not wired
-//!   (the scene validation rejects them with shape modes; docs/derivation-notes.md).
+//! * surface dilatational and shear viscosity κ_s, μ_s (`viscous.rs`): −4κ_sṘ/R² in the radial
+//!   balance and shape loads in a, b, ȧ and ḃ_k; ḃ_k is not a state variable but an output of
+//!   (NS) and its closure, which the boundary-layer system solves for exactly ([`ShellViscosity`],
+//!   [`BdotLoads`]; the vorticity closure refuses them).
 //!
 //! Nondimensional as everything else (FORMULATION §4.5): γ like c1 (N/m), k_b in units of
 //! pressure·length³, κ_s of pressure·length·time.
 
-use super::{a_index, At, LoadJacobian, Loads, PressureRate, Term};
+use super::{a_index, At, BdotLoads, LoadJacobian, Loads, PressureRate, Term};
 use crate::coefficients::membrane::{bending, surface_tension, viscous};
 use crate::model::params::Scales;
 use crate::scene::Shell;
@@ -111,28 +111,95 @@ impl Term for OneConstant {
     }
 }
 
-/// The dilatational viscosity's radial load −Ŝ0 = −4κ_sṘ/R² (generated: viscous::tension::s0).
-#[derive(Debug, Clone, Copy)]
-pub struct DilatationalViscosity {
+/// The viscous (Kelvin–Voigt) shell, tension form (generated: `membrane::viscous::tension`,
+/// derivations/shell/viscous.rs; the variational form, oracle-checked): −Ŝ0 = −4κ_sṘ/R² in P and,
+/// per mode, G_n,k ∋ S1 a + S2 b + S1D ȧ + S2D ḃ, G_t,k ∋ S11 a + S12 b + S11D ȧ + S12D ḃ, with
+/// S1…S12 ∝ Ṙ and the D coefficients functions of R. The ḃ parts are [`BdotLoads`] (the closure
+/// solves for ḃ); the rest is an ordinary load, linear in Ṙ, a, ȧ, b.
+#[derive(Debug, Clone)]
+pub struct ShellViscosity {
     pub kappa_s: f64,
+    pub mu_s: f64,
     pub r0: f64,
+    pub orders: Vec<f64>,
 }
 
-impl Term for DilatationalViscosity {
+impl Term for ShellViscosity {
     fn name(&self) -> &'static str {
         "shell viscosity"
     }
     fn label(&self) -> Option<String> {
-        Some("shell dilatational viscosity (radial)".into())
+        Some(if self.orders.is_empty() && self.mu_s == 0.0 {
+            "shell dilatational viscosity (radial)".into()
+        } else {
+            "shell viscosity (radial and shape modes)".into()
+        })
     }
     #[inline]
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
-        loads.pressure -= viscous::tension::s0(at.r(), self.r0, at.rdot(), 0.0, self.kappa_s);
+        use viscous::tension as v;
+        let (r, rd, r0, mu, ks) = (at.r(), at.rdot(), self.r0, self.mu_s, self.kappa_s);
+        loads.pressure -= v::s0(r, r0, rd, mu, ks);
+        for m in 0..loads.gn.len() {
+            let k = self.orders[m];
+            let (a, ad, b) = (at.a(m), at.adot(m), at.b(m));
+            loads.gn[m] += v::s1(r, r0, rd, mu, ks, k) * a + v::s2(r, r0, rd, mu, ks, k) * b + v::s1d(r, r0, rd, mu, ks, k) * ad;
+            loads.gt[m] += v::s11(r, r0, rd, mu, ks, k) * a + v::s12(r, r0, rd, mu, ks, k) * b + v::s11d(r, r0, rd, mu, ks, k) * ad;
+        }
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
-        jac.pressure[0] -= viscous::tension::s0_dr(at.r(), self.r0, at.rdot(), 0.0, self.kappa_s);
-        // S0 is linear in Ṙ (every monomial carries Rd once)
-        jac.pressure[1] -= viscous::tension::s0(at.r(), self.r0, 1.0, 0.0, self.kappa_s);
+        use viscous::tension as v;
+        let (r, rd, r0, mu, ks, n) = (at.r(), at.rdot(), self.r0, self.mu_s, self.kappa_s, jac.n);
+        jac.pressure[0] -= v::s0_dr(r, r0, rd, mu, ks);
+        // S0, S1, S2, S11, S12 are linear in Ṙ (every monomial carries Rd once): ∂/∂Ṙ = value at Ṙ = 1
+        jac.pressure[1] -= v::s0(r, r0, 1.0, mu, ks);
+        for m in 0..jac.modes() {
+            let k = self.orders[m];
+            let (a, ad, b) = (at.a(m), at.adot(m), at.b(m));
+            let ia = a_index(m);
+            let gn = &mut jac.gn[m * n..(m + 1) * n];
+            gn[0] += v::s1_dr(r, r0, rd, mu, ks, k) * a + v::s2_dr(r, r0, rd, mu, ks, k) * b + v::s1d_dr(r, r0, rd, mu, ks, k) * ad;
+            gn[1] += v::s1(r, r0, 1.0, mu, ks, k) * a + v::s2(r, r0, 1.0, mu, ks, k) * b;
+            gn[ia] += v::s1(r, r0, rd, mu, ks, k);
+            gn[ia + 1] += v::s1d(r, r0, rd, mu, ks, k);
+            gn[ia + 2] += v::s2(r, r0, rd, mu, ks, k);
+            let gt = &mut jac.gt[m * n..(m + 1) * n];
+            gt[0] += v::s11_dr(r, r0, rd, mu, ks, k) * a + v::s12_dr(r, r0, rd, mu, ks, k) * b + v::s11d_dr(r, r0, rd, mu, ks, k) * ad;
+            gt[1] += v::s11(r, r0, 1.0, mu, ks, k) * a + v::s12(r, r0, 1.0, mu, ks, k) * b;
+            gt[ia] += v::s11(r, r0, rd, mu, ks, k);
+            gt[ia + 1] += v::s11d(r, r0, rd, mu, ks, k);
+            gt[ia + 2] += v::s12(r, r0, rd, mu, ks, k);
+        }
+    }
+    /// P ∋ −Ŝ0(R, Ṙ) with Ŝ0 linear in Ṙ (generated): dP/dt = −Ŝ0_R Ṙ − Ŝ0(R, 1) R̈, so
+    /// q = −Ŝ0_R(R, Ṙ) Ṙ = −Ŝ0_R(R, 1) Ṙ², s = −Ŝ0(R, 1) (= −4κ_s/R²); ∂q/∂Ṙ = −2Ŝ0_R(R, Ṙ),
+    /// ∂s/∂R = −Ŝ0_R(R, 1), ∂s/∂Ṙ = 0, and ∂q/∂R = −Ŝ0_RR Ṙ exact from Ŝ0_RR = −3Ŝ0_R/R, which
+    /// holds because the generated Ŝ0 ∝ Ṙ/R² (checked in tests/suite/km_effects.rs).
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        use viscous::tension::{s0, s0_dr};
+        let (r, rd, k, mu) = (at.r(), at.rdot(), self.kappa_s, self.mu_s);
+        let d1 = s0_dr(r, self.r0, rd, mu, k);
+        rate.q -= d1 * rd;
+        rate.s -= s0(r, self.r0, 1.0, mu, k);
+        rate.dq[0] -= -3.0 * d1 / r * rd;
+        rate.dq[1] -= 2.0 * d1;
+        rate.ds[0] -= s0_dr(r, self.r0, 1.0, mu, k);
+        true
+    }
+    fn has_bdot_loads(&self) -> bool {
+        !self.orders.is_empty()
+    }
+    /// cn = S2D, ct = S12D (functions of R only).
+    fn add_bdot_loads(&self, at: &At<'_>, c: &mut BdotLoads<'_>) {
+        use viscous::tension as v;
+        let (r, rd, r0, mu, ks) = (at.r(), at.rdot(), self.r0, self.mu_s, self.kappa_s);
+        for m in 0..c.cn.len() {
+            let k = self.orders[m];
+            c.cn[m] += v::s2d(r, r0, rd, mu, ks, k);
+            c.ct[m] += v::s12d(r, r0, rd, mu, ks, k);
+            c.cn_r[m] += v::s2d_dr(r, r0, rd, mu, ks, k);
+            c.ct_r[m] += v::s12d_dr(r, r0, rd, mu, ks, k);
+        }
     }
 }
 
@@ -160,8 +227,14 @@ pub fn terms(shell: &Shell, sc: &Scales, r0: f64, orders: &[f64]) -> Vec<Box<dyn
             orders: orders.to_vec(),
         }));
     }
-    if shell.dilatational_viscosity != 0.0 {
-        out.push(Box::new(DilatationalViscosity { kappa_s: shell.dilatational_viscosity / (sc.pressure * sc.length * sc.time), r0 }));
+    if shell.dilatational_viscosity != 0.0 || shell.shear_viscosity != 0.0 {
+        let unit = sc.pressure * sc.length * sc.time; // κ_s [kg/s] and μ_s [Pa s m] alike
+        out.push(Box::new(ShellViscosity {
+            kappa_s: shell.dilatational_viscosity / unit,
+            mu_s: shell.shear_viscosity / unit,
+            r0,
+            orders: orders.to_vec(),
+        }));
     }
     out
 }

@@ -298,7 +298,28 @@ pub fn damped_spectrum(scene: &Scene) -> Result<DampedSpectrum, FullModelError> 
         Viscous::Vorticity => ("vorticity", damped_spectrum_full(&c, &fm.grid, 0.0, r0)),
         Viscous::BoundaryLayer => {
             let bl = fm.model.boundary_layer().expect("checked in from_scene");
-            ("boundary-layer", damped_spectrum_boundary_layer(&c, 0.0, r0, |k, _| bl.delta(k / 2 - 1, r0)))
+            // a free bubble: no tangential stiffness, b_k is neutral (multiplier 1, eigenvalue 0
+            // at rest) and the (a, ȧ) block alone carries the mode (analysis/stability.rs b_free)
+            let free = scene.shell.is_free();
+            if bl.equations().has_bdot_loads() || free {
+                // shell viscosity: loads in ȧ and ḃ too, which the stiffness-only determinant
+                // does not carry; the roots are the eigenvalues of each mode's block of the exact
+                // linear system A at rest (the oscillatory pair; overdamped: the slowest real root)
+                let (a, _) = bl.linear_modes(0.0, r0, 0.0, 0.0);
+                let found = (0..fm.model.orders().len())
+                    .map(|j| {
+                        let size = if free { 2 } else { 3 };
+                        let block = a.view((3 * j, 3 * j), (size, size)).clone_owned();
+                        let eig = block.complex_eigenvalues();
+                        let top = eig.iter().max_by(|x, y| x.im.total_cmp(&y.im)).copied();
+                        let slowest = eig.iter().max_by(|x, y| x.re.total_cmp(&y.re)).copied();
+                        top.filter(|s| s.im > 0.0).or(slowest).map(|s| super::linear::DampedMode::from_root(fm.model.orders()[j], s))
+                    })
+                    .collect();
+                ("boundary-layer", found)
+            } else {
+                ("boundary-layer", damped_spectrum_boundary_layer(&c, 0.0, r0, |k, _| bl.delta(k / 2 - 1, r0)))
+            }
         }
     };
     let shape = found

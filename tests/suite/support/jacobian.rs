@@ -5,6 +5,11 @@ use magbubble::integrate::OdeSystem;
 
 /// Asserts |∂f_i/∂y_j − FD| ≤ 1e-6 (1 + |FD|) for every entry; `label` names the case.
 pub fn assert_jacobian_matches_fd(sys: &dyn OdeSystem, label: &str) {
+    assert_jacobian_matches_fd_step(sys, label, 1e-3 * 1e-6);
+}
+
+/// The same with the step h_j = max(1e-6 |y_j|, `floor`).
+pub fn assert_jacobian_matches_fd_step(sys: &dyn OdeSystem, label: &str, floor: f64) {
     let n = sys.dim();
     let mut y: Vec<f64> = (0..n).map(|i| 0.01 * (i as f64 + 1.0).sin()).collect();
     y[0] = 1.3;
@@ -14,7 +19,7 @@ pub fn assert_jacobian_matches_fd(sys: &dyn OdeSystem, label: &str) {
     assert!(sys.jacobian(t, &y, &mut jac), "{label}: no analytic Jacobian");
     let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
     for j in 0..n {
-        let h = 1e-6 * y[j].abs().max(1e-3);
+        let h = (1e-6 * y[j].abs()).max(floor);
         let (mut yp, mut ym) = (y.clone(), y.clone());
         yp[j] += h;
         ym[j] -= h;
