@@ -45,7 +45,12 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
         outln!("radial: ω = {:.6e} rad/s, f = {:.6e} Hz   (t* = {:.4e} s)", f.radial.omega_rad_s, f.radial.f_hz, f.t_star);
         outln!("{:>4} {:>14} {:>14} {:>10}", "k", "omega_rad_s", "f_hz", "omega_t*");
         for m in &f.shape {
-            let note = if m.field_couplings { "" } else { "  (field couplings not included)" };
+            let note = match (m.k % 2 == 0, m.field_couplings) {
+                (true, true) => "",
+                (false, true) => "  (odd: run/floquet/stability evolve even k only)",
+                (true, false) => "  (field couplings not included)",
+                (false, false) => "  (odd, field couplings not included)",
+            };
             outln!("{:>4} {:>14.6e} {:>14.6e} {:>10.5}{note}", m.k, m.omega_rad_s, m.f_hz, m.omega_nondim);
         }
     }
@@ -84,6 +89,8 @@ pub fn frequencies_json(f: &Frequencies) -> serde_json::Value {
         "shape": f.shape.iter().map(|m| serde_json::json!({
             "k": m.k, "omega_rad_s": m.omega_rad_s, "f_hz": m.f_hz, "omega_nondim": m.omega_nondim,
             "field_couplings": m.field_couplings,
+            // run, floquet and stability evolve the even-mode set (docs/user-guide.md)
+            "evolved": m.k % 2 == 0,
         })).collect::<Vec<_>>(),
         "t_star_s": f.t_star,
     })

@@ -83,3 +83,18 @@ fn odd_modes_beyond_the_tables_are_refused_with_a_field() {
     let f = natural_frequencies(&s, 65).unwrap();
     assert_eq!(f.shape.last().map(|m| m.k), Some(65));
 }
+
+/// `modes` lists odd k too (issue 13 part 6), but says which k the time-domain commands evolve:
+/// `evolved` is true exactly for the orders in `run`'s series (the even set up to max_order).
+#[test]
+fn modes_json_says_which_orders_run_evolves() {
+    let s = common::scene(6, 0.0, 1e6);
+    let j = magbubble::cli::modes::modes_json(&s, Some(6), false, "test").unwrap();
+    let header = magbubble::output::series_header(&s);
+    for m in j["shape"].as_array().unwrap() {
+        let k = m["k"].as_u64().unwrap();
+        let in_series = header.contains(&format!("a{k}"));
+        assert_eq!(m["evolved"].as_bool().unwrap(), in_series, "k = {k}: {m}");
+    }
+    assert_eq!(j["shape"].as_array().unwrap().len(), 5);
+}
