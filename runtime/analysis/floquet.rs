@@ -172,6 +172,17 @@ fn check_blocks(dim: usize, blocks: &[Vec<usize>]) -> Result<(), FloquetError> {
     }
 }
 
+/// A monodromy's period must be positive and finite and its step count positive.
+pub(crate) fn check_period_and_steps(period: f64, steps: usize) -> Result<(), FloquetError> {
+    if !(period.is_finite() && period > 0.0) {
+        return Err(FloquetError::BadPeriod { period });
+    }
+    if steps == 0 {
+        return Err(FloquetError::NoSteps { steps });
+    }
+    Ok(())
+}
+
 /// Monodromy X(t0 + T) of x' = A(t) x, X(t0) = I, with `steps` fourth-order Magnus steps.
 ///
 /// The error is O(h⁴) in the smooth parts of A(t); the result is exact for constant A.
@@ -181,12 +192,7 @@ pub fn monodromy(
     period: f64,
     steps: usize,
 ) -> Result<Monodromy, FloquetError> {
-    if !(period.is_finite() && period > 0.0) {
-        return Err(FloquetError::BadPeriod { period });
-    }
-    if steps == 0 {
-        return Err(FloquetError::NoSteps { steps });
-    }
+    check_period_and_steps(period, steps)?;
     let n = sys.dim();
     let blocks = sys.blocks();
     check_blocks(n, &blocks)?;

@@ -83,12 +83,7 @@ impl FullShape<'_> {
         period: f64,
         steps: usize,
     ) -> Result<Monodromy, FloquetError> {
-        if !(period.is_finite() && period > 0.0) {
-            return Err(FloquetError::BadPeriod { period });
-        }
-        if steps == 0 {
-            return Err(FloquetError::NoSteps { steps });
-        }
+        super::floquet::check_period_and_steps(period, steps)?;
         let blocks = self.blocks();
         let matrices = if self.coupled {
             let sys = Monolithic::new(&self.coupling, self.grid.clone());
