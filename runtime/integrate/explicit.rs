@@ -159,18 +159,7 @@ impl Rk4 {
 }
 
 impl super::Stepper for Rk4 {
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
+    super::stepper_state!();
     fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
         let t_grid = self.t0 + (self.i + 1) as f64 * self.dt;
         let t_next = if t_grid >= t_stop - 1e-9 * self.dt { t_stop } else { t_grid };
@@ -353,18 +342,7 @@ impl ExplicitRk {
 }
 
 impl super::Stepper for ExplicitRk {
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
+    super::stepper_state!();
 
     fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
         const SAFE: f64 = 0.9;

@@ -12,6 +12,29 @@
 //! its variational equations (state and fundamental matrix) for Floquet analysis.
 //! See `docs/integrators.md` for the choices and the measurements.
 
+/// The four state accessors of a [`Stepper`] (`t`, `y`, `t_prev`, `stats`) for a stepper that
+/// keeps them in fields of those names; `stepper_state!(s.t)` reads the time from another field.
+macro_rules! stepper_state {
+    () => {
+        stepper_state!(t);
+    };
+    ($($time:ident).+) => {
+        fn t(&self) -> f64 {
+            self.$($time).+
+        }
+        fn y(&self) -> &[f64] {
+            &self.y
+        }
+        fn t_prev(&self) -> f64 {
+            self.t_prev
+        }
+        fn stats(&self) -> $crate::integrate::Stats {
+            self.stats
+        }
+    };
+}
+pub(crate) use stepper_state;
+
 pub mod bordered;
 mod control;
 mod driver;

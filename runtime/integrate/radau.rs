@@ -393,18 +393,7 @@ impl Radau5 {
 }
 
 impl super::Stepper for Radau5 {
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
+    super::stepper_state!();
 
     fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
         let mut last_failure = LastFailure::None;

@@ -106,18 +106,7 @@ impl Rosenbrock23 {
 }
 
 impl super::Stepper for Rosenbrock23 {
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
+    super::stepper_state!();
 
     fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
         let n = self.y.len();

@@ -296,18 +296,7 @@ impl<'c> StaggeredStepper<'c> {
 }
 
 impl Stepper for StaggeredStepper<'_> {
-    fn t(&self) -> f64 {
-        self.s.t
-    }
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
+    crate::integrate::stepper_state!(s.t);
     fn step(&mut self, _sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError> {
         let dt = self.st.dt;
         let h = (t_stop - self.s.t).min(dt);
