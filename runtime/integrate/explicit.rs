@@ -25,6 +25,44 @@ pub(crate) fn rms_scaled(v: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {
     (s / v.len().max(1) as f64).sqrt()
 }
 
+/// f(t0, y0) into `f`, refusing a start where y0 or f is not finite (one rhs evaluation, not
+/// counted here).
+pub(crate) fn checked_rhs(sys: &dyn OdeSystem, t0: f64, y0: &[f64], f: &mut [f64]) -> Result<(), IntegrateError> {
+    sys.rhs(t0, y0, f);
+    match first_non_finite(y0).or_else(|| first_non_finite(f)) {
+        Some(c) => Err(IntegrateError::NonFinite { t: t0, component: c }),
+        None => Ok(()),
+    }
+}
+
+/// The start of an implicit adaptive stepper: f(t0, y0) (checked), the [`initial_step`] for a
+/// method of `order`, the two scratch vectors it used, and the stats of the two rhs calls.
+pub(crate) struct Start {
+    pub f0: Vec<f64>,
+    pub h: f64,
+    pub scratch: (Vec<f64>, Vec<f64>),
+    pub stats: Stats,
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn adaptive_start(
+    sys: &dyn OdeSystem,
+    t0: f64,
+    y0: &[f64],
+    t_end: f64,
+    order: f64,
+    rtol: f64,
+    atol: f64,
+) -> Result<Start, IntegrateError> {
+    let n = y0.len();
+    let mut stats = Stats { rhs_evals: 1, ..Stats::default() };
+    let mut f0 = vec![0.0; n];
+    checked_rhs(sys, t0, y0, &mut f0)?;
+    let (mut w1, mut w2) = (vec![0.0; n], vec![0.0; n]);
+    let h = initial_step(sys, t0, y0, &f0, order, rtol, atol, (t_end - t0).abs(), &mut w1, &mut w2, &mut stats);
+    Ok(Start { f0, h, scratch: (w1, w2), stats })
+}
+
 /// Initial step (Hairer's HINIT): h₀ = 0.01 ‖y‖/‖f‖, then h₁ from a second-derivative estimate
 /// with h₁^order · max(‖f'‖, ‖f‖) = 0.01; h = min(100 h₀, h₁, h_max). Uses one rhs evaluation,
 /// counted in `stats`. `work` has length n.
@@ -138,10 +176,7 @@ impl Rk4 {
     pub fn new(sys: &dyn OdeSystem, t0: f64, y0: &[f64], dt: f64) -> Result<Self, IntegrateError> {
         let n = y0.len();
         let mut f = vec![0.0; n];
-        sys.rhs(t0, y0, &mut f);
-        if let Some(c) = first_non_finite(y0).or_else(|| first_non_finite(&f)) {
-            return Err(IntegrateError::NonFinite { t: t0, component: c });
-        }
+        checked_rhs(sys, t0, y0, &mut f)?;
         Ok(Rk4 {
             dt,
             t0,
@@ -231,10 +266,7 @@ impl ExplicitRk {
         let s = tab.stages();
         let mut k = vec![vec![0.0; n]; s];
         let mut stats = Stats { rhs_evals: 1, ..Stats::default() };
-        sys.rhs(t0, y0, &mut k[0]);
-        if let Some(c) = first_non_finite(y0).or_else(|| first_non_finite(&k[0])) {
-            return Err(IntegrateError::NonFinite { t: t0, component: c });
-        }
+        checked_rhs(sys, t0, y0, &mut k[0])?;
         let mut arg = vec![0.0; n];
         let mut f_new = vec![0.0; n];
         let h = initial_step(sys, t0, y0, &k[0], tab.order as f64, rtol, atol, (t_end - t0).abs(), &mut arg, &mut f_new, &mut stats);

@@ -14,7 +14,7 @@
 //! user tolerances are mapped to rtol' = 0.1 rtol^(2/3), atol' = rtol'·atol/rtol, because the
 //! embedded estimate is of order 3.
 
-use super::explicit::{initial_step, step_too_small, MAX_NON_FINITE};
+use super::explicit::{adaptive_start, step_too_small, Start, MAX_NON_FINITE};
 use super::control::StepController;
 use super::linear::NewtonMatrix;
 use super::{first_non_finite, IntegrateError, OdeSystem, Stats};
@@ -161,14 +161,7 @@ pub struct Radau5 {
 impl Radau5 {
     pub fn new(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, rtol: f64, atol: f64) -> Result<Self, IntegrateError> {
         let n = y0.len();
-        let mut stats = Stats { rhs_evals: 1, ..Stats::default() };
-        let mut f0 = vec![0.0; n];
-        sys.rhs(t0, y0, &mut f0);
-        if let Some(c) = first_non_finite(y0).or_else(|| first_non_finite(&f0)) {
-            return Err(IntegrateError::NonFinite { t: t0, component: c });
-        }
-        let (mut w1, mut w2) = (vec![0.0; n], vec![0.0; n]);
-        let h = initial_step(sys, t0, y0, &f0, 5.0, rtol, atol, (t_end - t0).abs(), &mut w1, &mut w2, &mut stats);
+        let Start { f0, h, stats, .. } = adaptive_start(sys, t0, y0, t_end, 5.0, rtol, atol)?;
         let rtol_i = 0.1 * rtol.powf(2.0 / 3.0);
         let atol_i = rtol_i * atol / rtol;
         let vecs = || std::array::from_fn(|_| vec![0.0; n]);

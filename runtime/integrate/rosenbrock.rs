@@ -14,7 +14,7 @@
 //! safety 0.8, h_new/h ∈ [0.2, 5], h kept when the proposal is within [1, 1.2]).
 
 use super::control::StepController;
-use super::explicit::{initial_step, step_too_small, MAX_NON_FINITE};
+use super::explicit::{adaptive_start, step_too_small, Start, MAX_NON_FINITE};
 use super::linear::NewtonMatrix;
 use super::{first_non_finite, IntegrateError, OdeSystem, Stats};
 use nalgebra::Complex;
@@ -57,14 +57,7 @@ const D: f64 = 0.292_893_218_813_452_4; // 1/(2 + √2)
 impl Rosenbrock23 {
     pub fn new(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, rtol: f64, atol: f64) -> Result<Self, IntegrateError> {
         let n = y0.len();
-        let mut stats = Stats { rhs_evals: 1, ..Stats::default() };
-        let mut f0 = vec![0.0; n];
-        sys.rhs(t0, y0, &mut f0);
-        if let Some(c) = first_non_finite(y0).or_else(|| first_non_finite(&f0)) {
-            return Err(IntegrateError::NonFinite { t: t0, component: c });
-        }
-        let (mut w1, mut w2) = (vec![0.0; n], vec![0.0; n]);
-        let h = initial_step(sys, t0, y0, &f0, 3.0, rtol, atol, (t_end - t0).abs(), &mut w1, &mut w2, &mut stats);
+        let Start { f0, h, scratch: (w1, w2), stats } = adaptive_start(sys, t0, y0, t_end, 3.0, rtol, atol)?;
         let v = || vec![0.0; n];
         Ok(Rosenbrock23 {
             rtol,
