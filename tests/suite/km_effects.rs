@@ -11,6 +11,7 @@
 //! * a driven time series against an independent SI RK4 of KM with γ, κ_s and the Mooney–Rivlin
 //!   radial load written out by hand (paper eq 2.62's membrane term).
 
+use crate::support::rk4_ref::rk4_at_rows;
 use crate::support::jacobian::assert_jacobian_matches_fd;
 use magbubble::coefficients::membrane::viscous;
 use magbubble::model::Model;
@@ -143,23 +144,10 @@ fn keller_miksis_with_dilatational_viscosity_time_series_matches_an_independent_
         let w = 2.0 * std::f64::consts::PI * f;
         let per = 20_000;
         let dt = dur / 100.0 / per as f64;
-        let (mut y, mut t, mut worst, mut span) = ([r0, 0.0], 0.0, 0.0f64, (f64::MAX, 0.0f64));
-        for (i, &(ts, r)) in rows.iter().enumerate() {
-            if i > 0 {
-                for _ in 0..per {
-                    let g = |t: f64, y: [f64; 2]| km_si(t, y, r0, (c1, c2), eps, w);
-                    let k1 = g(t, y);
-                    let k2 = g(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]]);
-                    let k3 = g(t + dt / 2.0, [y[0] + dt / 2.0 * k2[0], y[1] + dt / 2.0 * k2[1]]);
-                    let k4 = g(t + dt, [y[0] + dt * k3[0], y[1] + dt * k3[1]]);
-                    for j in 0..2 {
-                        y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-                    }
-                    t += dt;
-                }
-            }
-            assert!((ts - t).abs() < 1e-9 * dur, "row times {ts} vs {t}");
-            worst = worst.max((r - y[0]).abs() / r0);
+        let reference = rk4_at_rows(|t, y| km_si(t, y, r0, (c1, c2), eps, w), r0, &rows, dt, per, 1e-9 * dur);
+        let (mut worst, mut span) = (0.0f64, (f64::MAX, 0.0f64));
+        for (&(_, r), y) in rows.iter().zip(reference) {
+            worst = worst.max((r - y).abs() / r0);
             span = (span.0.min(r / r0), span.1.max(r / r0));
         }
         eprintln!("R0 = {r0:e}: max |R − R_rk4|/R0 = {worst:.2e}, R/R0 in [{:.4}, {:.4}]", span.0, span.1);

@@ -10,6 +10,7 @@
 //! R0 D ẍ = (P_R/ρ) x + (P_Ṙ/ρ + R0P_R/(ρc)) ẋ,  D = 1 + 4η/(ρcR0), so
 //! ω² = [3κp_g0 − 2γ/R0]/(ρR0² D),  2β = [4η/(ρR0²) + (3κp_g0 − 2γ/R0)/(ρcR0)]/D.
 
+use crate::support::rk4_ref::rk4_at_rows;
 use magbubble::model::effects::shell::{bending_table, surface_tension_table};
 use crate::support::jacobian::assert_jacobian_matches_fd;
 use magbubble::model::Model;
@@ -104,22 +105,10 @@ fn keller_miksis_with_surface_tension_time_series_matches_an_independent_rk4() {
     assert_eq!(rep.status, magbubble::model::RunStatus::Completed);
     let w = 2.0 * std::f64::consts::PI * f;
     let (dt, per) = (1e-11, 10_000);
-    let (mut y, mut t, mut worst, mut rmax) = ([R0, 0.0], 0.0, 0.0f64, 0.0f64);
-    for (i, &(ts, r)) in rows.iter().enumerate() {
-        if i > 0 {
-            for _ in 0..per {
-                let k1 = km_si(t, y, eps, w);
-                let k2 = km_si(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]], eps, w);
-                let k3 = km_si(t + dt / 2.0, [y[0] + dt / 2.0 * k2[0], y[1] + dt / 2.0 * k2[1]], eps, w);
-                let k4 = km_si(t + dt, [y[0] + dt * k3[0], y[1] + dt * k3[1]], eps, w);
-                for j in 0..2 {
-                    y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-                }
-                t += dt;
-            }
-        }
-        assert!((t - ts).abs() < 1e-15, "sample grid");
-        worst = worst.max((r - y[0]).abs() / R0);
+    let reference = rk4_at_rows(|t, y| km_si(t, y, eps, w), R0, &rows, dt, per, 1e-15);
+    let (mut worst, mut rmax) = (0.0f64, 0.0f64);
+    for (&(_, r), y) in rows.iter().zip(reference) {
+        worst = worst.max((r - y).abs() / R0);
         rmax = rmax.max(r / R0);
     }
     eprintln!("KM + γ: max |R − R_rk4|/R0 = {worst:e}, max R/R0 = {rmax}");

@@ -6,6 +6,7 @@
 //! same checks with surface tension (Lamb's ω_k, ω0 with 2γ/R0, KM + γ) are in lamb_modes.rs
 //! and lamb_km.rs.
 
+use crate::support::rk4_ref::rk4_at_rows;
 use crate::support::jacobian::assert_jacobian_matches_fd;
 use magbubble::analysis::frequencies::natural_frequencies;
 use magbubble::model::{simulate, Model, RunStatus};
@@ -107,22 +108,10 @@ fn keller_miksis_time_series_matches_an_independent_rk4() {
     // RK4 at dt = 1e-11 s (sample interval / 1e4).
     let w = 2.0 * std::f64::consts::PI * f;
     let (dt, per) = (1e-11, 10_000);
-    let (mut y, mut t, mut worst, mut rmax) = ([R0, 0.0], 0.0, 0.0f64, 0.0f64);
-    for (i, &(ts, r)) in rows.iter().enumerate() {
-        if i > 0 {
-            for _ in 0..per {
-                let k1 = km_si(t, y, eps, w, pv);
-                let k2 = km_si(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]], eps, w, pv);
-                let k3 = km_si(t + dt / 2.0, [y[0] + dt / 2.0 * k2[0], y[1] + dt / 2.0 * k2[1]], eps, w, pv);
-                let k4 = km_si(t + dt, [y[0] + dt * k3[0], y[1] + dt * k3[1]], eps, w, pv);
-                for j in 0..2 {
-                    y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-                }
-                t += dt;
-            }
-        }
-        assert!((t - ts).abs() < 1e-15, "sample grid");
-        worst = worst.max((r - y[0]).abs() / R0);
+    let reference = rk4_at_rows(|t, y| km_si(t, y, eps, w, pv), R0, &rows, dt, per, 1e-15);
+    let (mut worst, mut rmax) = (0.0f64, 0.0f64);
+    for (&(_, r), y) in rows.iter().zip(reference) {
+        worst = worst.max((r - y).abs() / R0);
         rmax = rmax.max(r / R0);
     }
     assert!(rmax > 1.3, "a nonlinear oscillation (max R/R0 = {rmax})");

@@ -4,3 +4,4 @@ pub mod quadrature;
 pub mod quadrature_h4;
 pub mod jacobian;
 pub mod potential_flow;
+pub mod rk4_ref;
