@@ -13,7 +13,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 
 /// f64 literal tokens (a leading `-` is a separate token).
-fn f(v: f64) -> TokenStream {
+pub(crate) fn f(v: f64) -> TokenStream {
     let lit = Literal::f64_unsuffixed(v.abs());
     if v.is_sign_negative() && v != 0.0 {
         quote!(-#lit)

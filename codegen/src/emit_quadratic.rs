@@ -8,14 +8,7 @@ use crate::Derived;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-fn f(v: f64) -> TokenStream {
-    let lit = Literal::f64_unsuffixed(v.abs());
-    if v.is_sign_negative() && v != 0.0 {
-        quote!(-#lit)
-    } else {
-        quote!(#lit)
-    }
-}
+use crate::emit::f;
 
 /// (l, m, j) of the even-mode set: 2 ≤ l ≤ m ≤ kmax even, j even in the triangle and ≤ kmax.
 fn triples(kmax: usize) -> Vec<(usize, usize, usize)> {
