@@ -61,3 +61,4 @@ mod vorticity_linear;
 mod vorticity_scene;
 mod vorticity_structured;
 mod vorticity_study;
+mod hlb_parametric;
