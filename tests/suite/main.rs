@@ -62,3 +62,4 @@ mod vorticity_scene;
 mod vorticity_structured;
 mod vorticity_study;
 mod hlb_parametric;
+mod fuzz_specs;
