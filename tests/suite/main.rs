@@ -63,3 +63,4 @@ mod vorticity_structured;
 mod vorticity_study;
 mod hlb_parametric;
 mod fuzz_specs;
+mod figure_threads;
