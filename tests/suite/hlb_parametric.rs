@@ -172,6 +172,30 @@ pub fn scene_text(r0: f64) -> String {
     )
 }
 
+/// magbubble's free-bubble (B, A) are, identically, the rational boundary-layer form of the public
+/// code SphericalStability (kalmi901/SphericalStability, SphericalStability_SystemDefinition.cuh):
+/// B = 3Ṙ/R + (2ν/R²)[n(n+2)²/(1 + 2δ/R) − β_n], A = (n−1)R̈/R − β_nσ/(ρR³)
+/// − (2νṘ/R³)[β_n − n(n−1)(n+2)/(1 + 2δ/R)], whose first order in δ/R is HLB's (B_n, A_n).
+#[test]
+fn magbubble_coefficients_are_the_rational_boundary_layer_form() {
+    let beta = (N - 1.0) * (N + 1.0) * (N + 2.0);
+    for (r, v, acc) in [(5e-6, 0.0, 0.0), (2e-6, -300.0, 4e10), (30e-6, 12.0, -3e8), (0.6e-6, 900.0, 1e14)] {
+        let case = Case { r0: 5e-6, eps: 1.0, radial: Radial::Km, shape: Shape::Magbubble };
+        let (b, a) = case.coefficients(r, v, acc);
+        let delta = (NU / omega()).sqrt().min(r / (2.0 * N));
+        let d = 1.0 / (1.0 + 2.0 * delta / r);
+        let b_ss = 3.0 * v / r + 2.0 * NU / (r * r) * (N * (N + 2.0).powi(2) * d - beta);
+        let a_ss = (N - 1.0) * acc / r - beta * SIGMA / (RHO * r.powi(3)) - 2.0 * NU * v / r.powi(3) * (beta - N * (N - 1.0) * (N + 2.0) * d);
+        assert!((b - b_ss).abs() <= 1e-12 * b.abs().max(1.0) && (a - a_ss).abs() <= 1e-12 * a.abs().max(1.0), "R = {r:e}: ({b}, {a}) vs ({b_ss}, {a_ss})");
+        // HLB's linear form differs at second order in δ/R (at the cap δ = R/4: 8 against 18.7 ν/R² at rest)
+        let (b_h, _) = Case { shape: Shape::Hlb, ..case }.coefficients(r, 0.0, 0.0);
+        let (b_m, _) = case.coefficients(r, 0.0, 0.0);
+        if delta == r / (2.0 * N) {
+            assert!((b_h * r * r / NU - 8.0).abs() < 1e-9 && (b_m * r * r / NU - 56.0 / 3.0).abs() < 1e-9, "{b_h} {b_m}");
+        }
+    }
+}
+
 /// magbubble's a_2(t) from rest with a tiny seed against the reference's linear a-equation along
 /// its own radial orbit (same initial value problem): the implementation check.
 #[test]
