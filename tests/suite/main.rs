@@ -45,6 +45,7 @@ mod physics_bl;
 mod quadratic_membrane;
 mod quadratic_oracle;
 mod quadratic_runtime;
+mod quadratic_shell;
 mod plot;
 mod plot_figures;
 mod scene_derived;
