@@ -46,6 +46,7 @@ fn scenes() -> Vec<Scene> {
     v.push(load("scenes/no_field.toml", &["modes.max_order=16", "modes.coupling=\"quadratic\""]).expect("quadratic MR"));
     v.push(load("scenes/no_field.toml", &["modes.max_order=8", "modes.coupling=\"quadratic\"", "shell.form=\"tension\""]).expect("quadratic MR tension"));
     v.push(load("scenes/skalak.toml", &["modes.max_order=8", "modes.coupling=\"quadratic\""]).expect("quadratic Skalak"));
+    v.push(load("scenes/coil_static.toml", &["modes.max_order=8", "modes.coupling=\"quadratic\""]).expect("quadratic with a field"));
     v
 }
 
