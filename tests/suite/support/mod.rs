@@ -6,3 +6,4 @@ pub mod jacobian;
 pub mod potential_flow;
 pub mod rk4_ref;
 pub mod dopri_ref;
+pub mod membrane_loads;
