@@ -103,6 +103,30 @@ impl ModeOperator {
         }
     }
 
+    /// out_i = l_i T_{i−1} + d_i T_i + u_i T_{i+1} over the interior nodes `t` (T_{−1} = T_w = `tw`,
+    /// T_n−2 = 0) with the rows of [`rows`](Self::rows) at (r, rdot, nu), without storing them:
+    /// the same products in the same order, in one branch-free pass.
+    pub fn apply(&self, r: f64, rdot: f64, nu: f64, tw: f64, t: &[f64], out: &mut [f64]) {
+        let m = self.interior();
+        let (t, out) = (&t[..m], &mut out[..m]);
+        let nu_r2 = nu / (r * r);
+        let rr = rdot / r;
+        let ra = rr.abs();
+        let c = |k: &[f64; 3]| nu_r2 * k[0] + rr * k[1] + ra * k[2];
+        let row = |a: &[[f64; 3]; 3], left: f64, mid: f64, right: f64| c(&a[0]) * left + c(&a[1]) * mid + c(&a[2]) * right;
+        if m < 2 {
+            if m == 1 {
+                out[0] = row(&self.affine[0], tw, t[0], 0.0);
+            }
+            return;
+        }
+        out[0] = row(&self.affine[0], tw, t[0], t[1]);
+        for ((o, w), a) in out[1..m - 1].iter_mut().zip(t.windows(3)).zip(&self.affine[1..m - 1]) {
+            *o = row(a, w[0], w[1], w[2]);
+        }
+        out[m - 1] = row(&self.affine[m - 1], t[m - 2], t[m - 1], 0.0);
+    }
+
     /// The exact ∂/∂R and ∂/∂Ṙ of [`rows`](Self::rows) (for the structured Jacobian). |Ṙ| in the
     /// artificial diffusion has no derivative at Ṙ = 0; there the one-sided (Ṙ → 0⁺) one is used.
     pub fn rows_derivatives(&self, r: f64, rdot: f64, nu: f64, d_r: &mut Rows, d_rd: &mut Rows) {

@@ -58,8 +58,21 @@ fn dots<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: &[f64], acc: &mut [
     let m = acc.len();
     acc.fill(T::zero());
     for (vi, wi) in v.chunks_exact(m.max(1)).zip(w.chunks_exact(m.max(1))) {
-        for k in 0..m {
-            acc[k] = acc[k] + vi[k].scale(wi[k]);
+        for ((a, &x), &c) in acc.iter_mut().zip(vi).zip(wi) {
+            *a = *a + x.scale(c);
+        }
+    }
+}
+
+/// [`dots`] with two weight vectors in one pass over `v` (the same sums).
+fn dots2<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: [&[f64]; 2], acc0: &mut [T], acc1: &mut [T]) {
+    let m = acc0.len();
+    acc0.fill(T::zero());
+    acc1.fill(T::zero());
+    for ((vi, wa), wb) in v.chunks_exact(m.max(1)).zip(w[0].chunks_exact(m.max(1))).zip(w[1].chunks_exact(m.max(1))) {
+        for ((((a0, a1), &x), &c0), &c1) in acc0.iter_mut().zip(acc1.iter_mut()).zip(vi).zip(wa).zip(wb) {
+            *a0 = *a0 + x.scale(c0);
+            *a1 = *a1 + x.scale(c1);
         }
     }
 }
@@ -132,7 +145,7 @@ struct Scratch<T: ComplexField<RealField = f64> + Copy> {
     xt: Vec<T>,
     /// right-hand side and solution of the small dense system
     rhs: DVector<T>,
-    /// per mode: a functional of xt, and s_k = δT_w,k
+    /// the 2M functionals P·xt (π ordering), and per mode s_k = δT_w,k
     d: Vec<T>,
     s: Vec<T>,
 }
@@ -270,7 +283,7 @@ impl StructuredJacobian {
         if !small.is_invertible() {
             return None;
         }
-        let scratch = std::cell::RefCell::new(Scratch { xt: vec![T::zero(); ni * m], rhs: DVector::zeros(ns), d: vec![T::zero(); m], s: vec![T::zero(); m] });
+        let scratch = std::cell::RefCell::new(Scratch { xt: vec![T::zero(); ni * m], rhs: DVector::zeros(ns), d: vec![T::zero(); 2 * m], s: vec![T::zero(); m] });
         Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, scratch })
     }
 }
@@ -297,11 +310,10 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
                 rhs[2 + 3 * k + c] = b[2 + k * nb + c];
             }
         }
-        for (kind, w) in j.pw.iter().enumerate() {
-            dots(xt, w, d);
-            for (k, &dk) in d.iter().enumerate() {
-                rhs[nz + kind * m + k] = dk;
-            }
+        let (d0, d1) = d.split_at_mut(m);
+        dots2(xt, [&j.pw[0], &j.pw[1]], d0, d1);
+        for (q, &dq) in d.iter().enumerate() {
+            rhs[nz + q] = dq;
         }
         if !self.small.solve_mut(rhs) {
             b.iter_mut().for_each(|v| *v = T::from_real(f64::NAN));
