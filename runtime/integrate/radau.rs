@@ -54,22 +54,28 @@ pub(crate) struct RadauConsts {
     pub ti: Matrix3<f64>,
 }
 
+/// The coefficient matrix A of Radau IIA with 3 stages (Ehle 1969; HW II, Table IV.5.6).
+fn radau_iia_matrix() -> Matrix3<f64> {
+    let s6 = 6f64.sqrt();
+    Matrix3::new(
+        (88.0 - 7.0 * s6) / 360.0,
+        (296.0 - 169.0 * s6) / 1800.0,
+        (-2.0 + 3.0 * s6) / 225.0,
+        (296.0 + 169.0 * s6) / 1800.0,
+        (88.0 + 7.0 * s6) / 360.0,
+        (-2.0 - 3.0 * s6) / 225.0,
+        (16.0 - s6) / 36.0,
+        (16.0 + s6) / 36.0,
+        1.0 / 9.0,
+    )
+}
+
 impl RadauConsts {
     /// Radau IIA (Ehle 1969) with c = ((4 − √6)/10, (4 + √6)/10, 1) and its coefficient matrix
     /// (HW II, Table IV.5.6); T from the eigenvectors of A⁻¹.
     pub(crate) fn new() -> Self {
         let s6 = 6f64.sqrt();
-        let a = Matrix3::new(
-            (88.0 - 7.0 * s6) / 360.0,
-            (296.0 - 169.0 * s6) / 1800.0,
-            (-2.0 + 3.0 * s6) / 225.0,
-            (296.0 + 169.0 * s6) / 1800.0,
-            (88.0 + 7.0 * s6) / 360.0,
-            (-2.0 - 3.0 * s6) / 225.0,
-            (16.0 - s6) / 36.0,
-            (16.0 + s6) / 36.0,
-            1.0 / 9.0,
-        );
+        let a = radau_iia_matrix();
         let ainv = a.try_inverse().expect("Radau IIA matrix is invertible");
         let (c3, c23) = (3f64.cbrt(), 3f64.powf(2.0 / 3.0));
         let gamma = 3.0 + c23 - c3;
@@ -552,18 +558,7 @@ mod tests {
     #[test]
     fn transformation_block_diagonalises_a_inverse() {
         let k = RadauConsts::new();
-        let s6 = 6f64.sqrt();
-        let a = Matrix3::new(
-            (88.0 - 7.0 * s6) / 360.0,
-            (296.0 - 169.0 * s6) / 1800.0,
-            (-2.0 + 3.0 * s6) / 225.0,
-            (296.0 + 169.0 * s6) / 1800.0,
-            (88.0 + 7.0 * s6) / 360.0,
-            (-2.0 - 3.0 * s6) / 225.0,
-            (16.0 - s6) / 36.0,
-            (16.0 + s6) / 36.0,
-            1.0 / 9.0,
-        );
+        let a = radau_iia_matrix();
         let lam = k.ti * a.try_inverse().unwrap() * k.t;
         let want = Matrix3::new(k.gamma, 0.0, 0.0, 0.0, k.alpha, -k.beta, 0.0, k.beta, k.alpha);
         assert!((lam - want).abs().max() < 1e-12, "{lam}");
