@@ -193,6 +193,16 @@ impl OdeSystem for Radial<'_> {
         dy[0] = y[1];
         dy[1] = self.bl.radial_acceleration(t, z);
     }
+    /// Exact: [[0, 1], ∂R̈/∂(R, Ṙ)] at a_k = b_k = 0 ([`crate::model::equations::Equations::radial_gradient`]).
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
+        let mut z = [0.0; 2 + 3 * 64];
+        let Some(z) = z.get_mut(..self.full) else { return false };
+        z[0] = y[0];
+        z[1] = y[1];
+        let (_, g) = self.bl.equations().radial_gradient(t, z);
+        jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
+        true
+    }
 }
 
 /// R(t), Ṙ(t) on one orbit period, by cubic Hermite interpolation of RK4 grid values.

@@ -9,6 +9,7 @@ mod bordered_lu;
 mod accuracy;
 mod cli_run;
 mod equations_jacobian;
+mod pressure_gradient;
 mod cli_run_real;
 mod cli_signal;
 mod cli_streams;
