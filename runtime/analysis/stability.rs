@@ -258,6 +258,26 @@ impl LinearPeriodic for ShapeSystem<'_> {
         let mut g = nalgebra::DVector::zeros(self.n);
         self.bl.linear_modes_into(t, r, rd, rdd, a, &mut g);
     }
+    /// Without a field each block lies within one mode's (a, ȧ, b): assembled from the mode
+    /// blocks directly ([`BoundaryLayerSystem::linear_mode_blocks_into`], the same entries as
+    /// [`matrix`](Self::matrix)).
+    fn block_matrices(&self, t: f64, blocks: &[Vec<usize>], out: &mut [DMatrix<f64>]) {
+        if self.bl.jacobian_pattern().band > 0 {
+            return self.matrix(t, &mut out[0]);
+        }
+        let (r, rd, rdd) = (self.radial)(t);
+        let mut mb = [[0.0; 9]; crate::model::effects::MAX_MODES];
+        self.bl.linear_mode_blocks_into(t, r, rd, rdd, &mut mb[..self.n / 3]);
+        for (idx, o) in blocks.iter().zip(out) {
+            let base = idx[0] - idx[0] % 3;
+            for (bj, &j) in idx.iter().enumerate() {
+                for (bi, &i) in idx.iter().enumerate() {
+                    debug_assert!(i / 3 == base / 3 && j / 3 == base / 3, "a block spans two modes");
+                    o[(bi, bj)] = mb[base / 3][(j - base) * 3 + (i - base)];
+                }
+            }
+        }
+    }
     fn blocks(&self) -> Vec<Vec<usize>> {
         if self.bl.jacobian_pattern().band > 0 {
             vec![(0..self.n).collect()]
