@@ -181,25 +181,37 @@ impl<'a> Radial<'a> {
     }
 }
 
+impl Radial<'_> {
+    /// `f` of the model state z = [R, Ṙ, 0, …] (a stack buffer: the rhs runs ~10⁵ times per
+    /// orbit, and zeroing only what k ≤ 36 needs saves a memset of the largest size); `None`
+    /// beyond the largest supported state.
+    #[inline]
+    fn at_rest_shape<T>(&self, y: &[f64], f: impl FnOnce(&[f64]) -> T) -> Option<T> {
+        fn fill<const L: usize, T>(full: usize, y: &[f64], f: impl FnOnce(&[f64]) -> T) -> T {
+            let mut z = [0.0; L];
+            z[0] = y[0];
+            z[1] = y[1];
+            f(&z[..full])
+        }
+        match self.full {
+            n if n <= 56 => Some(fill::<56, T>(n, y, f)),
+            n if n <= 2 + 3 * 64 => Some(fill::<{ 2 + 3 * 64 }, T>(n, y, f)),
+            _ => None,
+        }
+    }
+}
+
 impl OdeSystem for Radial<'_> {
     fn dim(&self) -> usize {
         2
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let mut z = [0.0; 2 + 3 * 64];
-        let z = if self.full <= z.len() { &mut z[..self.full] } else { return dy.fill(f64::NAN) };
-        z[0] = y[0];
-        z[1] = y[1];
         dy[0] = y[1];
-        dy[1] = self.bl.radial_acceleration(t, z);
+        dy[1] = self.at_rest_shape(y, |z| self.bl.radial_acceleration(t, z)).unwrap_or(f64::NAN);
     }
     /// Exact: [[0, 1], ∂R̈/∂(R, Ṙ)] at a_k = b_k = 0 ([`crate::model::equations::Equations::radial_gradient`]).
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
-        let mut z = [0.0; 2 + 3 * 64];
-        let Some(z) = z.get_mut(..self.full) else { return false };
-        z[0] = y[0];
-        z[1] = y[1];
-        let (_, g) = self.bl.equations().radial_gradient(t, z);
+        let Some((_, g)) = self.at_rest_shape(y, |z| self.bl.equations().radial_gradient(t, z)) else { return false };
         jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
         true
     }

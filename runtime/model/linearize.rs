@@ -209,13 +209,16 @@ impl BoundaryLayerSystem {
         g.copy_from_slice(&dy[2..]);
         a.fill(0.0);
         let (mut ra, mut rb) = (vec![0.0; n], vec![0.0; n]);
-        for m in 0..self.modes.len() {
+        // R̈ is prescribed, so mode k's rows see only the modes of the terms' band (module doc)
+        let (mm, band) = (self.modes.len(), self.jacobian_pattern().band);
+        for m in 0..mm {
             let i = 3 * m;
             a[(i, i + 1)] = 1.0;
-            self.mode_rows(&y, &l, m, &mut ra, &mut rb);
-            for j in 0..nm {
-                a[(i + 1, j)] = ra[2 + j];
-                a[(i + 2, j)] = rb[2 + j];
+            let cols = a_index(m.saturating_sub(band))..a_index((m + band + 1).min(mm));
+            self.mode_rows_in(&y, &l, m, cols.clone(), &mut ra, &mut rb);
+            for j in cols {
+                a[(i + 1, j - 2)] = ra[j];
+                a[(i + 2, j - 2)] = rb[j];
             }
         }
     }
