@@ -360,10 +360,24 @@ pub struct Prepared<'a> {
     r_range: (f64, f64),
     found_by: String,
     transient: f64,
+    /// The radial orbit (`None` for the paper variant).
+    orbit: Option<PeriodicOrbit>,
 }
 
 /// Finds the radial orbit of `scene` and sets up its shape system.
 pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Result<Prepared<'a>, StabilityError> {
+    prepare_on(model, scene, opts, None)
+}
+
+/// [`prepare`] on a radial orbit already found for the same scene and options (the orbit search
+/// is deterministic, so the result is the same as [`prepare`]'s; the critical search reuses the
+/// orbits of its bracket ends, analysis/critical.rs). `None`: search it.
+pub fn prepare_on<'a>(
+    model: &'a Model,
+    scene: &Scene,
+    opts: &FloquetOptions,
+    known: Option<&PeriodicOrbit>,
+) -> Result<Prepared<'a>, StabilityError> {
     let bl = model.boundary_layer().ok_or(StabilityError::NoShapeModes)?;
     let ts = model.time_scale();
     let freqs = drive_frequencies(scene);
@@ -396,7 +410,10 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
             if gamma.is_finite() && gamma > 0.0 {
                 shooting.transient_time = opts.transient_decay_times / gamma;
             }
-            let orbit = periodic::find_orbit(&radial, 0.0, y0, tp, &shooting)?;
+            let orbit = match known {
+                Some(o) => o.clone(),
+                None => periodic::find_orbit(&radial, 0.0, y0, tp, &shooting)?,
+            };
             let sampled = SampledOrbit::new(&radial, &orbit, shooting.steps_per_period)?;
             let r_range = sampled.y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y[0]), hi.max(y[0])));
             let transient = (shooting.transient_periods as f64 * tp).max((shooting.transient_time / tp).ceil() * tp);
@@ -417,8 +434,9 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
                 drive_period_s,
                 radial_multipliers: orbit.multipliers.iter().map(|z| [z.re, z.im]).collect(),
                 r_range,
-                found_by: orbit.found_by,
+                found_by: orbit.found_by.clone(),
                 transient,
+                orbit: Some(orbit),
             })
         }
         Variant::Paper => {
@@ -439,6 +457,7 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
                 r_range: (1.0, 1.0),
                 found_by: String::new(),
                 transient: 0.0,
+                orbit: None,
             })
         }
     }
@@ -469,6 +488,11 @@ impl Prepared<'_> {
                 Ok(full.monodromy(&radial, 0.0, self.period, steps)?.spectrum())
             }
         }
+    }
+
+    /// The radial orbit the shape system runs along (`None` for the paper variant).
+    pub fn orbit(&self) -> Option<&PeriodicOrbit> {
+        self.orbit.as_ref()
     }
 
     /// The orbit's minimal period in drive periods.
