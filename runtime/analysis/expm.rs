@@ -7,7 +7,8 @@
 //! approximant itself (issue 16, row 3). The 2005 choice may scale once more than needed for a
 //! very non-normal matrix; the result agrees with nalgebra's to 1e-13 relative (unit test).
 
-use nalgebra::DMatrix;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DMatrix, DefaultAllocator, Dim, OMatrix};
 
 const THETA: [(usize, f64); 4] =
     [(3, 1.495585217958292e-2), (5, 2.539398330063230e-1), (7, 9.504178996162932e-1), (9, 2.097847961257068)];
@@ -35,15 +36,28 @@ const B13: [f64; 14] = [
     1.0,
 ];
 
-fn norm1(a: &DMatrix<f64>) -> f64 {
+fn norm1<D: Dim>(a: &OMatrix<f64, D, D>) -> f64
+where
+    DefaultAllocator: Allocator<D, D>,
+{
     a.column_iter().map(|c| c.iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max)
 }
 
 /// exp(A) for a square matrix with finite entries.
 pub fn expm(a: &DMatrix<f64>) -> DMatrix<f64> {
-    let n = a.nrows();
+    expm_generic(a)
+}
+
+/// [`expm`] for any nalgebra dimension: the fixed sizes (the 3 × 3 mode blocks of a Floquet
+/// step without a field) stay on the stack. The same operations in the same order as the
+/// dynamic size.
+pub fn expm_generic<D: Dim>(a: &OMatrix<f64, D, D>) -> OMatrix<f64, D, D>
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    let (d, _) = a.shape_generic();
     let eta = norm1(a);
-    let id = DMatrix::<f64>::identity(n, n);
+    let id = OMatrix::<f64, D, D>::identity_generic(d, d);
     let a2 = a * a;
     // Low degrees: U = A Σ b_{2j+1} A^{2j}, V = Σ b_{2j} A^{2j}.
     for &(m, theta) in &THETA {
@@ -84,7 +98,10 @@ pub fn expm(a: &DMatrix<f64>) -> DMatrix<f64> {
 
 /// (V − U)⁻¹ (V + U) by Gaussian elimination with partial pivoting, column-oriented on the
 /// column-major storage (every inner loop runs down a contiguous column).
-fn pade_solve(u: &DMatrix<f64>, v: &DMatrix<f64>) -> DMatrix<f64> {
+fn pade_solve<D: Dim>(u: &OMatrix<f64, D, D>, v: &OMatrix<f64, D, D>) -> OMatrix<f64, D, D>
+where
+    DefaultAllocator: Allocator<D, D>,
+{
     let n = u.nrows();
     let mut pm = v - u;
     let mut qm = v + u;
@@ -159,6 +176,14 @@ mod tests {
             let theirs = a.clone().exp();
             let err = (&ours - &theirs).norm() / theirs.norm();
             assert!(err < 1e-13, "‖A‖₁ = {}: relative difference {err:e}", norm1(&a));
+        }
+        // The stack-allocated 3 × 3 path (the mode blocks of a field-free Floquet step).
+        let b3 = nalgebra::Matrix3::from_fn(|i, j| base[(i, j)]);
+        for scale in [1e-3, 0.1, 1.0, 5.0, 60.0] {
+            let a = b3 * (scale / norm1(&b3));
+            let (ours, theirs) = (expm_generic(&a), a.exp());
+            let err = (ours - theirs).norm() / theirs.norm();
+            assert!(err < 1e-13, "3 × 3, ‖A‖₁ = {scale}: relative difference {err:e}");
         }
         // A diagonal matrix with a stiff entry (exp(−30) after 3 squarings: 4e-14 relative).
         let d = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![-30.0, 0.5, 1e-3]));

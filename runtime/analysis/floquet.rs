@@ -16,7 +16,8 @@
 //! Blocks of the state that A(t) never couples (the shape modes without a field) are propagated
 //! separately, which turns one n×n exponential into n/3 exponentials of 3×3 matrices.
 
-use nalgebra::{Complex, DMatrix, DVector, Matrix3};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Complex, DMatrix, DVector, DefaultAllocator, OMatrix, SMatrix};
 
 /// A linear system x' = A(t) x whose matrix is periodic (the period is given to [`monodromy`]).
 pub trait LinearPeriodic {
@@ -28,6 +29,25 @@ pub trait LinearPeriodic {
     /// group). Default: a single group holding the whole state.
     fn blocks(&self) -> Vec<Vec<usize>> {
         vec![(0..self.dim()).collect()]
+    }
+    /// Writes A(t) restricted to each block of `blocks` (as returned by
+    /// [`blocks`](Self::blocks)) into `out` (one |b| × |b| matrix per block, already sized).
+    /// Default: the dense [`matrix`](Self::matrix), restricted; a system whose blocks it can
+    /// assemble directly overrides this (the shape modes without a field: O(M) instead of O(M²)).
+    fn block_matrices(&self, t: f64, blocks: &[Vec<usize>], out: &mut [DMatrix<f64>]) {
+        let n = self.dim();
+        if blocks.len() == 1 && blocks[0].iter().enumerate().all(|(i, &j)| i == j) {
+            return self.matrix(t, &mut out[0]);
+        }
+        let mut a = DMatrix::zeros(n, n);
+        self.matrix(t, &mut a);
+        for (idx, o) in blocks.iter().zip(out) {
+            for (bj, &j) in idx.iter().enumerate() {
+                for (bi, &i) in idx.iter().enumerate() {
+                    o[(bi, bj)] = a[(i, j)];
+                }
+            }
+        }
     }
 }
 
@@ -215,17 +235,17 @@ pub fn monodromy(
         blocks.iter().map(|b| DMatrix::identity(b.len(), b.len())).collect();
     let h = period / steps as f64;
     let c = 3f64.sqrt() / 6.0;
-    let mut a1 = DMatrix::zeros(n, n);
-    let mut a2 = DMatrix::zeros(n, n);
+    let mut a1: Vec<DMatrix<f64>> = blocks.iter().map(|b| DMatrix::zeros(b.len(), b.len())).collect();
+    let mut a2 = a1.clone();
     for s in 0..steps {
         let t = t0 + s as f64 * h;
         let (ta, tb) = (t + (0.5 - c) * h, t + (0.5 + c) * h);
-        sys.matrix(ta, &mut a1);
-        check_finite(&a1, ta)?;
-        sys.matrix(tb, &mut a2);
-        check_finite(&a2, tb)?;
-        for (b, idx) in blocks.iter().enumerate() {
-            x[b] = step_block(&a1, &a2, idx, h) * &x[b];
+        sys.block_matrices(ta, &blocks, &mut a1);
+        check_finite(&a1, &blocks, ta)?;
+        sys.block_matrices(tb, &blocks, &mut a2);
+        check_finite(&a2, &blocks, tb)?;
+        for b in 0..blocks.len() {
+            step_block(&a1[b], &a2[b], h, &mut x[b]);
         }
     }
     for (b, m) in x.iter().enumerate() {
@@ -236,28 +256,44 @@ pub fn monodromy(
     Ok(Monodromy { dim: n, blocks, matrices: x })
 }
 
-fn check_finite(a: &DMatrix<f64>, t: f64) -> Result<(), FloquetError> {
-    match a.iter().position(|v| !v.is_finite()) {
-        None => Ok(()),
-        Some(p) => Err(FloquetError::NonFiniteMatrix { t, row: p % a.nrows(), col: p / a.nrows() }),
+fn check_finite(a: &[DMatrix<f64>], blocks: &[Vec<usize>], t: f64) -> Result<(), FloquetError> {
+    for (m, idx) in a.iter().zip(blocks) {
+        if let Some(p) = m.iter().position(|v| !v.is_finite()) {
+            return Err(FloquetError::NonFiniteMatrix { t, row: idx[p % m.nrows()], col: idx[p / m.nrows()] });
+        }
+    }
+    Ok(())
+}
+
+/// One Magnus step of one block: X ← exp(Ω) X, Ω from the block's A at the two Gauss nodes.
+/// Blocks of 1, 2 or 3 states (the shape modes without a field) use stack-allocated matrices.
+fn step_block(a1: &DMatrix<f64>, a2: &DMatrix<f64>, h: f64, x: &mut DMatrix<f64>) {
+    match a1.nrows() {
+        1 => step_fixed::<1>(a1, a2, h, x),
+        2 => step_fixed::<2>(a1, a2, h, x),
+        3 => step_fixed::<3>(a1, a2, h, x),
+        _ => {
+            let omega = magnus_omega(a1, a2, h);
+            *x = super::expm::expm(&omega) * &*x;
+        }
     }
 }
 
-/// exp(Ω) for one block (3 × 3 blocks use the stack-allocated path).
-fn step_block(a1: &DMatrix<f64>, a2: &DMatrix<f64>, idx: &[usize], h: f64) -> DMatrix<f64> {
+/// Ω = h/2 (A₁ + A₂) + (√3 h²/12) [A₂, A₁] (module doc).
+fn magnus_omega<D: nalgebra::Dim>(p: &OMatrix<f64, D, D>, q: &OMatrix<f64, D, D>, h: f64) -> OMatrix<f64, D, D>
+where
+    DefaultAllocator: Allocator<D, D>,
+{
     let k = 3f64.sqrt() * h * h / 12.0;
-    if idx.len() == 3 {
-        let p = Matrix3::from_fn(|i, j| a1[(idx[i], idx[j])]);
-        let q = Matrix3::from_fn(|i, j| a2[(idx[i], idx[j])]);
-        let omega = (p + q) * (0.5 * h) + (q * p - p * q) * k;
-        let e = omega.exp();
-        return DMatrix::from_fn(3, 3, |i, j| e[(i, j)]);
-    }
-    let m = idx.len();
-    let p = DMatrix::from_fn(m, m, |i, j| a1[(idx[i], idx[j])]);
-    let q = DMatrix::from_fn(m, m, |i, j| a2[(idx[i], idx[j])]);
-    let omega = (&p + &q) * (0.5 * h) + (&q * &p - &p * &q) * k;
-    super::expm::expm(&omega)
+    (p + q) * (0.5 * h) + (q * p - p * q) * k
+}
+
+fn step_fixed<const N: usize>(a1: &DMatrix<f64>, a2: &DMatrix<f64>, h: f64, x: &mut DMatrix<f64>) {
+    let p = SMatrix::<f64, N, N>::from_column_slice(a1.as_slice());
+    let q = SMatrix::<f64, N, N>::from_column_slice(a2.as_slice());
+    let e = super::expm::expm_generic(&magnus_omega(&p, &q, h));
+    let y = e * SMatrix::<f64, N, N>::from_column_slice(x.as_slice());
+    x.as_mut_slice().copy_from_slice(y.as_slice());
 }
 
 #[cfg(test)]

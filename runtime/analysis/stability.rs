@@ -181,17 +181,39 @@ impl<'a> Radial<'a> {
     }
 }
 
+impl Radial<'_> {
+    /// `f` of the model state z = [R, Ṙ, 0, …] (a stack buffer: the rhs runs ~10⁵ times per
+    /// orbit, and zeroing only what k ≤ 36 needs saves a memset of the largest size); `None`
+    /// beyond the largest supported state.
+    #[inline]
+    fn at_rest_shape<T>(&self, y: &[f64], f: impl FnOnce(&[f64]) -> T) -> Option<T> {
+        fn fill<const L: usize, T>(full: usize, y: &[f64], f: impl FnOnce(&[f64]) -> T) -> T {
+            let mut z = [0.0; L];
+            z[0] = y[0];
+            z[1] = y[1];
+            f(&z[..full])
+        }
+        match self.full {
+            n if n <= 56 => Some(fill::<56, T>(n, y, f)),
+            n if n <= 2 + 3 * 64 => Some(fill::<{ 2 + 3 * 64 }, T>(n, y, f)),
+            _ => None,
+        }
+    }
+}
+
 impl OdeSystem for Radial<'_> {
     fn dim(&self) -> usize {
         2
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let mut z = [0.0; 2 + 3 * 64];
-        let z = if self.full <= z.len() { &mut z[..self.full] } else { return dy.fill(f64::NAN) };
-        z[0] = y[0];
-        z[1] = y[1];
         dy[0] = y[1];
-        dy[1] = self.bl.radial_acceleration(t, z);
+        dy[1] = self.at_rest_shape(y, |z| self.bl.radial_acceleration(t, z)).unwrap_or(f64::NAN);
+    }
+    /// Exact: [[0, 1], ∂R̈/∂(R, Ṙ)] at a_k = b_k = 0 ([`crate::model::equations::Equations::radial_gradient`]).
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
+        let Some((_, g)) = self.at_rest_shape(y, |z| self.bl.equations().radial_gradient(t, z)) else { return false };
+        jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
+        true
     }
 }
 
@@ -247,6 +269,26 @@ impl LinearPeriodic for ShapeSystem<'_> {
         let (r, rd, rdd) = (self.radial)(t);
         let mut g = nalgebra::DVector::zeros(self.n);
         self.bl.linear_modes_into(t, r, rd, rdd, a, &mut g);
+    }
+    /// Without a field each block lies within one mode's (a, ȧ, b): assembled from the mode
+    /// blocks directly ([`BoundaryLayerSystem::linear_mode_blocks_into`], the same entries as
+    /// [`matrix`](Self::matrix)).
+    fn block_matrices(&self, t: f64, blocks: &[Vec<usize>], out: &mut [DMatrix<f64>]) {
+        if self.bl.jacobian_pattern().band > 0 {
+            return self.matrix(t, &mut out[0]);
+        }
+        let (r, rd, rdd) = (self.radial)(t);
+        let mut mb = [[0.0; 9]; crate::model::effects::MAX_MODES];
+        self.bl.linear_mode_blocks_into(t, r, rd, rdd, &mut mb[..self.n / 3]);
+        for (idx, o) in blocks.iter().zip(out) {
+            let base = idx[0] - idx[0] % 3;
+            for (bj, &j) in idx.iter().enumerate() {
+                for (bi, &i) in idx.iter().enumerate() {
+                    debug_assert!(i / 3 == base / 3 && j / 3 == base / 3, "a block spans two modes");
+                    o[(bi, bj)] = mb[base / 3][(j - base) * 3 + (i - base)];
+                }
+            }
+        }
     }
     fn blocks(&self) -> Vec<Vec<usize>> {
         if self.bl.jacobian_pattern().band > 0 {
@@ -318,10 +360,24 @@ pub struct Prepared<'a> {
     r_range: (f64, f64),
     found_by: String,
     transient: f64,
+    /// The radial orbit (`None` for the paper variant).
+    orbit: Option<PeriodicOrbit>,
 }
 
 /// Finds the radial orbit of `scene` and sets up its shape system.
 pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Result<Prepared<'a>, StabilityError> {
+    prepare_on(model, scene, opts, None)
+}
+
+/// [`prepare`] on a radial orbit already found for the same scene and options (the orbit search
+/// is deterministic, so the result is the same as [`prepare`]'s; the critical search reuses the
+/// orbits of its bracket ends, analysis/critical.rs). `None`: search it.
+pub fn prepare_on<'a>(
+    model: &'a Model,
+    scene: &Scene,
+    opts: &FloquetOptions,
+    known: Option<&PeriodicOrbit>,
+) -> Result<Prepared<'a>, StabilityError> {
     let bl = model.boundary_layer().ok_or(StabilityError::NoShapeModes)?;
     let ts = model.time_scale();
     let freqs = drive_frequencies(scene);
@@ -354,7 +410,10 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
             if gamma.is_finite() && gamma > 0.0 {
                 shooting.transient_time = opts.transient_decay_times / gamma;
             }
-            let orbit = periodic::find_orbit(&radial, 0.0, y0, tp, &shooting)?;
+            let orbit = match known {
+                Some(o) => o.clone(),
+                None => periodic::find_orbit(&radial, 0.0, y0, tp, &shooting)?,
+            };
             let sampled = SampledOrbit::new(&radial, &orbit, shooting.steps_per_period)?;
             let r_range = sampled.y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y[0]), hi.max(y[0])));
             let transient = (shooting.transient_periods as f64 * tp).max((shooting.transient_time / tp).ceil() * tp);
@@ -375,8 +434,9 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
                 drive_period_s,
                 radial_multipliers: orbit.multipliers.iter().map(|z| [z.re, z.im]).collect(),
                 r_range,
-                found_by: orbit.found_by,
+                found_by: orbit.found_by.clone(),
                 transient,
+                orbit: Some(orbit),
             })
         }
         Variant::Paper => {
@@ -397,6 +457,7 @@ pub fn prepare<'a>(model: &'a Model, scene: &Scene, opts: &FloquetOptions) -> Re
                 r_range: (1.0, 1.0),
                 found_by: String::new(),
                 transient: 0.0,
+                orbit: None,
             })
         }
     }
@@ -427,6 +488,11 @@ impl Prepared<'_> {
                 Ok(full.monodromy(&radial, 0.0, self.period, steps)?.spectrum())
             }
         }
+    }
+
+    /// The radial orbit the shape system runs along (`None` for the paper variant).
+    pub fn orbit(&self) -> Option<&PeriodicOrbit> {
+        self.orbit.as_ref()
     }
 
     /// The orbit's minimal period in drive periods.

@@ -141,6 +141,21 @@ impl Equations {
         self.rate(0.0, &z).0.has_bdot()
     }
 
+    /// R̈ and its exact ∂R̈/∂(R, Ṙ) at (t, z) with the shape amplitudes of z held fixed (the
+    /// radial equation along a frozen shape, as [`radial_acceleration`](Self::radial_acceleration)):
+    /// the terms' pressure gradients ([`Term::add_pressure_gradient`]) through the radial form.
+    pub fn radial_gradient(&self, t: f64, z: &[f64]) -> (f64, [f64; 2]) {
+        let p = self.loads(t, z, &mut [], &mut []);
+        let at = At { t, z };
+        let mut dp = [0.0; 2];
+        for term in &self.terms {
+            term.add_pressure_gradient(&at, &mut dp);
+        }
+        let mut g = [0.0; 2];
+        self.acceleration_gradient_at(t, z, p, &dp, &mut g);
+        (self.acceleration_at(t, z, p), g)
+    }
+
     /// ∂R̈/∂z (length of `grad`) at (t, z) given P and its gradient: the chain rule through P and,
     /// for a form that needs it, through the rate (q, s); the shape frozen (ḃ = 0, as
     /// [`acceleration_at`](Self::acceleration_at)).

@@ -104,6 +104,12 @@ impl BoundaryLayerSystem {
 
     /// Rows of (ä, ḃ) of mode index m as gradients over y (length n): `out_a`, `out_b`.
     fn mode_rows(&self, y: &[f64], l: &Lin, m: usize, out_a: &mut [f64], out_b: &mut [f64]) {
+        self.mode_rows_in(y, l, m, 0..y.len(), out_a, out_b)
+    }
+
+    /// [`mode_rows`](Self::mode_rows) in the columns `cols` only (the rest of `out_a`, `out_b`
+    /// untouched): either all columns from 0, or a range of shape columns (≥ 2) holding mode m's.
+    fn mode_rows_in(&self, y: &[f64], l: &Lin, m: usize, cols: std::ops::Range<usize>, out_a: &mut [f64], out_b: &mut [f64]) {
         use var::*;
         let p = &self.eq.params;
         let mc = &self.modes[m];
@@ -118,12 +124,15 @@ impl BoundaryLayerSystem {
         // ḃ loads (cn, ct, cn_r, ct_r, ḃ): at fixed ḃ they add ḃ·(cn_r, ct_r) to the R column
         let c = l.bdot.as_ref().map(|v| v[m]);
         let (cn_r_b, ct_r_b) = c.map_or((0.0, 0.0), |c| (c[2] * c[4], c[3] * c[4]));
+        debug_assert!(cols.start == 0 || (cols.start >= 2 && cols.contains(&i) && cols.contains(&(i + 2))));
         for (out, d) in [(&mut *out_a, &da), (&mut *out_b, &db)] {
-            for j in 0..out.len() {
+            for j in cols.clone() {
                 out[j] = d[RDD] * l.drdd[j] + d[GN] * gn_row[j] + d[GT] * gt_row[j];
             }
-            out[0] += d[R] + d[GN] * cn_r_b + d[GT] * ct_r_b;
-            out[1] += d[RD];
+            if cols.start == 0 {
+                out[0] += d[R] + d[GN] * cn_r_b + d[GT] * ct_r_b;
+                out[1] += d[RD];
+            }
             out[i] += d[A];
             out[i + 1] += d[AD];
             out[i + 2] += d[B];
@@ -133,7 +142,7 @@ impl BoundaryLayerSystem {
         if let Some(c) = c {
             let den = 1.0 - db[GN] * c[0] - db[GT] * c[1];
             let via = da[GN] * c[0] + da[GT] * c[1];
-            for j in 0..out_b.len() {
+            for j in cols {
                 out_b[j] /= den;
                 out_a[j] += via * out_b[j];
             }
@@ -167,6 +176,26 @@ impl BoundaryLayerSystem {
         (a, g)
     }
 
+    /// The diagonal 3 × 3 blocks of [`linear_modes`](Self::linear_modes)'s A: mode m's (a, ȧ, b)
+    /// rows in its own columns, column-major in `out[m]` (the same operations as the dense
+    /// assembly, entry for entry). Without a field (pattern band 0) they are all of A, and
+    /// assembling them costs O(M) instead of O(M²) (issue 16: the Floquet monodromy's blocks).
+    pub fn linear_mode_blocks_into(&self, t: f64, r: f64, rd: f64, rdd: f64, out: &mut [[f64; 9]]) {
+        let nm = self.modes.len();
+        let n = 2 + 3 * nm;
+        let mut y = [0.0; 2 + 3 * MAX_MODES];
+        let y = &mut y[..n];
+        y[0] = r;
+        y[1] = rd;
+        let l = self.lin(t, y, Some(rdd));
+        let (mut ra, mut rb) = ([0.0; 2 + 3 * MAX_MODES], [0.0; 2 + 3 * MAX_MODES]);
+        for (m, o) in out.iter_mut().enumerate().take(nm) {
+            let i = a_index(m);
+            self.mode_rows_in(y, &l, m, i..i + 3, &mut ra[..n], &mut rb[..n]);
+            *o = [0.0, ra[i], rb[i], 1.0, ra[i + 1], rb[i + 1], 0.0, ra[i + 2], rb[i + 2]];
+        }
+    }
+
     /// [`linear_modes`](Self::linear_modes) into sized buffers (A: 3M × 3M, g: 3M).
     pub fn linear_modes_into(&self, t: f64, r: f64, rd: f64, rdd: f64, a: &mut DMatrix<f64>, g: &mut DVector<f64>) {
         let nm = 3 * self.modes.len();
@@ -180,13 +209,16 @@ impl BoundaryLayerSystem {
         g.copy_from_slice(&dy[2..]);
         a.fill(0.0);
         let (mut ra, mut rb) = (vec![0.0; n], vec![0.0; n]);
-        for m in 0..self.modes.len() {
+        // R̈ is prescribed, so mode k's rows see only the modes of the terms' band (module doc)
+        let (mm, band) = (self.modes.len(), self.jacobian_pattern().band);
+        for m in 0..mm {
             let i = 3 * m;
             a[(i, i + 1)] = 1.0;
-            self.mode_rows(&y, &l, m, &mut ra, &mut rb);
-            for j in 0..nm {
-                a[(i + 1, j)] = ra[2 + j];
-                a[(i + 2, j)] = rb[2 + j];
+            let cols = a_index(m.saturating_sub(band))..a_index((m + band + 1).min(mm));
+            self.mode_rows_in(&y, &l, m, cols.clone(), &mut ra, &mut rb);
+            for j in cols {
+                a[(i + 1, j - 2)] = ra[j];
+                a[(i + 2, j - 2)] = rb[j];
             }
         }
     }

@@ -9,6 +9,8 @@ mod bordered_lu;
 mod accuracy;
 mod cli_run;
 mod equations_jacobian;
+mod pressure_gradient;
+mod floquet_blocks;
 mod cli_run_real;
 mod cli_signal;
 mod cli_streams;

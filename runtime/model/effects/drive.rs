@@ -39,6 +39,7 @@ impl Term for FarField {
         loads.pressure -= self.p_inf(at.t);
     }
     fn add_jacobian(&self, _at: &At<'_>, _jac: &mut LoadJacobian) {}
+    fn add_pressure_gradient(&self, _at: &At<'_>, _dp: &mut [f64; 2]) {}
     /// q = −dp∞/dt (the driving pressure's time derivative in the radiation term).
     fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
         rate.q -= self.p_inf_dt(at.t);

@@ -25,6 +25,10 @@ impl Term for PolytropicGas {
         let p_in = self.pg0 * (self.r0 / r).powf(self.three_kappa);
         jac.pressure[0] -= self.three_kappa * p_in / r;
     }
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        let r = at.r();
+        dp[0] -= self.three_kappa * self.pg0 * (self.r0 / r).powf(self.three_kappa) / r;
+    }
     /// q = −3κ p_in Ṙ/R, s = 0.
     fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
         let (r, rd, n) = (at.r(), at.rdot(), self.three_kappa);

@@ -43,6 +43,15 @@ impl Term for MagneticTerm {
         self.loads.add_radial_rate(at.t, at.z, 1.0, rate);
         true
     }
+    /// The row-0 gradient into a stack buffer (M0 depends on R and, with a field, on a_2, b_2 …).
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        let l = &self.loads;
+        let f = l.factors(at.t, at.r());
+        let mut g = [0.0; 2 + 3 * super::MAX_MODES];
+        l.add_row_gradient(&f, 0, at.z, true, 1.0, &mut g[..at.z.len()]);
+        dp[0] += g[0];
+        dp[1] += g[1];
+    }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let l = &self.loads;
         let f = l.factors(at.t, at.r());

@@ -64,6 +64,9 @@ impl Term for MembraneTerm {
             loads.gt[m] += s.s11 * a + s.s12 * b;
         }
     }
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        dp[0] -= (self.law.s0_dr)(at.r(), self.r0, self.c1, self.c2);
+    }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let r = at.r();
         let n = jac.n;

@@ -196,6 +196,17 @@ pub trait Term: std::fmt::Debug {
     }
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>);
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian);
+    /// Adds the exact ∂P/∂R, ∂P/∂Ṙ of the term's share of the radial pressure at `at` (the
+    /// shape amplitudes held fixed) to `dp`: the 2 × 2 radial Jacobian of the periodic-orbit
+    /// search (runtime/analysis/periodic.rs) without a full [`LoadJacobian`]. The default takes
+    /// them from [`add_jacobian`](Term::add_jacobian) over z's modes; a term overrides it with
+    /// the same expressions (equality property-tested: tests/suite/pressure_gradient.rs).
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        let mut jac = LoadJacobian::new(at.z.len().saturating_sub(2) / 3);
+        self.add_jacobian(at, &mut jac);
+        dp[0] += jac.pressure[0];
+        dp[1] += jac.pressure[1];
+    }
     /// Half-width, in modes, of the coupling of the shape loads (0: mode k sees only itself;
     /// 1: k ± 2). Describes the Jacobian's band (docs/architecture.md, "Jacobian structure").
     fn band(&self) -> usize {

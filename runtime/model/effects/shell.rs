@@ -78,6 +78,9 @@ impl Term for OneConstant {
             loads.gt[m] += s11(r, r0, v, k) * a + s12(r, r0, v, k) * b;
         }
     }
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        dp[0] -= (self.table.dr.0)(at.r(), self.r0, self.value);
+    }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let (r, v, r0, n) = (at.r(), self.value, self.r0, jac.n);
         let (s0, [s1, s2, s11, s12]) = self.table.s;
@@ -146,6 +149,12 @@ impl Term for ShellViscosity {
             loads.gn[m] += v::s1(r, r0, rd, mu, ks, k) * a + v::s2(r, r0, rd, mu, ks, k) * b + v::s1d(r, r0, rd, mu, ks, k) * ad;
             loads.gt[m] += v::s11(r, r0, rd, mu, ks, k) * a + v::s12(r, r0, rd, mu, ks, k) * b + v::s11d(r, r0, rd, mu, ks, k) * ad;
         }
+    }
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        use viscous::tension as v;
+        let (r, rd, r0, mu, ks) = (at.r(), at.rdot(), self.r0, self.mu_s, self.kappa_s);
+        dp[0] -= v::s0_dr(r, r0, rd, mu, ks);
+        dp[1] -= v::s0(r, r0, 1.0, mu, ks);
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         use viscous::tension as v;

@@ -22,6 +22,7 @@ impl Term for VapourPressure {
         loads.pressure += self.pv;
     }
     fn add_jacobian(&self, _at: &At<'_>, _jac: &mut LoadJacobian) {}
+    fn add_pressure_gradient(&self, _at: &At<'_>, _dp: &mut [f64; 2]) {}
     /// Constant: no rate.
     fn add_rate(&self, _at: &At<'_>, _rate: &mut PressureRate) -> bool {
         true

@@ -22,6 +22,11 @@ impl Term for LiquidViscosity {
         jac.pressure[0] += 4.0 * self.eta * rd / (r * r);
         jac.pressure[1] -= 4.0 * self.eta / r;
     }
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        let (r, rd) = (at.r(), at.rdot());
+        dp[0] += 4.0 * self.eta * rd / (r * r);
+        dp[1] -= 4.0 * self.eta / r;
+    }
     /// P = −4ηṘ/R: q = ∂P/∂R Ṙ = 4ηṘ²/R², s = ∂P/∂Ṙ = −4η/R.
     fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
         let (r, rd, e) = (at.r(), at.rdot(), 4.0 * self.eta);

@@ -1,0 +1,115 @@
+//! The terms' pressure-only gradients (`Term::add_pressure_gradient`, issue 16: the exact 2 × 2
+//! radial Jacobian of the periodic-orbit search) against the pressure row of their full
+//! `add_jacobian`, and the stability search's radial Jacobian against central differences of
+//! its right-hand side (random states; proptest, failures persist in
+//! tests/suite/proptest-regressions/pressure_gradient.txt).
+
+use magbubble::analysis::stability::Radial;
+use magbubble::integrate::OdeSystem;
+use magbubble::model::effects::{At, LoadJacobian};
+use magbubble::model::Model;
+use magbubble::scene::{load, Scene};
+use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
+
+/// Every shipped field, both membrane forms, every optional shell and gas term, Keller–Miksis
+/// with and without a field, the quadratic coupling (modes up to k = 16).
+fn scenes() -> Vec<Scene> {
+    let with = |s: &str, over: &[&str]| {
+        let mut o = vec!["modes.max_order=16"];
+        o.extend_from_slice(over);
+        load(format!("scenes/{s}.toml"), &o).expect("shipped scene")
+    };
+    vec![
+        with("no_field", &[]),
+        with("coil_static", &[]),
+        with("coil_ac_current", &[]),
+        with("coil_oscillating_distance", &[]),
+        with("dipole", &[]),
+        with("coil_h4", &[]),
+        with("coil_static", &["shell.form=\"tension\"", "shell.surface_tension=0.03", "shell.bending_modulus=1e-18"]),
+        with("no_field", &["shell.shear_viscosity=1e-9", "shell.dilatational_viscosity=2e-9", "gas.vapour_pressure=2300"]),
+        with("keller_miksis", &[]),
+        with("coil_static", &["liquid.sound_speed=1500"]),
+        with("free_bubble", &["shell.surface_tension=0.072", "modes.coupling=\"quadratic\""]),
+    ]
+}
+
+const SCENES: usize = 11;
+
+fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases,
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(
+            "tests/suite/proptest-regressions/pressure_gradient.txt",
+        ))),
+        ..ProptestConfig::default()
+    }
+}
+
+/// A random state near the sphere with shape amplitudes ~ 1e-2 (M = 8 modes).
+fn state() -> impl Strategy<Value = (f64, Vec<f64>)> {
+    (0.0..30.0f64, 0.6..1.6f64, -0.5..0.5f64, prop::collection::vec(-1e-2..1e-2f64, 3 * 8)).prop_map(|(t, r, rd, x)| {
+        let mut y = vec![r, rd];
+        y.extend(x);
+        (t, y)
+    })
+}
+
+#[test]
+fn the_scene_list_is_complete() {
+    assert_eq!(scenes().len(), SCENES);
+}
+
+proptest! {
+    #![proptest_config(config(32))]
+
+    /// Per term: ∂P/∂(R, Ṙ) equals the first two entries of the term's full pressure gradient.
+    #[test]
+    fn pressure_gradient_is_the_jacobians_pressure_row(which in 0usize..SCENES, (t, z) in state()) {
+        let model = Model::from_scene(&scenes()[which]).unwrap();
+        let eq = model.boundary_layer().unwrap().equations();
+        let at = At { t, z: &z };
+        for term in eq.terms() {
+            let mut full = LoadJacobian::new(8);
+            term.add_jacobian(&at, &mut full);
+            let mut dp = [0.0; 2];
+            term.add_pressure_gradient(&at, &mut dp);
+            for j in 0..2 {
+                let tol = 1e-13 * full.pressure[j].abs().max(1e-300);
+                prop_assert!(
+                    (dp[j] - full.pressure[j]).abs() <= tol,
+                    "scene {which}, term {}: ∂P/∂z_{j} = {} vs add_jacobian {}", term.name(), dp[j], full.pressure[j]
+                );
+            }
+        }
+    }
+
+    /// The orbit search's radial system (a_k = b_k = 0): the exact Jacobian against central
+    /// differences of its rhs (step 1e-6 max(1e-2, |y_j|)).
+    #[test]
+    fn radial_jacobian_matches_differences(which in 0usize..SCENES, t in 0.0..30.0f64, r in 0.6..1.6f64, rd in -0.5..0.5f64) {
+        let model = Model::from_scene(&scenes()[which]).unwrap();
+        let sys = Radial::of(&model).unwrap();
+        let y = [r, rd];
+        let mut an = [0.0; 4];
+        prop_assert!(sys.jacobian(t, &y, &mut an));
+        let (mut fp, mut fm) = ([0.0; 2], [0.0; 2]);
+        for j in 0..2 {
+            let h = 1e-6 * y[j].abs().max(1e-2);
+            let (mut yp, mut ym) = (y, y);
+            yp[j] += h;
+            ym[j] -= h;
+            sys.rhs(t, &yp, &mut fp);
+            sys.rhs(t, &ym, &mut fm);
+            for i in 0..2 {
+                let fd = (fp[i] - fm[i]) / (2.0 * h);
+                let scale = (0..2).map(|c| (an[i * 2 + c] * y[c].abs().max(1e-2)).abs()).fold(0.0, f64::max);
+                prop_assert!(
+                    (an[i * 2 + j] - fd).abs() * y[j].abs().max(1e-2) <= 1e-6 * scale + 1e-9,
+                    "scene {which}: J[{i}][{j}] exact {} vs fd {fd}", an[i * 2 + j]
+                );
+            }
+        }
+    }
+}
