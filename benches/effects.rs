@@ -64,6 +64,12 @@ fn rhs_costs(c: &mut Criterion) {
         ("rhs/N16_dipole", fig12(16, Some(Field::Dipole(Dipole { moment: 1.0, distance: 0.01 })), Method::Dopri5)),
         ("rhs/N16_free_gamma_linear", free_bubble(Coupling::Linear)),
         ("rhs/N16_free_gamma_quadratic", free_bubble(Coupling::Quadratic)),
+        ("rhs/N16_static_coil_quadratic", {
+            // issue 12: the paper's shelled bubble (Mooney–Rivlin) with the second-order membrane loads
+            let mut s = fig12(16, coil(Current::Static { value: 100e3 }), Method::Dopri5);
+            s.modes.coupling = Coupling::Quadratic;
+            s
+        }),
     ];
     for (name, s) in cases {
         let m = Model::from_scene(&s).unwrap();

@@ -150,9 +150,22 @@ pub fn derive_membrane_quadratic(name: &str, law: &Spec, hyper: &Spec, kin: &Spe
     let triple = Triple::new(2 * CHECK_MODES + 2);
     let mut basis = Basis::default();
     let mut data: BTreeMap<Key, BTreeMap<[i64; 3], Rat>> = BTreeMap::new();
-    for l in (2..=CHECK_MODES).step_by(2) {
-        for m in (l..=CHECK_MODES).step_by(2) {
-            for (form, load, p) in pair_loads(law, hyper, kin, mech, l, m)? {
+    // the exact expansions of the pairs are independent: spread them over the cores
+    let pairs: Vec<(usize, usize)> = (2..=CHECK_MODES).step_by(2).flat_map(|l| (l..=CHECK_MODES).step_by(2).map(move |m| (l, m))).collect();
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get()).min(pairs.len()).max(1);
+    let list = &pairs;
+    let expanded: Vec<Result<Vec<(&'static str, Load, Poly)>, String>> = std::thread::scope(|sc| {
+        let handles: Vec<_> = (0..workers)
+            .map(|w| sc.spawn(move || list.iter().enumerate().filter(|(i, _)| i % workers == w).map(|(i, &(l, m))| (i, pair_loads(law, hyper, kin, mech, l, m))).collect::<Vec<_>>()))
+            .collect();
+        let mut all: Vec<(usize, Result<Vec<(&'static str, Load, Poly)>, String>)> =
+            handles.into_iter().flat_map(|h| h.join().unwrap_or_else(|_| vec![(usize::MAX, Err("a derivation thread panicked".into()))])).collect();
+        all.sort_by_key(|(i, _)| *i);
+        all.into_iter().map(|(_, r)| r).collect()
+    });
+    for (&(l, m), loads) in pairs.iter().zip(expanded) {
+        {
+            for (form, load, p) in loads? {
                 for (key, p_, q_, j, v) in bilinear(form, load, &p, l, m, &mut basis)? {
                     if !crate::algebra::triple::allowed(p_, q_, j) {
                         return Err(format!("{name} {form}: the pair ({p_}, {q_}) loads mode {j}, outside the selection rules"));

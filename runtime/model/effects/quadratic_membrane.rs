@@ -46,6 +46,10 @@ pub struct QuadraticMembrane {
     /// Values of (R0, symbol 1, symbol 2).
     consts: [f64; 3],
     entries: Vec<Entry>,
+    /// The same coefficients dense, for the rhs (the tables are nearly dense in (slot, l, m)):
+    /// index (i · slots + slot) · cols + col, i the prefactor, slot 0 = −P, 1 + j = G_n,j,
+    /// 1 + M + j = G_t,j, col = T·M² + l·M + m with T = 0 (a_l a_m), 1 (a_l b_m), 2 (b_l b_m).
+    dense: Vec<f64>,
     modes: usize,
 }
 
@@ -131,7 +135,25 @@ impl QuadraticMembrane {
         for e in &mut entries {
             e.coef.truncate(monos.len());
         }
-        Some(Self { law: law.name, monos, consts: [r0, args.0, args.1], entries, modes: n })
+        let (slots, cols) = (1 + 2 * n, 3 * n * n);
+        let mut dense = vec![0.0; monos.len() * slots * cols];
+        for e in &entries {
+            let slot = match e.row {
+                Row::Pressure => 0,
+                Row::Normal(j) => 1 + j,
+                Row::Tangential(j) => 1 + n + j,
+            };
+            let ((l, ol), (m, om)) = (((e.x - 2) / 3, (e.x - 2) % 3), ((e.y - 2) / 3, (e.y - 2) % 3));
+            let t = match (ol, om) {
+                (0, 0) => 0,
+                (0, 2) => 1,
+                _ => 2,
+            };
+            for (i, c) in e.coef.iter().enumerate() {
+                dense[(i * slots + slot) * cols + t * n * n + l * n + m] += c;
+            }
+        }
+        Some(Self { law: law.name, monos, consts: [r0, args.0, args.1], entries, dense, modes: n })
     }
 
     /// Number of nonzero (row, l, m) entries.
@@ -151,6 +173,20 @@ impl QuadraticMembrane {
     }
 }
 
+/// Σ a_i b_i with four partial sums (vectorizes).
+#[inline]
+fn dot4(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
+    for (x, y) in ca.zip(cb) {
+        for i in 0..4 {
+            acc[i] += x[i] * y[i];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
 impl Term for QuadraticMembrane {
     fn name(&self) -> &'static str {
         "quadratic membrane"
@@ -163,17 +199,34 @@ impl Term for QuadraticMembrane {
     }
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
         let (p, _) = self.prefactors(at.r());
-        let np = self.monos.len();
-        let (ng, nt) = (loads.gn.len(), loads.gt.len());
-        for e in &self.entries {
-            let c: f64 = e.coef.iter().zip(&p[..np]).map(|(a, b)| a * b).sum();
-            let v = c * at.z[e.x] * at.z[e.y];
-            match e.row {
-                Row::Pressure => loads.pressure -= v,
-                Row::Normal(j) if j < ng => loads.gn[j] += v,
-                Row::Tangential(j) if j < nt => loads.gt[j] += v,
-                _ => {}
+        let n = self.modes;
+        let (slots, nn) = (1 + 2 * n, n * n);
+        let cols = 3 * nn;
+        // w[T·M² + l·M + m] = first_T(l) · second_T(m)
+        let mut w = [0.0; 3 * super::MAX_MODES * super::MAX_MODES];
+        for l in 0..n {
+            let (al, bl) = (at.a(l), at.b(l));
+            for m in 0..n {
+                let (am, bm) = (at.a(m), at.b(m));
+                w[l * n + m] = al * am;
+                w[nn + l * n + m] = al * bm;
+                w[2 * nn + l * n + m] = bl * bm;
             }
+        }
+        let w = &w[..cols];
+        let mut out = [0.0; 1 + 2 * super::MAX_MODES];
+        for (i, pi) in p.iter().enumerate().take(self.monos.len()) {
+            for (slot, o) in out.iter_mut().enumerate().take(slots) {
+                let k = (i * slots + slot) * cols;
+                *o += pi * dot4(&self.dense[k..k + cols], w);
+            }
+        }
+        loads.pressure -= out[0];
+        for (j, g) in loads.gn.iter_mut().enumerate().take(n) {
+            *g += out[1 + j];
+        }
+        for (j, g) in loads.gt.iter_mut().enumerate().take(n) {
+            *g += out[1 + n + j];
         }
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
