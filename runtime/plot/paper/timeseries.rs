@@ -56,6 +56,7 @@ fn to_time_series(label: &str, out: &RunOutput) -> Result<TimeSeries, String> {
         t_s: out.t_s.clone(),
         radius_m: col(r),
         shapes,
+        blow_up: out.blow_up.clone(),
     })
 }
 
