@@ -63,7 +63,8 @@ pub fn time_series(title: &str, runs: &[TimeSeries]) -> Figure {
 
 /// As [`time_series`], with only the named shape columns (`&["a_2", "a_4"]`); empty: all.
 /// The shape panel shows |a_k| on a log axis when a run blew up or the amplitudes span two
-/// decades or more ([`wants_log`]); a blow-up is marked by a dashed vertical line.
+/// decades or more ([`wants_log`]); a blow-up is marked by a dashed vertical line. Modes that
+/// are identically zero are not drawn (the panel title names them).
 pub fn time_series_select(title: &str, runs: &[TimeSeries], shapes: &[&str]) -> Figure {
     let t_axis = || Axis::linear("t [µs]");
     let mut top = Panel::new(t_axis(), Axis::linear("R [µm]"));
@@ -71,11 +72,16 @@ pub fn time_series_select(title: &str, runs: &[TimeSeries], shapes: &[&str]) -> 
     let mut names = Vec::new();
     let mut values = Vec::new();
     let mut times = Vec::new();
+    let mut zero = Vec::new();
     for (i, run) in runs.iter().enumerate() {
         let t = scaled(&run.t_s, 1e6);
         let label = if several { run.label.clone() } else { String::new() };
         top.push(Series::line(label, t.clone(), scaled(&run.radius_m, 1e6)).color(i));
         for (name, v) in run.shapes.iter().filter(|(n, _)| shapes.is_empty() || shapes.contains(&n.as_str())) {
+            if v.iter().all(|x| *x == 0.0) {
+                zero.push(mode_name(name));
+                continue;
+            }
             names.push(match (several, run.label.is_empty()) {
                 (true, false) => format!("{}: {}", run.label, mode_name(name)),
                 _ => mode_name(name),
@@ -94,6 +100,10 @@ pub fn time_series_select(title: &str, runs: &[TimeSeries], shapes: &[&str]) -> 
     };
     for (color, ((name, t), v)) in names.into_iter().zip(times).zip(values).enumerate() {
         bottom.push(Series::line(name, t, v).color(color));
+    }
+    if !zero.is_empty() && !bottom.series.is_empty() {
+        zero.dedup();
+        bottom = bottom.title(format!("{} identically 0 (not drawn)", zero.join(", ")));
     }
     for (i, run) in runs.iter().enumerate() {
         if let Some((mode, tb)) = &run.blow_up {

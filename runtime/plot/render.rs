@@ -393,16 +393,17 @@ where
     }
     let mut chart = builder.build_cartesian_2d(xs, ys).map_err(|e| err(&e))?;
     // A tick that is zero up to rounding (1.39e-17 on a ±0.1 axis) prints as 0.
-    let snap = |v: f64, (lo, hi): (f64, f64)| {
-        if v.abs() < 1e-9 * lo.abs().max(hi.abs()) {
+    let (x_lin, y_lin) = (panel.x.scale == Scale::Linear, panel.y.scale == Scale::Linear);
+    let snap = |v: f64, (lo, hi): (f64, f64), linear: bool| {
+        if linear && v.abs() < 1e-9 * lo.abs().max(hi.abs()) {
             0.0
         } else {
             v
         }
     };
     let (xi, yi) = (panel.x.integer, panel.y.integer);
-    let xfmt = move |v: &f64| axis_tick_label(snap(*v, xr), xi);
-    let yfmt = move |v: &f64| axis_tick_label(snap(*v, yr), yi);
+    let xfmt = move |v: &f64| axis_tick_label(snap(*v, xr, x_lin), xi);
+    let yfmt = move |v: &f64| axis_tick_label(snap(*v, yr, y_lin), yi);
     chart
         .configure_mesh()
         .x_desc(panel.x.label.as_str())
@@ -418,6 +419,8 @@ where
         .map_err(|e| err(&e))?;
 
     let mut labelled = false;
+    // (label, colour, dashed) of every legend entry, for a legend drawn outside the plot area.
+    let mut entries: Vec<(&str, RGBColor, bool)> = Vec::new();
     for (i, s) in panel.series.iter().enumerate() {
         let c = color(s.color.unwrap_or(i));
         let pieces = pieces(s, panel.x.scale, panel.y.scale);
@@ -448,6 +451,7 @@ where
             if first && !s.name.is_empty() {
                 labelled = true;
                 let dashed = s.mark == Mark::Dashed;
+                entries.push((s.name.as_str(), c, dashed));
                 anno.label(s.name.as_str()).legend(move |(x, y)| {
                     if dashed {
                         PathElement::new(vec![(x, y), (x + 8, y)], c.stroke_width(2))
@@ -466,17 +470,22 @@ where
             .map_err(|e| err(&e))?;
         if !v.label.is_empty() {
             labelled = true;
+            entries.push((v.label.as_str(), c, true));
             anno.label(v.label.as_str())
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], c.stroke_width(2)));
         }
     }
-    let plot_w = chart.plotting_area().dim_in_pixel().0 as i32;
     let position = match placement {
         Placement::Corner(Legend::UpperLeft) => Some(SeriesLabelPosition::UpperLeft),
         Placement::Corner(Legend::LowerRight) => Some(SeriesLabelPosition::LowerRight),
         Placement::Corner(Legend::LowerLeft) => Some(SeriesLabelPosition::LowerLeft),
         Placement::Corner(_) => Some(SeriesLabelPosition::UpperRight),
-        Placement::Outside => Some(SeriesLabelPosition::Coordinate(plot_w + OUTSIDE_GAP, 0)),
+        Placement::Outside => {
+            // plotters clamps legend drawing to the plot area: draw this one on the panel.
+            let (xs, ys) = chart.plotting_area().get_pixel_range();
+            let (bx, by) = area.get_base_pixel();
+            return draw_legend_at(area, (xs.end - bx + OUTSIDE_GAP, ys.start - by), &entries);
+        }
         Placement::None => None,
     };
     if let (true, Some(position)) = (labelled, position) {
@@ -487,6 +496,42 @@ where
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(160, 160, 160))
             .draw()
+            .map_err(|e| err(&e))?;
+    }
+    Ok(())
+}
+
+/// A legend box with its top-left corner at `at` (pixels of `area`), laid out as plotters lays
+/// out its own (one [`legend::LINE`] per entry, the line sample left of the text).
+fn draw_legend_at<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    (x, y): (i32, i32),
+    entries: &[(&str, RGBColor, bool)],
+) -> Result<(), String> {
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let err = |e: &dyn std::fmt::Display| e.to_string();
+    let font: TextStyle = (fonts::FAMILY, 16).into_font().into();
+    let mut widest = 0;
+    for (t, _, _) in entries {
+        widest = widest.max(area.estimate_text_size(t, &font).map_err(|e| err(&e))?.0 as i32);
+    }
+    let (w, h) = legend::box_size(entries.len(), widest);
+    area.draw(&Rectangle::new([(x, y), (x + w, y + h)], WHITE.mix(0.85).filled()))
+        .map_err(|e| err(&e))?;
+    area.draw(&Rectangle::new([(x, y), (x + w, y + h)], RGBColor(160, 160, 160)))
+        .map_err(|e| err(&e))?;
+    for (k, (text, c, dashed)) in entries.iter().enumerate() {
+        let top = y + 10 + k as i32 * legend::LINE;
+        let mid = top + 9;
+        let style = c.stroke_width(2);
+        let segments: &[(i32, i32)] = if *dashed { &[(0, 8), (14, 22)] } else { &[(0, 22)] };
+        for &(a, b) in segments {
+            area.draw(&PathElement::new(vec![(x + 10 + a, mid), (x + 10 + b, mid)], style))
+                .map_err(|e| err(&e))?;
+        }
+        area.draw(&Text::new(text.to_string(), (x + 40, top), font.clone()))
             .map_err(|e| err(&e))?;
     }
     Ok(())
