@@ -124,6 +124,7 @@ pub fn make_convergence(
             seconds,
         )],
         quick,
+        parts: Vec::new(),
     })
 }
 
@@ -212,5 +213,6 @@ pub fn make_compare(
             ("full vorticity".into(), status(&rep_full.status), rep_full.wall_seconds),
         ],
         quick,
+        parts: Vec::new(),
     })
 }
