@@ -21,6 +21,7 @@ mod coefficients_crosscheck;
 mod coil_h4;
 mod critical_accuracy;
 mod docs_examples;
+mod figure_resume;
 mod figures;
 mod floquet_cli;
 mod floquet_full;
