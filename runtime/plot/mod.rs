@@ -24,6 +24,7 @@ mod logaxis;
 pub mod paper;
 mod render;
 mod series_csv;
+pub mod study;
 
 pub use figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series, VLine};
 pub use logshape::{log_magnitudes, wants_log, LOG_SPAN};

@@ -299,7 +299,7 @@ fn placements<DB: DrawingBackend>(
     let plot_size = |i: usize, reserve: i32| {
         let (w, h) = areas[i].dim_in_pixel();
         let caption = if fig.panels[i].title.is_some() { CAPTION } else { 0 };
-        (w as i32 - 2 * MARGIN - Y_LABELS - reserve, h as i32 - 2 * MARGIN - X_LABELS - caption)
+        (w as i32 - 3 * MARGIN - Y_LABELS - reserve, h as i32 - 2 * MARGIN - X_LABELS - caption)
     };
     let mut reserve = vec![0; fig.panels.len()];
     let mut out = vec![(Placement::None, 0); fig.panels.len()];
@@ -385,7 +385,8 @@ where
     let mut builder = ChartBuilder::on(area);
     builder
         .margin(MARGIN as u32)
-        .margin_right((MARGIN + reserve) as u32)
+        // Room on the right for the last tick label (and a legend placed outside).
+        .margin_right((2 * MARGIN + reserve) as u32)
         .x_label_area_size(X_LABELS as u32)
         .y_label_area_size(Y_LABELS as u32);
     if let Some(t) = &panel.title {

@@ -47,6 +47,7 @@ mod quadratic_oracle;
 mod quadratic_runtime;
 mod plot;
 mod plot_figures;
+mod plot_studies;
 mod scene_derived;
 mod scene_errors;
 mod scene_files;
