@@ -48,6 +48,7 @@ mod quadratic_runtime;
 mod plot;
 mod plot_figures;
 mod plot_studies;
+mod progress_bars;
 mod scene_derived;
 mod scene_errors;
 mod scene_files;
