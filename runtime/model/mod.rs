@@ -127,6 +127,16 @@ impl Model {
                 inner.push(Box::new(effects::vapour::VapourPressure { pv: params.pv }));
             }
             inner.push(Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }));
+            if !scene.shell.is_free() {
+                // the membrane's linear loads are part of R̈⁽⁰⁾ and ä⁽¹⁾ inside Q
+                inner.push(Box::new(effects::membrane::MembraneTerm {
+                    law: params.membrane,
+                    r0: params.r0,
+                    c1: params.membrane_args.0,
+                    c2: params.membrane_args.1,
+                    orders: kf.clone(),
+                }));
+            }
             inner.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
             let gamma = scene.shell.surface_tension / (scales.pressure * scales.length);
             terms.push(Box::new(effects::quadratic::QuadraticCoupling::new(
@@ -138,6 +148,9 @@ impl Model {
                 &kf,
                 inner,
             )));
+            if !scene.shell.is_free() {
+                terms.push(Box::new(quadratic_membrane_term(scene, &params, &kf)?));
+            }
         }
         let form: Box<dyn RadialForm> = match params.sound_speed {
             None => Box::new(radial::Incompressible),
@@ -335,8 +348,8 @@ impl Model {
 fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
     let refuse = |reason: &'static str| Err(ModelError::Unsupported { key: "modes.coupling", value: "quadratic".into(), reason });
     let sh = &scene.shell;
-    if !sh.is_free() || !sh.law.is_mooney_rivlin() {
-        return refuse("the second-order terms are derived for a free bubble only (surface tension, no membrane law: set shell.c1 = shell.c2 = 0); the membrane laws' are not derived yet");
+    if !sh.is_free() && effects::quadratic_membrane::QuadraticMembrane::law(law_name(&sh.law)).is_none() {
+        return refuse("the second-order membrane loads of this shell.law are not derived (derivations/shell/ laws with a strain energy W are)");
     }
     if sh.bending_modulus != 0.0 || sh.shear_viscosity != 0.0 || sh.dilatational_viscosity != 0.0 {
         return refuse("the second-order terms of bending and of the shell viscosities are not derived yet (shell.bending_modulus, shell.*_viscosity must be 0)");
@@ -351,6 +364,28 @@ fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
         return refuse("the quadratic terms are assembled with the boundary-layer closure only (modes.viscous = \"boundary-layer\")");
     }
     Ok(())
+}
+
+/// The derivations/shell/ file stem of a law.
+fn law_name(law: &crate::scene::ShellLaw) -> &'static str {
+    match law {
+        crate::scene::ShellLaw::MooneyRivlin => "mooney_rivlin",
+        crate::scene::ShellLaw::Skalak { .. } => "skalak",
+    }
+}
+
+/// The second-order membrane loads of the scene's law and form (issue 12).
+fn quadratic_membrane_term(scene: &Scene, params: &Params, kf: &[f64]) -> Result<effects::quadratic_membrane::QuadraticMembrane, ModelError> {
+    use crate::coefficients::quadratic_membrane::Form;
+    let refuse = |reason: &'static str| ModelError::Unsupported { key: "modes.coupling", value: "quadratic".into(), reason };
+    let law = effects::quadratic_membrane::QuadraticMembrane::law(law_name(&scene.shell.law))
+        .ok_or_else(|| refuse("the second-order membrane loads of this shell.law are not derived"))?;
+    let form = match scene.shell.form {
+        crate::scene::MembraneForm::Paper => Form::Paper,
+        crate::scene::MembraneForm::Tension => Form::Tension,
+    };
+    effects::quadratic_membrane::QuadraticMembrane::new(law, form, params.r0, params.membrane_args, kf)
+        .ok_or_else(|| refuse("the law's second-order table has more prefactors than the runtime term holds"))
 }
 
 fn eq_of(system: &System) -> &Equations {
