@@ -117,14 +117,29 @@ pub struct Spectrum {
     pub components: Vec<(usize, f64)>,
 }
 
-/// Eigenvalues of a general real square matrix (real Schur form). Assumes finite entries.
+/// Eigenvalues of a general real square matrix (real Schur form). A matrix with a non-finite
+/// entry, or one whose QR iteration does not converge in a bounded number of sweeps, gives
+/// NaN eigenvalues (the callers report NaN as a status): nalgebra's unbounded
+/// `complex_eigenvalues` never returns on such a matrix.
 pub fn eigenvalues(m: &DMatrix<f64>) -> Vec<Complex<f64>> {
-    match m.nrows() {
+    let n = m.nrows();
+    let nan = || vec![Complex::new(f64::NAN, f64::NAN); n];
+    if m.iter().any(|v| !v.is_finite()) {
+        return nan();
+    }
+    match n {
         0 => Vec::new(),
         1 => vec![Complex::new(m[(0, 0)], 0.0)],
-        _ => m.clone().complex_eigenvalues().iter().copied().collect(),
+        _ => match nalgebra::linalg::Schur::try_new(m.clone(), f64::EPSILON, SCHUR_SWEEPS * n) {
+            Some(schur) => schur.complex_eigenvalues().iter().copied().collect(),
+            None => nan(),
+        },
     }
 }
+
+/// QR sweeps per row allowed to the real Schur form (LAPACK's dhseqr allows 30 per
+/// eigenvalue; a converging iteration needs 2–4).
+const SCHUR_SWEEPS: usize = 30;
 
 /// Normalised |v_i|² of the eigenvector of `m` for the eigenvalue `mu`, by two steps of
 /// inverse iteration with a slightly perturbed shift (complex arithmetic).
@@ -248,6 +263,22 @@ fn step_block(a1: &DMatrix<f64>, a2: &DMatrix<f64>, idx: &[usize], h: f64) -> DM
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A non-finite matrix returns NaN eigenvalues at once (nalgebra's unbounded QR iteration
+    /// never returned on one: a fuzzed scene hung `modes`); a finite one its eigenvalues.
+    #[test]
+    fn eigenvalues_of_non_finite_matrices_are_nan_not_a_hang() {
+        let mut m = DMatrix::from_row_slice(3, 3, &[0.0, 1.0, 0.0, -4.0, 0.0, 1.0, 0.0, 0.0, -1.0]);
+        let mut finite = eigenvalues(&m);
+        finite.sort_by(|a, b| a.im.total_cmp(&b.im));
+        assert!((finite[0] - Complex::new(0.0, -2.0)).norm() < 1e-12 && (finite[2] - Complex::new(0.0, 2.0)).norm() < 1e-12);
+        for bad in [f64::NAN, f64::INFINITY] {
+            m[(1, 2)] = bad;
+            let mu = eigenvalues(&m);
+            assert_eq!(mu.len(), 3);
+            assert!(mu.iter().all(|z| z.re.is_nan()));
+        }
+    }
 
     /// x' = diag(λ) x with λ constant: the Magnus scheme is exact.
     struct Diagonal(Vec<f64>);

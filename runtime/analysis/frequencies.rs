@@ -37,6 +37,8 @@ pub enum FrequencyError {
     Field(#[from] crate::field::FieldError),
     #[error("--kmax: mode k = {k} with a field needs couplings beyond the generated tables (k ≤ {kmax}); use --kmax ≤ {kmax}")]
     BeyondTables { k: usize, kmax: usize },
+    #[error("the quasi-static stiffness matrix at R0 is not finite or its eigenvalues do not converge: the scene's loads overflow at rest")]
+    NonFiniteStiffness,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -193,7 +195,11 @@ fn quasi_static_spectrum(
     if (0..n).all(|i| (0..n).all(|j| i == j || w[(i, j)] == 0.0)) {
         return Ok((0..n).map(|m| (m, w[(m, m)])).collect());
     }
-    Ok(crate::analysis::floquet::eigenvalues(&w)
+    let mus = crate::analysis::floquet::eigenvalues(&w);
+    if mus.iter().any(|mu| !mu.re.is_finite()) {
+        return Err(FrequencyError::NonFiniteStiffness);
+    }
+    Ok(mus
         .into_iter()
         .map(|mu| {
             let weights = crate::analysis::floquet::eigenvector_weights(&w, mu);

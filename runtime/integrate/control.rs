@@ -68,7 +68,7 @@ impl StepController {
     }
 
     /// Whether a proposed ratio h_new/h is close enough to 1 to keep h (and the LU factors of
-    /// an implicit stepper): h_new/h ∈ [1, 1.2], as in RADAU5 (QUOT1, QUOT2) and `ode23s`.
+    /// an implicit stepper): h_new/h ∈ [1, 1.2], as in `ode23s` (Radau5 has its own window).
     pub(crate) fn keeps(ratio: f64) -> bool {
         (1.0..=1.2).contains(&ratio)
     }

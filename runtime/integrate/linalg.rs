@@ -214,23 +214,28 @@ impl<T: Scalar> ShiftedLu<T> {
                 }
             }
             Some((ml, mu)) => {
+                // The same operations in the same order as the indexed loops, on pre-cut
+                // slices (no bounds checks or inclusive ranges in the inner loops).
                 let w = 2 * ml + mu + 1;
-                let idx = |i: usize, j: usize| i * w + j + ml - i;
+                let b = &mut b[..n];
+                let (a, l, piv) = (&self.a[..n * w], &self.l[..n * ml], &self.piv[..n]);
                 for k in 0..n {
-                    b.swap(k, self.piv[k]);
+                    b.swap(k, piv[k]);
                     let bk = b[k];
-                    let last = (k + ml).min(n - 1);
-                    for (x, &l) in b[k + 1..=last].iter_mut().zip(&self.l[k * ml..]) {
-                        *x = *x - l * bk;
+                    let len = ml.min(n - 1 - k);
+                    for (x, &m) in b[k + 1..k + 1 + len].iter_mut().zip(&l[k * ml..k * ml + len]) {
+                        *x = *x - m * bk;
                     }
                 }
                 for k in (0..n).rev() {
+                    let len = (ml + mu).min(n - 1 - k);
+                    // row k from its diagonal: columns k ..= k + len
+                    let row = &a[k * w + ml..k * w + ml + 1 + len];
                     let mut s = b[k];
-                    let last = (k + ml + mu).min(n - 1);
-                    for (&u, &x) in self.a[idx(k, k) + 1..=idx(k, last)].iter().zip(&b[k + 1..=last]) {
+                    for (&u, &x) in row[1..].iter().zip(&b[k + 1..k + 1 + len]) {
                         s = s - u * x;
                     }
-                    b[k] = s / self.a[idx(k, k)];
+                    b[k] = s / row[0];
                 }
             }
         }

@@ -31,17 +31,32 @@ pub struct CsvWriter {
 /// shortest digits of `zmij` (Schubfach), several times faster than `fmt`. The value reads back
 /// exactly; when 17 digits are needed, the last digit may differ from std's choice.
 pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
+    let mut o = [0u8; 32];
+    let n = exp_bytes(v, &mut o);
+    out.extend_from_slice(&o[..n]);
+}
+
+/// [`push_exp`] into a stack buffer (at most 24 bytes: `-d.dddddddddddddddde-324`); returns the
+/// length. One copy per value instead of a push per byte.
+fn exp_bytes(v: f64, o: &mut [u8; 32]) -> usize {
     if !v.is_finite() {
-        out.extend_from_slice(if v.is_nan() { &b"NaN"[..] } else if v > 0.0 { &b"inf"[..] } else { &b"-inf"[..] });
-        return;
+        let s: &[u8] = if v.is_nan() { b"NaN" } else if v > 0.0 { b"inf" } else { b"-inf" };
+        o[..s.len()].copy_from_slice(s);
+        return s.len();
     }
     let mut buf = zmij::Buffer::new();
     let s = buf.format_finite(v).as_bytes();
-    let (neg, s) = match s.first() {
-        Some(b'-') => (true, &s[1..]),
-        _ => (false, s),
+    let mut n = 0;
+    let s = match s.first() {
+        Some(b'-') => {
+            o[0] = b'-';
+            n = 1;
+            &s[1..]
+        }
+        _ => s,
     };
-    let (mant, exp) = match s.iter().position(|&c| c == b'e' || c == b'E') {
+    // the exponent is at most "e-324": look for it from the back
+    let (mant, exp) = match s.iter().rposition(|&c| c == b'e' || c == b'E') {
         Some(p) => (&s[..p], parse_exponent(&s[p + 1..])),
         None => (s, 0),
     };
@@ -52,13 +67,10 @@ pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
         _ => false,
     };
     if normalised && mant.len() < s.len() {
-        if neg {
-            out.push(b'-');
-        }
-        out.extend_from_slice(mant);
-        out.push(b'e');
-        push_int(out, exp);
-        return;
+        o[n..n + mant.len()].copy_from_slice(mant);
+        n += mant.len();
+        o[n] = b'e';
+        return put_int(o, n + 1, exp);
     }
     // digits without the point, and the position of the point among them
     let mut digits = [0u8; 32];
@@ -72,23 +84,24 @@ pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
         }
     }
     let point = point.unwrap_or(nd) as i32;
-    let lead = digits[..nd].iter().position(|&c| c != b'0');
-    if neg {
-        out.push(b'-');
-    }
-    let Some(lead) = lead else {
-        out.extend_from_slice(b"0e0");
-        return;
+    let Some(lead) = digits[..nd].iter().position(|&c| c != b'0') else {
+        o[n..n + 3].copy_from_slice(b"0e0");
+        return n + 3;
     };
     let last = digits[..nd].iter().rposition(|&c| c != b'0').unwrap_or(lead);
     let e10 = exp + point - lead as i32 - 1;
-    out.push(digits[lead]);
+    o[n] = digits[lead];
+    n += 1;
     if last > lead {
-        out.push(b'.');
-        out.extend_from_slice(&digits[lead + 1..=last]);
+        o[n] = b'.';
+        n += 1;
+        let d = &digits[lead + 1..=last];
+        // 17 significant digits at most, so this stays inside `o`
+        o[n..n + d.len()].copy_from_slice(d);
+        n += d.len();
     }
-    out.push(b'e');
-    push_int(out, e10);
+    o[n] = b'e';
+    put_int(o, n + 1, e10)
 }
 
 /// The exponent digits zmij prints after `e` (`-7`, `+21`, `21`).
@@ -102,19 +115,23 @@ fn parse_exponent(s: &[u8]) -> i32 {
     if neg { -e } else { e }
 }
 
-/// Appends a decimal exponent (|e| ≤ 400) without allocating.
-fn push_int(out: &mut Vec<u8>, e: i32) {
+/// Writes a decimal exponent (|e| ≤ 400) at `o[n..]`; returns the new length.
+fn put_int(o: &mut [u8; 32], mut n: usize, e: i32) -> usize {
     if e < 0 {
-        out.push(b'-');
+        o[n] = b'-';
+        n += 1;
     }
     let u = e.unsigned_abs();
     if u >= 100 {
-        out.push(b'0' + (u / 100) as u8);
+        o[n] = b'0' + (u / 100) as u8;
+        n += 1;
     }
     if u >= 10 {
-        out.push(b'0' + (u / 10 % 10) as u8);
+        o[n] = b'0' + (u / 10 % 10) as u8;
+        n += 1;
     }
-    out.push(b'0' + (u % 10) as u8);
+    o[n] = b'0' + (u % 10) as u8;
+    n + 1
 }
 
 impl CsvWriter {
@@ -158,6 +175,7 @@ impl CsvWriter {
             return;
         }
         self.line.clear();
+        self.line.reserve(24 * values.len() + 8 + label.map_or(0, str::len));
         if let Some(l) = label {
             self.line.extend_from_slice(l.as_bytes());
         }

@@ -42,10 +42,6 @@ fn scenes() -> Vec<Scene> {
         load("scenes/free_bubble.toml", &["modes.max_order=16", "shell.surface_tension=0.072", "modes.coupling=\"quadratic\""])
             .expect("quadratic"),
     );
-    // issue 12: the quadratic coupling of the paper's shelled bubble (Mooney–Rivlin, both forms) and a Skalak shell
-    v.push(load("scenes/no_field.toml", &["modes.max_order=16", "modes.coupling=\"quadratic\""]).expect("quadratic MR"));
-    v.push(load("scenes/no_field.toml", &["modes.max_order=8", "modes.coupling=\"quadratic\"", "shell.form=\"tension\""]).expect("quadratic MR tension"));
-    v.push(load("scenes/skalak.toml", &["modes.max_order=8", "modes.coupling=\"quadratic\""]).expect("quadratic Skalak"));
     v
 }
 

@@ -39,6 +39,9 @@ pub const LAW_KINDS: [&str; 3] = ["W", "sigma1", "w_area"];
 
 const FUNCTIONS: [(&str, usize); 9] =
     [("sqrt", 1), ("sin", 1), ("cos", 1), ("d", 2), ("diff", 2), ("P", 1), ("P1", 1), ("vary", 2), ("rate", 1)];
+/// Largest |n| of `.powi(n)`: the exact engine multiplies |n| times (the shipped specs use ≤ 4; an
+/// unbounded n from a typo would run for hours instead of failing).
+pub const MAX_POWER: u32 = 32;
 /// Functions of the shell specs only (a field is static and has no variation).
 const SHELL_FUNCTIONS: [&str; 2] = ["vary", "rate"];
 
@@ -188,6 +191,11 @@ fn check(path: &str, e: &Expr, known: &BTreeSet<String>, builtins: &str, shell: 
             check(path, recv, known, builtins, shell)?;
             match (m.as_str(), args.as_slice()) {
                 ("powi", [a]) => match int_literal(a) {
+                    Some(n) if n.unsigned_abs() > MAX_POWER => Err(err(
+                        path,
+                        a.pos,
+                        format!("`.powi({n})`: the exponent must be at most {MAX_POWER} in magnitude (the engine multiplies |n| times)"),
+                    )),
                     Some(_) => Ok(()),
                     None => Err(err(path, a.pos, "expected an integer literal in `.powi(n)`")),
                 },

@@ -12,7 +12,7 @@
 //! needs); [`OdeSystem::bandwidth`] reports `None`.
 
 use super::equations::{mode_rates, LoadScratch, ModeInputs, ModeRates};
-use super::operator::{ModeOperator, Rows};
+use super::operator::ModeOperator;
 use super::{FullState, Grid, ModeCoupling};
 use crate::integrate::OdeSystem;
 use std::cell::RefCell;
@@ -43,7 +43,6 @@ struct Scratch {
     add: Vec<f64>,
     bdot: Vec<f64>,
     tw: Vec<f64>,
-    rows: Rows,
 }
 
 impl<'c> Monolithic<'c> {
@@ -59,7 +58,6 @@ impl<'c> Monolithic<'c> {
             add: z(),
             bdot: z(),
             tw: z(),
-            rows: Rows::default(),
         };
         let reduced_buf = ReducedBuf { z: vec![0.0; 2 + 3 * m], p: vec![0.0; 2 * m], fz: vec![0.0; 2 + 3 * m], tw: z() };
         Self { coupling, grid, ops, scratch: RefCell::new(scratch), reduced_buf: RefCell::new(reduced_buf) }
@@ -211,15 +209,7 @@ impl OdeSystem for Monolithic<'_> {
         for (mi, op) in self.ops.iter().enumerate() {
             let o = 2 + mi * nb;
             dy[o..o + 3].copy_from_slice(&fz[2 + 3 * mi..5 + 3 * mi]);
-            op.rows(r, rdot, nu, &mut sc.rows);
-            let tn = &y[o + 3..o + nb];
-            let out = &mut dy[o + 3..o + nb];
-            let ni = tn.len();
-            for i in 0..ni {
-                let left = if i == 0 { tw[mi] } else { tn[i - 1] };
-                let right = if i + 1 < ni { tn[i + 1] } else { 0.0 };
-                out[i] = sc.rows.lower[i] * left + sc.rows.diag[i] * tn[i] + sc.rows.upper[i] * right;
-            }
+            op.apply(r, rdot, nu, tw[mi], &y[o + 3..o + nb], &mut dy[o + 3..o + nb]);
         }
     }
 }

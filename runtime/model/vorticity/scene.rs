@@ -310,7 +310,11 @@ pub fn damped_spectrum(scene: &Scene) -> Result<DampedSpectrum, FullModelError> 
                     .map(|j| {
                         let size = if free { 2 } else { 3 };
                         let block = a.view((3 * j, 3 * j), (size, size)).clone_owned();
-                        let eig = block.complex_eigenvalues();
+                        // bounded QR sweeps: nalgebra's unbounded iteration never returns on a non-finite block
+                        let eig = match nalgebra::linalg::Schur::try_new(block, f64::EPSILON, 30 * size) {
+                            Some(schur) => schur.complex_eigenvalues().iter().copied().collect::<Vec<_>>(),
+                            None => Vec::new(),
+                        };
                         let top = eig.iter().max_by(|x, y| x.im.total_cmp(&y.im)).copied();
                         let slowest = eig.iter().max_by(|x, y| x.re.total_cmp(&y.re)).copied();
                         top.filter(|s| s.im > 0.0).or(slowest).map(|s| super::linear::DampedMode::from_root(fm.model.orders()[j], s))

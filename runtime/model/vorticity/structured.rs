@@ -46,26 +46,41 @@ pub struct StructuredJacobian {
 /// order are those of a single Thomas sweep.
 struct TriBatch<T> {
     m: usize,
-    lower: Vec<T>,
+    /// −L_k's sub-diagonal (real; a real times complex product is 2 multiplications, not 4)
+    lower: Vec<f64>,
     inv_beta: Vec<T>,
     gamma: Vec<T>,
 }
 
-/// Per mode k, Σ_i v[i·M + k] w[i·M + k] (summed in the order of i), node-major like [`TriBatch`].
-fn dots<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: &[f64], m: usize) -> Vec<T> {
-    let mut acc = vec![T::zero(); m];
+/// Per mode k, acc[k] = Σ_i v[i·M + k] w[i·M + k] (summed in the order of i), node-major like
+/// [`TriBatch`]; `acc` has length M.
+fn dots<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: &[f64], acc: &mut [T]) {
+    let m = acc.len();
+    acc.fill(T::zero());
     for (vi, wi) in v.chunks_exact(m.max(1)).zip(w.chunks_exact(m.max(1))) {
-        for k in 0..m {
-            acc[k] = acc[k] + vi[k] * T::from_real(wi[k]);
+        for ((a, &x), &c) in acc.iter_mut().zip(vi).zip(wi) {
+            *a = *a + x.scale(c);
         }
     }
-    acc
+}
+
+/// [`dots`] with two weight vectors in one pass over `v` (the same sums).
+fn dots2<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: [&[f64]; 2], acc0: &mut [T], acc1: &mut [T]) {
+    let m = acc0.len();
+    acc0.fill(T::zero());
+    acc1.fill(T::zero());
+    for ((vi, wa), wb) in v.chunks_exact(m.max(1)).zip(w[0].chunks_exact(m.max(1))).zip(w[1].chunks_exact(m.max(1))) {
+        for ((((a0, a1), &x), &c0), &c1) in acc0.iter_mut().zip(acc1.iter_mut()).zip(vi).zip(wa).zip(wb) {
+            *a0 = *a0 + x.scale(c0);
+            *a1 = *a1 + x.scale(c1);
+        }
+    }
 }
 
 impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
     fn new(sigma: T, rows: &[Rows], ni: usize) -> Option<Self> {
         let m = rows.len();
-        let mut lower = vec![T::zero(); ni * m];
+        let mut lower = vec![0.0; ni * m];
         let mut inv_beta = vec![T::zero(); ni * m];
         let mut gamma = vec![T::zero(); ni * m];
         for i in 0..ni {
@@ -74,9 +89,9 @@ impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
                 let beta = if i == 0 {
                     sigma - T::from_real(r.diag[0])
                 } else {
-                    lower[at] = -T::from_real(r.lower[i]);
-                    gamma[at] = -T::from_real(r.upper[i - 1]) * inv_beta[at - m];
-                    sigma - T::from_real(r.diag[i]) - lower[at] * gamma[at]
+                    lower[at] = -r.lower[i];
+                    gamma[at] = inv_beta[at - m].scale(-r.upper[i - 1]);
+                    sigma - T::from_real(r.diag[i]) - gamma[at].scale(lower[at])
                 };
                 if beta == T::zero() {
                     return None;
@@ -101,7 +116,7 @@ impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
             let (prev, cur) = x[(i - 1) * m..(i + 1) * m].split_at_mut(m);
             let (l, ib) = (&self.lower[i * m..(i + 1) * m], &self.inv_beta[i * m..(i + 1) * m]);
             for k in 0..m {
-                cur[k] = (cur[k] - l[k] * prev[k]) * ib[k];
+                cur[k] = (cur[k] - prev[k].scale(l[k])) * ib[k];
             }
         }
         for i in (0..n / m - 1).rev() {
@@ -121,8 +136,18 @@ pub struct StructuredLu<T: ComplexField<RealField = f64> + Copy> {
     /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k, node-major like [`TriBatch`]
     u: [Vec<T>; 3],
     small: nalgebra::LU<T, nalgebra::Dyn, nalgebra::Dyn>,
-    /// Node-major scratch of [`StructuredLu::solve`].
-    scratch: std::cell::RefCell<Vec<T>>,
+    /// Scratch of [`StructuredLu::solve`] (no allocation per solve).
+    scratch: std::cell::RefCell<Scratch<T>>,
+}
+
+struct Scratch<T: ComplexField<RealField = f64> + Copy> {
+    /// node-major T part
+    xt: Vec<T>,
+    /// right-hand side and solution of the small dense system
+    rhs: DVector<T>,
+    /// the 2M functionals P·xt (π ordering), and per mode s_k = δT_w,k
+    d: Vec<T>,
+    s: Vec<T>,
 }
 
 impl StructuredJacobian {
@@ -234,19 +259,22 @@ impl StructuredJacobian {
         tri.solve(&mut ur);
         tri.solve(&mut urd);
         for (kind, w) in self.pw.iter().enumerate() {
-            let (pu_all, pr_all, prd_all) = (dots(&uc, w, m), dots(&ur, w, m), dots(&urd, w, m));
+            let (mut pu_all, mut pr_all, mut prd_all) = (vec![T::zero(); m], vec![T::zero(); m], vec![T::zero(); m]);
+            dots(&uc, w, &mut pu_all);
+            dots(&ur, w, &mut pr_all);
+            dots(&urd, w, &mut prd_all);
             for k in 0..m {
                 let q = kind * m + k; // π ordering = p ordering
                 let (pu, pr, prd) = (pu_all[k], pr_all[k], prd_all[k]);
                 let row = nz + q;
                 let tw_row = nz + k; // row of T_w,k in gz/gp
                 for j in 0..nz {
-                    s[(row, j)] = -pu * T::from_real(self.gz[(tw_row, j)]);
+                    s[(row, j)] = -pu.scale(self.gz[(tw_row, j)]);
                 }
                 s[(row, 0)] -= pr;
                 s[(row, 1)] -= prd;
                 for q2 in 0..2 * m {
-                    s[(row, nz + q2)] = -pu * T::from_real(self.gp[(tw_row, q2)]);
+                    s[(row, nz + q2)] = -pu.scale(self.gp[(tw_row, q2)]);
                 }
                 s[(row, row)] += T::one();
             }
@@ -255,7 +283,7 @@ impl StructuredJacobian {
         if !small.is_invertible() {
             return None;
         }
-        let scratch = std::cell::RefCell::new(vec![T::zero(); ni * m]);
+        let scratch = std::cell::RefCell::new(Scratch { xt: vec![T::zero(); ni * m], rhs: DVector::zeros(ns), d: vec![T::zero(); 2 * m], s: vec![T::zero(); m] });
         Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, scratch })
     }
 }
@@ -265,16 +293,16 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
     pub fn solve(&self, b: &mut [T]) {
         let j = &*self.jac;
         let (m, nz, nb, ni) = (j.m, j.nz, j.nb, j.ni);
+        let mut guard = self.scratch.borrow_mut();
+        let Scratch { xt, rhs, d, s } = &mut *guard;
         // D_k⁻¹ b_T,k, all modes at once on the node-major copy
-        let mut xt = self.scratch.borrow_mut();
         for k in 0..m {
             let o = 2 + k * nb + 3;
             for (i, &v) in b[o..o + ni].iter().enumerate() {
                 xt[i * m + k] = v;
             }
         }
-        self.tri.solve(&mut xt);
-        let mut rhs = DVector::<T>::zeros(nz + 2 * m);
+        self.tri.solve(xt);
         rhs[0] = b[0];
         rhs[1] = b[1];
         for k in 0..m {
@@ -282,32 +310,30 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
                 rhs[2 + 3 * k + c] = b[2 + k * nb + c];
             }
         }
-        for (kind, w) in j.pw.iter().enumerate() {
-            for (k, d) in dots(&xt, w, m).into_iter().enumerate() {
-                rhs[nz + kind * m + k] = d;
-            }
+        let (d0, d1) = d.split_at_mut(m);
+        dots2(xt, [&j.pw[0], &j.pw[1]], d0, d1);
+        for (q, &dq) in d.iter().enumerate() {
+            rhs[nz + q] = dq;
         }
-        let x = match self.small.solve(&rhs) {
-            Some(x) => x,
-            None => {
-                b.iter_mut().for_each(|v| *v = T::from_real(f64::NAN));
-                return;
-            }
-        };
+        if !self.small.solve_mut(rhs) {
+            b.iter_mut().for_each(|v| *v = T::from_real(f64::NAN));
+            return;
+        }
+        let x = &*rhs;
         b[0] = x[0];
         b[1] = x[1];
-        let mut s = vec![T::zero(); m];
         for (k, sk) in s.iter_mut().enumerate() {
             for c in 0..3 {
                 b[2 + k * nb + c] = x[2 + 3 * k + c];
             }
             // s_k = δT_w,k
             let tw_row = nz + k;
+            *sk = T::zero();
             for jj in 0..nz {
-                *sk += T::from_real(j.gz[(tw_row, jj)]) * x[jj];
+                *sk += x[jj].scale(j.gz[(tw_row, jj)]);
             }
             for q in 0..2 * m {
-                *sk += T::from_real(j.gp[(tw_row, q)]) * x[nz + q];
+                *sk += x[nz + q].scale(j.gp[(tw_row, q)]);
             }
         }
         let [uc, ur, urd] = &self.u;

@@ -5,4 +5,5 @@ pub mod quadrature_h4;
 pub mod jacobian;
 pub mod potential_flow;
 pub mod rk4_ref;
+pub mod dopri_ref;
 pub mod membrane_loads;
