@@ -159,9 +159,30 @@ struct Trajectory {
     wall: f64,
 }
 
-fn run_once(scene: &Scene) -> Result<Trajectory, ModelError> {
+/// Counts the runs of a study for its progress report: `f(done, total)` after every run.
+struct Tally<'a> {
+    done: std::cell::Cell<usize>,
+    total: std::cell::Cell<usize>,
+    f: &'a dyn Fn(usize, usize),
+}
+
+impl Tally<'_> {
+    fn tick(&self) {
+        self.done.set(self.done.get() + 1);
+        self.total.set(self.total.get().max(self.done.get()));
+        (self.f)(self.done.get(), self.total.get());
+    }
+    /// One more run than planned (the reference is run again, shortened or implicit).
+    fn extend(&self) {
+        self.total.set(self.total.get() + 1);
+    }
+}
+
+fn run_once(scene: &Scene, tally: &Tally) -> Result<Trajectory, ModelError> {
     let mut rows = vec![];
-    let rep = simulate(scene, &mut |_, row| rows.push(row.to_vec()))?;
+    let rep = simulate(scene, &mut |_, row| rows.push(row.to_vec()));
+    tally.tick();
+    let rep = rep?;
     Ok(Trajectory { rows, status: rep.status, stats: rep.stats, wall: rep.wall_seconds })
 }
 
@@ -178,11 +199,11 @@ fn median(v: &mut [f64]) -> f64 {
 }
 
 /// Runs `repeats` times; the first trajectory with the median wall time.
-fn run_timed(scene: &Scene, repeats: usize) -> Result<Trajectory, ModelError> {
-    let mut first = run_once(scene)?;
+fn run_timed(scene: &Scene, repeats: usize, tally: &Tally) -> Result<Trajectory, ModelError> {
+    let mut first = run_once(scene, tally)?;
     let mut walls = vec![first.wall];
     for _ in 1..repeats.max(1) {
-        walls.push(run_once(scene)?.wall);
+        walls.push(run_once(scene, tally)?.wall);
     }
     first.wall = median(&mut walls);
     Ok(first)
@@ -268,13 +289,14 @@ fn ladder(
     reference: &[Vec<f64>],
     repeats: usize,
     configure: &dyn Fn(&mut Scene, f64),
+    tally: &Tally,
 ) -> Result<Ladder, ModelError> {
     let r0 = base.bubble.radius;
     let mut rungs = vec![];
     for &s in settings {
         let mut sc = base.clone();
         configure(&mut sc, s);
-        let tr = run_timed(&sc, repeats)?;
+        let tr = run_timed(&sc, repeats, tally)?;
         let (e_r, mut e_a) = errors(&tr.rows, reference, r0);
         if base.modes.max_order == 0 {
             e_a = 0.0;
@@ -304,8 +326,37 @@ fn set_adaptive(sc: &mut Scene, m: Method, rtol: f64) {
     sc.run.integrator.atol = 1e-3 * rtol;
 }
 
+/// The mode-ladder sizes actually run: even N ≥ 2 up to the coefficient tables' KMAX.
+fn mode_sizes(opts: &AccuracyOptions) -> Vec<usize> {
+    opts.mode_ladder.iter().copied().filter(|&n| n >= 2 && n % 2 == 0 && n <= crate::coefficients::KMAX).collect()
+}
+
+/// How many simulations [`accuracy_study`] runs on `scene` (one more per re-run of the
+/// reference, which is not known in advance): the reference and its error estimate, every
+/// rung of every ladder and every size `repeats` times.
+pub fn planned_runs(scene: &Scene, opts: &AccuracyOptions) -> usize {
+    let full = scene.modes.viscous == Viscous::Vorticity && scene.modes.max_order > 0;
+    let adaptive = if full { 1 } else { 3 };
+    let rungs = opts.dt_star.len() + adaptive * opts.rtols.len();
+    let modes = if scene.modes.max_order > 0 { mode_sizes(opts).len() } else { 0 };
+    let grid = if full { opts.grid_ladder.len() } else { 0 };
+    2 + opts.repeats.max(1) * (rungs + modes + grid)
+}
+
 /// Runs the whole study on `scene` (see the module docs).
 pub fn accuracy_study(scene: &Scene, opts: &AccuracyOptions) -> Result<AccuracyReport, AccuracyError> {
+    accuracy_study_with(scene, opts, &|_, _| {})
+}
+
+/// [`accuracy_study`], calling `progress(done, total)` after every simulation (total starts
+/// at [`planned_runs`]; it grows by one when the reference has to be run again).
+pub fn accuracy_study_with(
+    scene: &Scene,
+    opts: &AccuracyOptions,
+    progress: &dyn Fn(usize, usize),
+) -> Result<AccuracyReport, AccuracyError> {
+    let tally = Tally { done: 0.into(), total: planned_runs(scene, opts).into(), f: progress };
+    let tally = &tally;
     if opts.samples < 2 {
         return Err(AccuracyError::Setting { what: "samples", value: opts.samples.to_string(), reason: "need at least 2" });
     }
@@ -341,13 +392,17 @@ pub fn accuracy_study(scene: &Scene, opts: &AccuracyOptions) -> Result<AccuracyR
     // the reference, shortened to 0.9 t_b if it blows up
     let mut reference;
     let mut stiff = false;
+    let mut first_try = true;
     loop {
+        if !std::mem::take(&mut first_try) {
+            tally.extend();
+        }
         base.run.duration = duration;
         base.run.sample_interval = duration / opts.samples as f64;
         base.run.integrator.max_steps = base.run.integrator.max_steps.max(200_000_000);
         let mut sc = base.clone();
         configure_reference(&mut sc, base.run.sample_interval, 1.0, stiff);
-        reference = run_timed(&sc, 1)?;
+        reference = run_timed(&sc, 1, tally)?;
         match &reference.status {
             RunStatus::Completed => break,
             RunStatus::BlowUp { t, .. } if *t > 10.0 * base.run.sample_interval => duration = 0.9 * t,
@@ -362,7 +417,7 @@ pub fn accuracy_study(scene: &Scene, opts: &AccuracyOptions) -> Result<AccuracyR
     // the reference's own error
     let mut sc = base.clone();
     configure_reference(&mut sc, sample, 2.0, stiff);
-    let coarse = run_once(&sc)?;
+    let coarse = run_once(&sc, tally)?;
     let (er, ea) = errors(&coarse.rows, &reference.rows, r0);
     let reference_error = if full || stiff { er.max(ea) } else { er.max(ea) / 15.0 };
 
@@ -373,18 +428,18 @@ pub fn accuracy_study(scene: &Scene, opts: &AccuracyOptions) -> Result<AccuracyR
         ladders.push(ladder(&base, "staggered", &dts, true, &reference.rows, rep, &|sc, dt| {
             sc.vorticity.scheme = VorticityScheme::Staggered;
             sc.run.integrator.dt = dt;
-        })?);
+        }, tally)?);
         ladders.push(ladder(&base, "monolithic", &opts.rtols, false, &reference.rows, rep, &|sc, r| {
             sc.vorticity.scheme = VorticityScheme::Monolithic;
             set_adaptive(sc, Method::Radau5, r);
-        })?);
+        }, tally)?);
     } else {
         ladders.push(ladder(&base, "rk4", &dts, true, &reference.rows, rep, &|sc, dt| {
             sc.run.integrator.method = Method::Rk4;
             sc.run.integrator.dt = dt;
-        })?);
+        }, tally)?);
         for (name, m) in [("dopri5", Method::Dopri5), ("dop853", Method::Dop853), ("radau5", Method::Radau5)] {
-            ladders.push(ladder(&base, name, &opts.rtols, false, &reference.rows, rep, &|sc, r| set_adaptive(sc, m, r))?);
+            ladders.push(ladder(&base, name, &opts.rtols, false, &reference.rows, rep, &|sc, r| set_adaptive(sc, m, r), tally)?);
         }
     }
 
@@ -405,7 +460,7 @@ pub fn accuracy_study(scene: &Scene, opts: &AccuracyOptions) -> Result<AccuracyR
         for &n in sizes {
             let mut sc = base.clone();
             configure(&mut sc, n);
-            runs.push((n, run_timed(&sc, rep)?));
+            runs.push((n, run_timed(&sc, rep, tally)?));
         }
         let Some((_, last)) = runs.last() else { return Ok(vec![]) };
         let last_rows = last.rows.clone();
@@ -427,9 +482,7 @@ pub fn accuracy_study(scene: &Scene, opts: &AccuracyOptions) -> Result<AccuracyR
             .collect())
     };
     let modes = if scene.modes.max_order > 0 {
-        let sizes: Vec<usize> =
-            opts.mode_ladder.iter().copied().filter(|&n| n >= 2 && n % 2 == 0 && n <= crate::coefficients::KMAX).collect();
-        size(&|sc, n| sc.modes.max_order = n, &sizes)?
+        size(&|sc, n| sc.modes.max_order = n, &mode_sizes(opts))?
     } else {
         vec![]
     };

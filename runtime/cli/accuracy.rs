@@ -4,7 +4,7 @@
 //! rung), `DIR/sizes.csv` (mode and grid ladders), `DIR/accuracy.json` (everything) and with
 //! `--plot` `DIR/work_precision.{svg,png}` (error against wall time, log–log).
 
-use crate::analysis::accuracy::{accuracy_study, AccuracyOptions, MIN_WORK_RATIO};
+use crate::analysis::accuracy::{accuracy_study_with, planned_runs, AccuracyOptions, MIN_WORK_RATIO};
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::kinds::{work_precision, Curve};
 use crate::scene;
@@ -59,9 +59,10 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         }
         opts.duration = Some(d);
     }
-    let spinner = crate::output::Spinner::new("accuracy study");
-    let report = accuracy_study(&scene, &opts).context("accuracy study")?;
-    drop(spinner);
+    // A fraction-done bar over the study's simulations (on a terminal only).
+    let bar = crate::output::Counter::new(planned_runs(&scene, &opts), "accuracy study");
+    let report = accuracy_study_with(&scene, &opts, &|done, total| bar.set(done, total)).context("accuracy study")?;
+    drop(bar);
     outln!(
         "reference: {} (estimated error {:.2e}, {:.2} s); compared over {:.3e} s, {} samples; t* = {:.4e} s",
         report.reference,

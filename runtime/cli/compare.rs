@@ -1,10 +1,12 @@
 //! `magbubble compare SCENE [--out DIR] [--set key=value]…`: the scene with the boundary-layer
 //! closure and with the full vorticity model (paper §5.1, fig 4). Prints the maximum and mean
 //! differences of R and every a_k, b_k; writes `DIR/compare.csv` (t and both series of every
-//! column) and `DIR/compare.json` (the differences and both run reports), atomically.
+//! column) and `DIR/compare.json` (the differences and both run reports), atomically; with
+//! `--plot` `DIR/compare.{svg,png}` (R and the largest a_k of both runs, and their difference).
 
 use crate::analysis::compare::run_both;
 use crate::output::{write_json, OutputDir};
+use crate::plot::study::compare_figure;
 use crate::scene;
 use anyhow::Context;
 use std::path::PathBuf;
@@ -20,6 +22,9 @@ pub struct CompareArgs {
     /// Override a scene key, e.g. --set drive.amplitude=0.3 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Also draw both series and their difference (compare.svg/.png).
+    #[arg(long)]
+    pub plot: bool,
 }
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
@@ -49,6 +54,17 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         vorticity: &'a crate::model::RunReport,
     }
     write_json(&dir.join("compare.json"), &Summary { differences: diffs, boundary_layer: rep_bl, vorticity: rep_full })?;
+    if args.plot {
+        let blow_up = |s: &crate::model::RunStatus| match s {
+            crate::model::RunStatus::BlowUp { t, mode } => Some((mode.clone(), *t)),
+            _ => None,
+        };
+        let title = format!("boundary layer vs full vorticity: {}", args.scene.display());
+        compare_figure(&title, &runs.names, &runs.t, &runs.bl, &runs.full, [blow_up(&rep_bl.status), blow_up(&rep_full.status)])
+            .save(dir.path(), "compare")
+            .context("writing the compare plot")?;
+        outln!("plotted {}", dir.join("compare.svg").display());
+    }
     outln!("wrote {}", out.display());
     Ok(())
 }

@@ -2,11 +2,14 @@
 //! paper's staggered scheme (paper §5.1, fig 3, eq 5.4). Runs the scene's full model with a fine
 //! reference step (default Δt′ = 1.7·10⁻⁴, as the paper) and with integer multiples of it, and
 //! prints e_s (shape amplitudes over time) and e_f (vorticity at the end) with the observed
-//! orders. Writes `DIR/convergence.csv` and `DIR/convergence.json` (atomically).
+//! orders. Writes `DIR/convergence.csv` and `DIR/convergence.json` (atomically), and with
+//! `--plot` `DIR/convergence.{svg,png}`: e_s and e_f against Δt′ (slope-2 guide) and against
+//! the wall time, log–log.
 
 use crate::analysis::convergence::convergence_study;
 use crate::model::vorticity::scene::FullModel;
 use crate::output::{write_json, CsvWriter, OutputDir};
+use crate::plot::study::{convergence_figure, ConvergencePoint};
 use crate::scene;
 use anyhow::Context;
 use std::path::PathBuf;
@@ -31,6 +34,9 @@ pub struct ConvergenceArgs {
     /// Simulated time [s] (default: the scene's run.duration; the paper uses 100 µs).
     #[arg(long)]
     pub duration: Option<f64>,
+    /// Also draw the errors against the step and against the work (convergence.svg/.png).
+    #[arg(long)]
+    pub plot: bool,
 }
 
 pub fn run(args: &ConvergenceArgs) -> anyhow::Result<()> {
@@ -70,6 +76,14 @@ pub fn run(args: &ConvergenceArgs) -> anyhow::Result<()> {
     let fmt = |o: Option<f64>| o.map_or("n/a".to_string(), |v| format!("{v:.3}"));
     outln!("observed order: e_s {}, e_f {} (paper: 1.995, 2.065)", fmt(report.order_s), fmt(report.order_f));
     write_json(&dir.join("convergence.json"), &report)?;
+    if args.plot {
+        let points: Vec<ConvergencePoint> =
+            report.rows.iter().map(|r| ConvergencePoint { dt: r.dt, e_s: r.e_s, e_f: r.e_f, seconds: r.seconds }).collect();
+        convergence_figure(&format!("time-step convergence: {}", args.scene.display()), &points, 2)
+            .save(dir.path(), "convergence")
+            .context("writing the convergence plot")?;
+        outln!("plotted {}", dir.join("convergence.svg").display());
+    }
     outln!("wrote {}", out.display());
     Ok(())
 }

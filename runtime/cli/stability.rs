@@ -271,7 +271,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         if shard != Shard::ALL {
             noteln!("--plot: skipped for a shard; plot the merged CSV");
         } else {
-            let y_label = if args.vary == "drive.amplitude" { "critical ε_p".to_string() } else { format!("critical {}", args.vary) };
+            let y_label = if args.vary == "drive.amplitude" { "critical ε_p [–]".to_string() } else { format!("critical {}", args.vary) };
             let out_dir = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "stability"));
             let saved = crate::plot::stability_plot(&plotted, &out_dir, "stability", &y_label, false)
                 .with_context(|| format!("plotting the stability diagram into {}", out_dir.display()))?;

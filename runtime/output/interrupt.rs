@@ -49,6 +49,35 @@ extern "C" fn on_signal(sig: libc::c_int) {
     }
 }
 
+static EXIT_NOTE: OnceLock<CString> = OnceLock::new();
+
+/// For work that keeps its finished parts (`figure`): on SIGINT/SIGTERM print `note` on its
+/// own line and exit with 128 + signal (the parts are written atomically, so what is on disk
+/// is whole). Call once per process.
+pub fn note_on_signal(note: &str) {
+    let Ok(text) = CString::new(format!("\ninterrupted: {note}\n")) else { return };
+    if EXIT_NOTE.set(text).is_err() {
+        return;
+    }
+    let handler = on_note_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
+    // SAFETY: `on_note_signal` only calls write and _exit on a string fixed before this call.
+    unsafe {
+        libc::signal(libc::SIGINT, handler);
+        libc::signal(libc::SIGTERM, handler);
+    }
+}
+
+extern "C" fn on_note_signal(sig: libc::c_int) {
+    // SAFETY: write and _exit are async-signal-safe; the string lives for the process.
+    unsafe {
+        if let Some(t) = EXIT_NOTE.get() {
+            let b = t.as_bytes();
+            libc::write(2, b.as_ptr().cast(), b.len());
+        }
+        libc::_exit(128 + sig);
+    }
+}
+
 static CANCEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 static SIGNAL: std::sync::atomic::AtomicI32 = std::sync::atomic::AtomicI32::new(0);
 

@@ -18,8 +18,8 @@ pub use atomic::{AtomicFile, OutputDir};
 pub use console::{flush_out, write_err, write_out, StdoutError};
 pub use csv::{series_header, CsvWriter};
 #[cfg(unix)]
-pub use interrupt::{cancel_on_signal, cancelling_signal, clean_up_on_signal};
-pub use progress::{Progress, Spinner};
+pub use interrupt::{cancel_on_signal, cancelling_signal, clean_up_on_signal, note_on_signal};
+pub use progress::{Counter, Progress, Spinner};
 
 use std::path::Path;
 

@@ -56,7 +56,46 @@ impl Progress {
     }
 }
 
-/// An elapsed-time spinner for work whose length is not known in advance (`accuracy`): shown
+/// A fraction-done bar over a known number of runs (`accuracy`: its ladders' simulations),
+/// shown only when stderr is a terminal, cleared when dropped.
+#[derive(Debug)]
+pub struct Counter(Option<ProgressBar>);
+
+impl Counter {
+    pub fn new(total: usize, message: &str) -> Self {
+        Counter(std::io::stderr().is_terminal().then(|| {
+            let bar = ProgressBar::new(total as u64);
+            let style = ProgressStyle::with_template(
+                "{msg} [{bar:40}] {pos}/{len} runs {percent:>3}% {elapsed} (eta {eta})",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> ");
+            bar.set_style(style);
+            bar.set_message(message.to_string());
+            bar
+        }))
+    }
+
+    /// `done` of `total` runs finished (`total` may grow).
+    pub fn set(&self, done: usize, total: usize) {
+        if let Some(bar) = &self.0 {
+            if bar.length() != Some(total as u64) {
+                bar.set_length(total as u64);
+            }
+            bar.set_position(done as u64);
+        }
+    }
+}
+
+impl Drop for Counter {
+    fn drop(&mut self) {
+        if let Some(bar) = self.0.take() {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// An elapsed-time spinner for work whose length is not known in advance (`accuracy --critical`): shown
 /// only when stderr is a terminal, cleared when dropped.
 #[derive(Debug)]
 pub struct Spinner(Option<ProgressBar>);

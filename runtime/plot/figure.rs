@@ -120,13 +120,27 @@ impl Series {
 /// Where the legend goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Legend {
+    /// The first corner of the plot area (upper right, upper left, lower right, lower left)
+    /// whose legend box covers no drawn data; outside the plot area, on the right, when every
+    /// corner would hide data (issue 15 "legends placed off the data"; `legend.rs`).
     #[default]
+    Auto,
     UpperRight,
     UpperLeft,
     LowerRight,
     LowerLeft,
     /// No legend even when series have names.
     Hidden,
+}
+
+/// A vertical dashed line across a panel at `x` (e.g. the blow-up time of a run), with a
+/// legend entry when `label` is not empty.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VLine {
+    pub x: f64,
+    pub label: String,
+    /// Palette index.
+    pub color: usize,
 }
 
 /// One chart: two axes and its series.
@@ -137,6 +151,8 @@ pub struct Panel {
     pub y: Axis,
     pub series: Vec<Series>,
     pub legend: Legend,
+    /// Vertical markers drawn over the full height of the panel.
+    pub vlines: Vec<VLine>,
 }
 
 impl Panel {
@@ -147,7 +163,17 @@ impl Panel {
             y,
             series: Vec::new(),
             legend: Legend::default(),
+            vlines: Vec::new(),
         }
+    }
+    /// Adds a vertical dashed marker at `x` (palette colour 3, red).
+    pub fn vline(mut self, x: f64, label: impl Into<String>) -> Self {
+        self.vlines.push(VLine {
+            x,
+            label: label.into(),
+            color: 3,
+        });
+        self
     }
     pub fn title(mut self, title: impl Into<String>) -> Self {
         self.title = Some(title.into());

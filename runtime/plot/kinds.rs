@@ -3,6 +3,7 @@
 //! researcher units (µs, µm, MHz) and say so in their labels.
 
 use super::figure::{Axis, Figure, Legend, Panel, Series};
+use super::logshape::{log_magnitudes, wants_log};
 
 /// One simulated run for time-series figures (SI units).
 #[derive(Debug, Clone, PartialEq)]
@@ -13,6 +14,8 @@ pub struct TimeSeries {
     pub radius_m: Vec<f64>,
     /// (`"a_2"`, values in m), (`"b_2"`, …) …
     pub shapes: Vec<(String, Vec<f64>)>,
+    /// When the run stopped at a blow-up: the mode and the time [s] (marked on the plot).
+    pub blow_up: Option<(String, f64)>,
 }
 
 /// A named curve (x, y) in the units the caller states in the axis labels.
@@ -52,43 +55,80 @@ pub fn mode_name(name: &str) -> String {
 }
 
 /// R(t) above the shape amplitudes (a_k, b_k) of one or several runs, sharing the time axis.
+/// Legends go where the data is not ([`Legend::Auto`]).
 /// With one run the legend names the modes; with several, runs × modes (`χ = 1: a₂`).
 pub fn time_series(title: &str, runs: &[TimeSeries]) -> Figure {
     time_series_select(title, runs, &[])
 }
 
 /// As [`time_series`], with only the named shape columns (`&["a_2", "a_4"]`); empty: all.
+/// The shape panel shows |a_k| on a log axis when a run blew up or the amplitudes span two
+/// decades or more ([`wants_log`]); a blow-up is marked by a dashed vertical line. Modes that
+/// are identically zero are not drawn (the panel title names them).
 pub fn time_series_select(title: &str, runs: &[TimeSeries], shapes: &[&str]) -> Figure {
     let t_axis = || Axis::linear("t [µs]");
-    let mut top = Panel::new(t_axis(), Axis::linear("R [µm]")).legend(Legend::UpperRight);
-    let mut bottom = Panel::new(t_axis(), Axis::linear("shape amplitude [µm]"));
+    let mut top = Panel::new(t_axis(), Axis::linear("R [µm]"));
     let several = runs.len() > 1;
-    let mut color = 0;
+    let mut names = Vec::new();
+    let mut values = Vec::new();
+    let mut times = Vec::new();
+    let mut zero = Vec::new();
     for (i, run) in runs.iter().enumerate() {
         let t = scaled(&run.t_s, 1e6);
-        top.push(Series::line(run.label.clone(), t.clone(), scaled(&run.radius_m, 1e6)).color(i));
-        let chosen: Vec<&(String, Vec<f64>)> = run
-            .shapes
-            .iter()
-            .filter(|(n, _)| shapes.is_empty() || shapes.contains(&n.as_str()))
-            .collect();
-        for (name, v) in chosen {
-            let label = match (several, run.label.is_empty()) {
+        let label = if several { run.label.clone() } else { String::new() };
+        top.push(Series::line(label, t.clone(), scaled(&run.radius_m, 1e6)).color(i));
+        for (name, v) in run.shapes.iter().filter(|(n, _)| shapes.is_empty() || shapes.contains(&n.as_str())) {
+            if v.iter().all(|x| *x == 0.0) {
+                zero.push(mode_name(name));
+                continue;
+            }
+            names.push(match (several, run.label.is_empty()) {
                 (true, false) => format!("{}: {}", run.label, mode_name(name)),
                 _ => mode_name(name),
-            };
-            bottom.push(Series::line(label, t.clone(), scaled(v, 1e6)).color(color));
-            color += 1;
+            });
+            values.push(scaled(v, 1e6));
+            times.push(t.clone());
         }
     }
-    if !several {
-        top.legend = Legend::Hidden;
+    let blown = runs.iter().any(|r| r.blow_up.is_some());
+    let log = wants_log(&values, blown);
+    let mut bottom = if log {
+        values = log_magnitudes(&values);
+        Panel::new(t_axis(), Axis::log("|shape amplitude| [µm]"))
+    } else {
+        Panel::new(t_axis(), Axis::linear("shape amplitude [µm]"))
+    };
+    for (color, ((name, t), v)) in names.into_iter().zip(times).zip(values).enumerate() {
+        bottom.push(Series::line(name, t, v).color(color));
+    }
+    if !zero.is_empty() && !bottom.series.is_empty() {
+        zero.dedup();
+        bottom = bottom.title(format!("{} identically 0 (not drawn)", zero.join(", ")));
+    }
+    for (i, run) in runs.iter().enumerate() {
+        if let Some((mode, tb)) = &run.blow_up {
+            let label = format!("blow-up of {} at {:.2} µs", mode_name(&shape_name(mode)), tb * 1e6);
+            top = top.vline(tb * 1e6, "");
+            bottom = bottom.vline(tb * 1e6, if several { format!("{}: {label}", run.label) } else { label });
+            if several {
+                top.vlines.last_mut().expect("just pushed").color = i;
+                bottom.vlines.last_mut().expect("just pushed").color = i;
+            }
+        }
     }
     if bottom.series.is_empty() {
         // A radial-only run (modes.max_order = 0) has no shape panel.
         return Figure::single(top).title(title);
     }
     Figure::stacked(vec![top, bottom]).title(title)
+}
+
+/// `a16` → `a_16` (the output column names of `model::simulate`); other names unchanged.
+fn shape_name(mode: &str) -> String {
+    match mode.split_at_checked(1) {
+        Some((h, d)) if !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()) => format!("{h}_{d}"),
+        _ => mode.to_string(),
+    }
 }
 
 /// Phase portrait of one or several trajectories, e.g. a₂ [µm] against ȧ₂ [m/s]: `x` and `y`
@@ -105,10 +145,9 @@ pub fn phase_portrait(title: &str, x_label: &str, y_label: &str, curves: &[Curve
 /// `curves`: x = k, y = ω_k in the unit named by `y_label` (e.g. `"ω_k [rad/s]"`, `"ω_k t* [–]"`).
 pub fn omega_vs_k(title: &str, y_label: &str, curves: &[Curve], log_y: bool) -> Figure {
     let mut p = Panel::new(
-        Axis::linear("mode number k").integer(),
+        Axis::linear("mode number k [–]").integer(),
         Axis::with_scale(y_label, log_y),
-    )
-    .legend(Legend::UpperLeft);
+    );
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -124,8 +163,7 @@ pub fn stability_diagram(
     curves: &[Curve],
     log_y: bool,
 ) -> Figure {
-    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale(y_label, log_y))
-        .legend(Legend::UpperLeft);
+    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale(y_label, log_y));
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -134,8 +172,7 @@ pub fn stability_diagram(
 
 /// First unstable mode number against the driving frequency (fig 5b), as a staircase.
 pub fn first_unstable_mode(title: &str, x_label: &str, curves: &[Curve]) -> Figure {
-    let mut p = Panel::new(Axis::linear(x_label), Axis::linear("first unstable mode k").integer())
-        .legend(Legend::UpperLeft);
+    let mut p = Panel::new(Axis::linear(x_label), Axis::linear("first unstable mode k [–]").integer());
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::steps(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -144,8 +181,7 @@ pub fn first_unstable_mode(title: &str, x_label: &str, curves: &[Curve]) -> Figu
 
 /// Largest Floquet multiplier modulus against frequency (fig 6c), with the |μ| = 1 line.
 pub fn max_multiplier(title: &str, x_label: &str, curves: &[Curve], log_y: bool) -> Figure {
-    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale("max |μ|", log_y))
-        .legend(Legend::UpperLeft);
+    let mut p = Panel::new(Axis::linear(x_label), Axis::with_scale("max |μ| [–]", log_y));
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for (i, c) in curves.iter().enumerate() {
         for &x in c.x.iter().filter(|x| x.is_finite()) {
@@ -163,8 +199,7 @@ pub fn max_multiplier(title: &str, x_label: &str, curves: &[Curve], log_y: bool)
 /// Work–precision: error against wall time, log–log, one curve per integrator (x = wall time
 /// [s], y = error [–]).
 pub fn work_precision(title: &str, error_label: &str, curves: &[Curve]) -> Figure {
-    let mut p =
-        Panel::new(Axis::log("wall time [s]"), Axis::log(error_label)).legend(Legend::UpperRight);
+    let mut p = Panel::new(Axis::log("wall time [s]"), Axis::log(error_label));
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -181,8 +216,7 @@ pub fn convergence(
     curves: &[Curve],
     orders: &[u32],
 ) -> Figure {
-    let mut p =
-        Panel::new(Axis::log(step_label), Axis::log(error_label)).legend(Legend::LowerRight);
+    let mut p = Panel::new(Axis::log(step_label), Axis::log(error_label));
     for (i, c) in curves.iter().enumerate() {
         p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
     }
@@ -212,7 +246,9 @@ pub fn convergence(
 }
 
 /// Stacked panels sharing the time axis: R(t) (when `radius`), then one panel per shape
-/// column named in `shapes` (`"a_2"`, `"a_4"`), each with one curve per run.
+/// column named in `shapes` (`"a_2"`, `"a_4"`), each with one curve per run. A shape panel is
+/// |a_k| on a log axis when a run blew up or the curves span two decades ([`wants_log`]);
+/// each run's blow-up time is a dashed vertical line in its colour on every panel.
 pub fn time_series_panels(
     title: &str,
     runs: &[TimeSeries],
@@ -222,7 +258,7 @@ pub fn time_series_panels(
     let t_axis = || Axis::linear("t [µs]");
     let mut panels = Vec::new();
     let legend = if runs.len() > 1 {
-        Legend::UpperRight
+        Legend::Auto
     } else {
         Legend::Hidden
     };
@@ -240,17 +276,36 @@ pub fn time_series_panels(
         }
         panels.push(p);
     }
+    let blown = runs.iter().any(|r| r.blow_up.is_some());
     for shape in shapes {
-        let mut p =
-            Panel::new(t_axis(), Axis::linear(format!("{} [µm]", mode_name(shape)))).legend(legend);
-        for (i, run) in runs.iter().enumerate() {
-            if let Some((_, v)) = run.shapes.iter().find(|(n, _)| n == shape) {
-                p.push(
-                    Series::line(run.label.clone(), scaled(&run.t_s, 1e6), scaled(v, 1e6)).color(i),
-                );
-            }
+        let curves: Vec<(usize, &TimeSeries, Vec<f64>)> = runs
+            .iter()
+            .enumerate()
+            .filter_map(|(i, run)| {
+                let (_, v) = run.shapes.iter().find(|(n, _)| n == shape)?;
+                Some((i, run, scaled(v, 1e6)))
+            })
+            .collect();
+        let mut values: Vec<Vec<f64>> = curves.iter().map(|c| c.2.clone()).collect();
+        let name = mode_name(shape);
+        let y = if wants_log(&values, blown) {
+            values = log_magnitudes(&values);
+            Axis::log(format!("|{name}| [µm]"))
+        } else {
+            Axis::linear(format!("{name} [µm]"))
+        };
+        let mut p = Panel::new(t_axis(), y).legend(legend);
+        for ((i, run, _), v) in curves.into_iter().zip(values) {
+            p.push(Series::line(run.label.clone(), scaled(&run.t_s, 1e6), v).color(i));
         }
         panels.push(p);
+    }
+    for p in &mut panels {
+        for (i, run) in runs.iter().enumerate() {
+            if let Some((_, tb)) = &run.blow_up {
+                p.vlines.push(super::VLine { x: tb * 1e6, label: String::new(), color: i });
+            }
+        }
     }
     Figure::stacked(panels).title(title)
 }

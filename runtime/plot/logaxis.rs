@@ -115,6 +115,34 @@ impl Ranged for LogAxis {
     }
 }
 
+/// Compact tick text: `0`, `0.25`, `150`, `1e-5`, `2.5e6`.
+/// A tick label; on an integer axis (mode numbers) a tick between whole numbers gets none.
+pub(crate) fn axis_tick_label(v: f64, integer: bool) -> String {
+    if integer && (v - v.round()).abs() > 1e-9 * v.abs().max(1.0) {
+        return String::new();
+    }
+    if integer {
+        return format!("{}", v.round() as i64);
+    }
+    tick_label(v)
+}
+
+pub(crate) fn tick_label(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { format!("{v}") };
+    }
+    let a = v.abs();
+    if !(1e-3..1e5).contains(&a) {
+        let s = format!("{v:.2e}");
+        let (mant, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        let mant = mant.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mant}e{exp}");
+    }
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -145,5 +173,14 @@ mod tests {
         assert_eq!(wide.map(&2e-3, (0, 100)), 100);
         assert_eq!(wide.map(&0.0, (0, 100)), -1000);
         assert_eq!(wide.map(&f64::NAN, (0, 100)), -1000);
+    }
+
+    #[test]
+    fn integer_axes_label_whole_numbers_only() {
+        assert_eq!(axis_tick_label(8.0, true), "8");
+        assert_eq!(axis_tick_label(7.999999999999, true), "8");
+        assert_eq!(axis_tick_label(7.5, true), "");
+        assert_eq!(axis_tick_label(0.25, true), "");
+        assert_eq!(axis_tick_label(7.5, false), super::tick_label(7.5));
     }
 }

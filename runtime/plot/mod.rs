@@ -18,15 +18,19 @@ mod figure;
 pub mod fonts;
 mod from_csv;
 pub mod kinds;
+mod legend;
+mod logshape;
 mod logaxis;
 pub mod paper;
 mod render;
 mod series_csv;
+pub mod study;
 
-pub use figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series};
+pub use figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series, VLine};
+pub use logshape::{log_magnitudes, wants_log, LOG_SPAN};
 pub use from_csv::{stability_plot, CsvTable};
 pub use render::Saved;
-pub use series_csv::{series_plot, SeriesTable};
+pub use series_csv::{series_plot, summary_blow_up, SeriesTable};
 
 use std::path::PathBuf;
 

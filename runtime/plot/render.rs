@@ -6,7 +6,8 @@
 //! with nothing drawable is an error, never a panic.
 
 use super::figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series};
-use super::logaxis::LogAxis;
+use super::legend::{self, Placement};
+use super::logaxis::{axis_tick_label, LogAxis};
 use super::{fonts, PlotError};
 use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::coord::Shift;
@@ -256,6 +257,73 @@ fn resolve(axis: &Axis, data: Extent, figure: &str, what: &str) -> Result<(f64, 
     })
 }
 
+/// Plot-area margins of [`draw_panel`] [px]: around the chart, y and x label areas, a caption.
+const MARGIN: i32 = 12;
+const Y_LABELS: i32 = 88;
+const X_LABELS: i32 = 56;
+const CAPTION: i32 = 32;
+/// Gap between the plot area and a legend placed outside it [px].
+const OUTSIDE_GAP: i32 = 12;
+
+/// The legend entries of a panel: named series with something to draw, named markers in range.
+fn legend_entries(panel: &Panel, xr: (f64, f64)) -> Vec<&str> {
+    let drawn = |s: &Series| !pieces(s, panel.x.scale, panel.y.scale).is_empty();
+    let series = panel.series.iter().filter(|s| !s.name.is_empty() && drawn(s)).map(|s| s.name.as_str());
+    let marks = panel.vlines.iter().filter(|v| !v.label.is_empty() && v.x >= xr.0 && v.x <= xr.1);
+    series.chain(marks.map(|v| v.label.as_str())).collect()
+}
+
+/// Legend placement and the width reserved right of the plot area for each panel. With a shared
+/// x axis every panel reserves the same width, so the time axes stay aligned.
+fn placements<DB: DrawingBackend>(
+    areas: &[DrawingArea<DB, Shift>],
+    fig: &Figure,
+    layout: &Layout,
+) -> Vec<(Placement, i32)> {
+    let font: TextStyle = (fonts::FAMILY, 16).into_font().into();
+    let boxes: Vec<Option<(usize, i32, i32)>> = fig
+        .panels
+        .iter()
+        .zip(&layout.ranges)
+        .zip(areas)
+        .map(|((panel, &(xr, _)), area)| {
+            let entries = legend_entries(panel, xr);
+            let widest = entries
+                .iter()
+                .map(|t| area.estimate_text_size(t, &font).map_or(9 * t.chars().count() as i32, |d| d.0 as i32))
+                .max()?;
+            let (w, h) = legend::box_size(entries.len(), widest);
+            Some((entries.len(), w, h))
+        })
+        .collect();
+    let plot_size = |i: usize, reserve: i32| {
+        let (w, h) = areas[i].dim_in_pixel();
+        let caption = if fig.panels[i].title.is_some() { CAPTION } else { 0 };
+        (w as i32 - 3 * MARGIN - Y_LABELS - reserve, h as i32 - 2 * MARGIN - X_LABELS - caption)
+    };
+    let mut reserve = vec![0; fig.panels.len()];
+    let mut out = vec![(Placement::None, 0); fig.panels.len()];
+    // Twice: reserving a column narrows the plot areas, which can move another panel's legend out.
+    for _ in 0..2 {
+        for (i, (panel, &(xr, yr))) in fig.panels.iter().zip(&layout.ranges).enumerate() {
+            let at = legend::place(panel, xr, yr, plot_size(i, reserve[i]), boxes[i]);
+            out[i].0 = at;
+            if at == Placement::Outside {
+                let w = boxes[i].map_or(0, |b| b.1) + OUTSIDE_GAP;
+                reserve[i] = reserve[i].max(w);
+            }
+        }
+        if fig.share_x {
+            let widest = reserve.iter().copied().max().unwrap_or(0);
+            reserve.iter_mut().for_each(|r| *r = widest);
+        }
+    }
+    for (o, r) in out.iter_mut().zip(reserve) {
+        o.1 = r;
+    }
+    out
+}
+
 fn draw_figure<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     fig: &Figure,
@@ -269,22 +337,25 @@ fn draw_figure<DB: DrawingBackend>(
         None => root.clone(),
     };
     let areas = body.split_evenly((fig.panels.len(), 1));
-    for ((panel, area), &(xr, yr)) in fig.panels.iter().zip(&areas).zip(&layout.ranges) {
+    let places = placements(&areas, fig, layout);
+    for (((panel, area), &(xr, yr)), &legend) in
+        fig.panels.iter().zip(&areas).zip(&layout.ranges).zip(&places)
+    {
         let (x0, x1) = xr;
         let (y0, y1) = yr;
+        let p = (xr, yr, legend);
         match (panel.x.scale, panel.y.scale) {
-            (Scale::Linear, Scale::Linear) => draw_panel(area, panel, xr, yr, x0..x1, y0..y1),
+            (Scale::Linear, Scale::Linear) => draw_panel(area, panel, p, x0..x1, y0..y1),
             (Scale::Log, Scale::Linear) => {
-                draw_panel(area, panel, xr, yr, LogAxis { lo: x0, hi: x1 }, y0..y1)
+                draw_panel(area, panel, p, LogAxis { lo: x0, hi: x1 }, y0..y1)
             }
             (Scale::Linear, Scale::Log) => {
-                draw_panel(area, panel, xr, yr, x0..x1, LogAxis { lo: y0, hi: y1 })
+                draw_panel(area, panel, p, x0..x1, LogAxis { lo: y0, hi: y1 })
             }
             (Scale::Log, Scale::Log) => draw_panel(
                 area,
                 panel,
-                xr,
-                yr,
+                p,
                 LogAxis { lo: x0, hi: x1 },
                 LogAxis { lo: y0, hi: y1 },
             ),
@@ -293,11 +364,13 @@ fn draw_figure<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The resolved x and y ranges of a panel, its legend placement and the reserved right column.
+type Resolved = ((f64, f64), (f64, f64), (Placement, i32));
+
 fn draw_panel<DB, XS, YS>(
     area: &DrawingArea<DB, Shift>,
     panel: &Panel,
-    xr: (f64, f64),
-    yr: (f64, f64),
+    (xr, yr, (placement, reserve)): Resolved,
     xs: XS,
     ys: YS,
 ) -> Result<(), String>
@@ -311,24 +384,27 @@ where
     let err = |e: &dyn std::fmt::Display| e.to_string();
     let mut builder = ChartBuilder::on(area);
     builder
-        .margin(12)
-        .x_label_area_size(56)
-        .y_label_area_size(88);
+        .margin(MARGIN as u32)
+        // Room on the right for the last tick label (and a legend placed outside).
+        .margin_right((2 * MARGIN + reserve) as u32)
+        .x_label_area_size(X_LABELS as u32)
+        .y_label_area_size(Y_LABELS as u32);
     if let Some(t) = &panel.title {
         builder.caption(t, (fonts::FAMILY, 22).into_font());
     }
     let mut chart = builder.build_cartesian_2d(xs, ys).map_err(|e| err(&e))?;
     // A tick that is zero up to rounding (1.39e-17 on a ±0.1 axis) prints as 0.
-    let snap = |v: f64, (lo, hi): (f64, f64)| {
-        if v.abs() < 1e-9 * lo.abs().max(hi.abs()) {
+    let (x_lin, y_lin) = (panel.x.scale == Scale::Linear, panel.y.scale == Scale::Linear);
+    let snap = |v: f64, (lo, hi): (f64, f64), linear: bool| {
+        if linear && v.abs() < 1e-9 * lo.abs().max(hi.abs()) {
             0.0
         } else {
             v
         }
     };
     let (xi, yi) = (panel.x.integer, panel.y.integer);
-    let xfmt = move |v: &f64| axis_tick_label(snap(*v, xr), xi);
-    let yfmt = move |v: &f64| axis_tick_label(snap(*v, yr), yi);
+    let xfmt = move |v: &f64| axis_tick_label(snap(*v, xr, x_lin), xi);
+    let yfmt = move |v: &f64| axis_tick_label(snap(*v, yr, y_lin), yi);
     chart
         .configure_mesh()
         .x_desc(panel.x.label.as_str())
@@ -344,6 +420,8 @@ where
         .map_err(|e| err(&e))?;
 
     let mut labelled = false;
+    // (label, colour, dashed) of every legend entry, for a legend drawn outside the plot area.
+    let mut entries: Vec<(&str, RGBColor, bool)> = Vec::new();
     for (i, s) in panel.series.iter().enumerate() {
         let c = color(s.color.unwrap_or(i));
         let pieces = pieces(s, panel.x.scale, panel.y.scale);
@@ -374,6 +452,7 @@ where
             if first && !s.name.is_empty() {
                 labelled = true;
                 let dashed = s.mark == Mark::Dashed;
+                entries.push((s.name.as_str(), c, dashed));
                 anno.label(s.name.as_str()).legend(move |(x, y)| {
                     if dashed {
                         PathElement::new(vec![(x, y), (x + 8, y)], c.stroke_width(2))
@@ -385,12 +464,30 @@ where
             first = false;
         }
     }
-    let position = match panel.legend {
-        Legend::UpperRight => Some(SeriesLabelPosition::UpperRight),
-        Legend::UpperLeft => Some(SeriesLabelPosition::UpperLeft),
-        Legend::LowerRight => Some(SeriesLabelPosition::LowerRight),
-        Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
-        Legend::Hidden => None,
+    for v in panel.vlines.iter().filter(|v| v.x >= xr.0 && v.x <= xr.1) {
+        let c = color(v.color);
+        let anno = chart
+            .draw_series(DashedLineSeries::new(vec![(v.x, yr.0), (v.x, yr.1)], 8, 6, c.stroke_width(2)))
+            .map_err(|e| err(&e))?;
+        if !v.label.is_empty() {
+            labelled = true;
+            entries.push((v.label.as_str(), c, true));
+            anno.label(v.label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], c.stroke_width(2)));
+        }
+    }
+    let position = match placement {
+        Placement::Corner(Legend::UpperLeft) => Some(SeriesLabelPosition::UpperLeft),
+        Placement::Corner(Legend::LowerRight) => Some(SeriesLabelPosition::LowerRight),
+        Placement::Corner(Legend::LowerLeft) => Some(SeriesLabelPosition::LowerLeft),
+        Placement::Corner(_) => Some(SeriesLabelPosition::UpperRight),
+        Placement::Outside => {
+            // plotters clamps legend drawing to the plot area: draw this one on the panel.
+            let (xs, ys) = chart.plotting_area().get_pixel_range();
+            let (bx, by) = area.get_base_pixel();
+            return draw_legend_at(area, (xs.end - bx + OUTSIDE_GAP, ys.start - by), &entries);
+        }
+        Placement::None => None,
     };
     if let (true, Some(position)) = (labelled, position) {
         chart
@@ -400,6 +497,42 @@ where
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(160, 160, 160))
             .draw()
+            .map_err(|e| err(&e))?;
+    }
+    Ok(())
+}
+
+/// A legend box with its top-left corner at `at` (pixels of `area`), laid out as plotters lays
+/// out its own (one [`legend::LINE`] per entry, the line sample left of the text).
+fn draw_legend_at<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    (x, y): (i32, i32),
+    entries: &[(&str, RGBColor, bool)],
+) -> Result<(), String> {
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let err = |e: &dyn std::fmt::Display| e.to_string();
+    let font: TextStyle = (fonts::FAMILY, 16).into_font().into();
+    let mut widest = 0;
+    for (t, _, _) in entries {
+        widest = widest.max(area.estimate_text_size(t, &font).map_err(|e| err(&e))?.0 as i32);
+    }
+    let (w, h) = legend::box_size(entries.len(), widest);
+    area.draw(&Rectangle::new([(x, y), (x + w, y + h)], WHITE.mix(0.85).filled()))
+        .map_err(|e| err(&e))?;
+    area.draw(&Rectangle::new([(x, y), (x + w, y + h)], RGBColor(160, 160, 160)))
+        .map_err(|e| err(&e))?;
+    for (k, (text, c, dashed)) in entries.iter().enumerate() {
+        let top = y + 10 + k as i32 * legend::LINE;
+        let mid = top + 9;
+        let style = c.stroke_width(2);
+        let segments: &[(i32, i32)] = if *dashed { &[(0, 8), (14, 22)] } else { &[(0, 22)] };
+        for &(a, b) in segments {
+            area.draw(&PathElement::new(vec![(x + 10 + a, mid), (x + 10 + b, mid)], style))
+                .map_err(|e| err(&e))?;
+        }
+        area.draw(&Text::new(text.to_string(), (x + 40, top), font.clone()))
             .map_err(|e| err(&e))?;
     }
     Ok(())
@@ -469,44 +602,3 @@ fn staircase(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     out
 }
 
-/// Compact tick text: `0`, `0.25`, `150`, `1e-5`, `2.5e6`.
-/// A tick label; on an integer axis (mode numbers) a tick between whole numbers gets none.
-pub(crate) fn axis_tick_label(v: f64, integer: bool) -> String {
-    if integer && (v - v.round()).abs() > 1e-9 * v.abs().max(1.0) {
-        return String::new();
-    }
-    if integer {
-        return format!("{}", v.round() as i64);
-    }
-    tick_label(v)
-}
-
-pub(crate) fn tick_label(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return if v == 0.0 { "0".into() } else { format!("{v}") };
-    }
-    let a = v.abs();
-    if !(1e-3..1e5).contains(&a) {
-        let s = format!("{v:.2e}");
-        let (mant, exp) = s.split_once('e').unwrap_or((&s, "0"));
-        let mant = mant.trim_end_matches('0').trim_end_matches('.');
-        return format!("{mant}e{exp}");
-    }
-    let s = format!("{v:.4}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    s.to_string()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::axis_tick_label;
-
-    #[test]
-    fn integer_axes_label_whole_numbers_only() {
-        assert_eq!(axis_tick_label(8.0, true), "8");
-        assert_eq!(axis_tick_label(7.999999999999, true), "8");
-        assert_eq!(axis_tick_label(7.5, true), "");
-        assert_eq!(axis_tick_label(0.25, true), "");
-        assert_eq!(axis_tick_label(7.5, false), super::tick_label(7.5));
-    }
-}

@@ -173,20 +173,36 @@ impl SeriesTable {
             t_s,
             radius_m,
             shapes,
+            blow_up: None,
         })
     }
 }
 
+/// The blow-up (mode, t [s]) recorded in a `summary.json` of `magbubble run`
+/// (`"status": {"blow_up": {"t": …, "mode": …}}`); `None` without one or when unreadable.
+pub fn summary_blow_up(summary: &Path) -> Option<(String, f64)> {
+    let text = std::fs::read_to_string(summary).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let b = v.get("status")?.get("blow_up")?;
+    Some((b.get("mode")?.as_str()?.to_string(), b.get("t")?.as_f64()?))
+}
+
 /// Reads `csv_path` (a `series.csv` of `magbubble run`) and writes `out_dir/series.svg` and
-/// `out_dir/series.png`: R(t) above a_k(t) for every mode in the file.
+/// `out_dir/series.png`: R(t) above a_k(t) for every mode in the file. A blow-up recorded in
+/// the `summary.json` next to the CSV is marked (dashed line, title) and puts the shape modes
+/// on a log |a_k| axis.
 pub fn series_plot(csv_path: &Path, out_dir: &Path) -> Result<Saved, PlotError> {
     let table = SeriesTable::read(csv_path)?;
-    let run = table.to_time_series("", false)?;
-    let title = csv_path
+    let mut run = table.to_time_series("", false)?;
+    run.blow_up = summary_blow_up(&csv_path.with_file_name("summary.json"));
+    let mut title = csv_path
         .parent()
         .and_then(|p| p.file_name())
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "run".into());
+    if let Some((mode, t)) = &run.blow_up {
+        title = format!("{title}: blow-up of {mode} at t = {:.2} µs", t * 1e6);
+    }
     time_series(&title, std::slice::from_ref(&run)).save(out_dir, "series")
 }
 

@@ -20,6 +20,8 @@ fn figure(n: u32, threads: usize, out: &Path) -> BTreeMap<String, Vec<u8>> {
     std::fs::read_dir(out)
         .unwrap()
         .flatten()
+        // figNN.parts/ (the finished curves kept for a resume) is a directory: files only.
+        .filter(|e| e.path().is_file())
         .map(|e| (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap()))
         .collect()
 }

@@ -60,6 +60,7 @@ fn damped_run(label: &str, amp: f64, n: usize) -> TimeSeries {
         t_s: t,
         radius_m: r,
         shapes: vec![("a_2".into(), a2), ("a_4".into(), a4)],
+        blow_up: None,
     }
 }
 
@@ -309,6 +310,7 @@ fn long_series_are_thinned_to_a_small_svg() {
         t_s: t,
         radius_m: r.clone(),
         shapes: vec![("a_2".into(), r)],
+        blow_up: None,
     };
     kinds::time_series("long", &[run])
         .save(&dir, "long")

@@ -125,7 +125,8 @@ fn a_time_series_figure_runs_every_curve_and_writes_csv_images_and_note() {
     }
     assert!(dir.path().join("fig15_phase.png").is_file());
     let svg = std::fs::read_to_string(dir.path().join("fig16.svg")).unwrap();
-    assert!(svg.contains("a₄ [µm]") && svg.contains("M = 10 A m² (a4 blew up at 15.0 µs)"));
+    // A curve blew up: the shape panels are |a_k| on a log axis (issue 15 "What people look at").
+    assert!(svg.contains("|a₄| [µm]") && svg.contains("M = 10 A m² (a4 blew up at 15.0 µs)"));
     // Quick mode appends the CI overrides after the curve's own.
     let calls = sim.calls.lock().unwrap();
     assert!(calls

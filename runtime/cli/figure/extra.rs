@@ -124,10 +124,11 @@ pub fn make_convergence(
             seconds,
         )],
         quick,
+        parts: Vec::new(),
     })
 }
 
-fn to_series(label: &str, names: &[String], t: &[f64], rows: &[Vec<f64>], shapes: &[&str]) -> TimeSeries {
+fn to_series(label: &str, names: &[String], t: &[f64], rows: &[Vec<f64>], shapes: &[&str], status: &crate::model::RunStatus) -> TimeSeries {
     let col = |name: &str| -> Vec<f64> {
         names
             .iter()
@@ -143,6 +144,10 @@ fn to_series(label: &str, names: &[String], t: &[f64], rows: &[Vec<f64>], shapes
             .iter()
             .map(|s| (s.to_string(), col(&s.replace('_', ""))))
             .collect(),
+        blow_up: match status {
+            crate::model::RunStatus::BlowUp { t, mode } => Some((mode.clone(), *t)),
+            _ => None,
+        },
     }
 }
 
@@ -172,8 +177,8 @@ pub fn make_compare(
         .filter(|s| names.iter().any(|n| *n == s.replace('_', "")))
         .collect();
     let runs = [
-        to_series("boundary layer", names, t, &both.bl, &shapes),
-        to_series("full vorticity", names, t, &both.full, &shapes),
+        to_series("boundary layer", names, t, &both.bl, &shapes, &rep_bl.status),
+        to_series("full vorticity", names, t, &both.full, &shapes, &rep_full.status),
     ];
     let title = format!("Figure 4{}: full model vs boundary layer", if quick { " (quick)" } else { "" });
     let saved = time_series_panels(&title, &runs, true, &shapes).save(out, &stem)?;
@@ -208,5 +213,6 @@ pub fn make_compare(
             ("full vorticity".into(), status(&rep_full.status), rep_full.wall_seconds),
         ],
         quick,
+        parts: Vec::new(),
     })
 }

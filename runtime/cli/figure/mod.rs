@@ -25,6 +25,10 @@ pub struct FigureArgs {
     /// Directory of the figure scenes (default: scenes/figures, here or in the source tree).
     #[arg(long)]
     pub scenes: Option<PathBuf>,
+    /// Compute every curve again instead of reusing the finished curves kept in
+    /// DIR/figNN.parts/ (they are reused only when scene, overrides, resolution and build match).
+    #[arg(long)]
+    pub fresh: bool,
 }
 
 pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
@@ -46,13 +50,30 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
         vec![paper::find(n).ok_or(FigureError::Unknown(n))?]
     };
     let scenes = scenes_dir(args.scenes.as_deref())?;
+    #[cfg(unix)]
+    crate::output::note_on_signal(&format!(
+        "finished curves are kept in {}/figNN.parts/; run the same command again to resume",
+        args.out.display()
+    ));
     let mut done = Vec::new();
     let mut failed = Vec::new();
     for fig in figures {
         noteln!("figure {}: {}", fig.number, fig.shows);
+        let parts = paper::parts::parts_dir(&args.out, &fig.stem());
+        if args.fresh {
+            match std::fs::remove_dir_all(&parts) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(e).with_context(|| format!("--fresh: removing {}", parts.display()))
+                }
+                _ => {}
+            }
+        }
+        remove_stale_temp_files(&args.out);
+        remove_stale_temp_files(&parts);
         match make(fig, &scenes, &args.out, args.quick) {
             Ok(report) => {
                 noteln!("figure {}: done in {:.2} s", fig.number, report.seconds);
+                report_parts(&report, &parts);
                 for (label, status, wall) in &report.runs {
                     noteln!("  {label}: {status} ({wall:.2} s)");
                 }
@@ -74,6 +95,39 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
             "{n} figure(s) failed: {:?}",
             failed.iter().map(|f| f.0).collect::<Vec<_>>()
         ),
+    }
+}
+
+/// Says which curves came from `parts` (a resumed figure) and why any stored one was redone.
+fn report_parts(report: &FigureReport, parts: &Path) {
+    use paper::parts::PartUse;
+    let reused = report.parts.iter().filter(|p| p.1 == PartUse::Reused).count();
+    if reused > 0 {
+        noteln!(
+            "figure {}: reused {reused} of {} finished curves from {} (same scene, overrides, resolution and build; --fresh recomputes)",
+            report.number,
+            report.parts.len(),
+            parts.display()
+        );
+    }
+    for (label, how) in &report.parts {
+        if let PartUse::Recomputed(why) = how {
+            noteln!("  {label}: recomputed: {why}");
+        }
+    }
+}
+
+/// Removes the `.NAME.PID….tmp…` files an interrupted figure left in `dir` (the atomic writes'
+/// temp files), when no process PID is running (a figure writing there now keeps its own).
+fn remove_stale_temp_files(dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let pid = name.split('.').find(|w| !w.is_empty() && w.bytes().all(|b| b.is_ascii_digit()));
+        let alive = pid.is_some_and(|p| Path::new("/proc").join(p).exists());
+        if name.starts_with('.') && name.contains(".tmp") && !alive && e.path().is_file() {
+            let _ = std::fs::remove_file(e.path());
+        }
     }
 }
 

@@ -6,6 +6,7 @@
 //! The recipes do not call the model directly: they get a [`Simulator`] (the CLI passes one
 //! built on `model::simulate`), so they can be tested with a synthetic one.
 
+pub mod parts;
 mod registry;
 mod stability;
 mod timeseries;
@@ -112,18 +113,23 @@ pub fn find(number: u32) -> Option<&'static PaperFigure> {
     FIGURES.iter().find(|f| f.number == number)
 }
 
-/// One simulated run, as the recipes need it (SI units).
-#[derive(Debug, Clone, PartialEq)]
+/// One simulated run, as the recipes need it (SI units). Serialized exactly as a finished
+/// curve of a figure ([`parts`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunOutput {
     /// Output columns after t: `R`, `a2`, `b2`, … (as `model::simulate` names them).
     pub columns: Vec<String>,
+    #[serde(with = "parts::exact_vec")]
     pub t_s: Vec<f64>,
     /// One row per sample, same order as `columns`.
+    #[serde(with = "parts::exact_rows")]
     pub rows: Vec<Vec<f64>>,
     /// How the run ended, in words (`completed`, `blow_up of a12 at t = 35.1 µs`, …).
     pub status: String,
     /// When the run stopped at a blow-up: the mode and the time [s] (shown in the legend).
+    #[serde(with = "parts::exact_blow_up")]
     pub blow_up: Option<(String, f64)>,
+    #[serde(with = "parts::exact")]
     pub wall_seconds: f64,
 }
 

@@ -13,7 +13,7 @@ const PRESSURE: StabilitySpec = StabilitySpec {
     quick_freqs: (0.5e6, 3.0e6, 6),
     vary: "drive.amplitude",
     range: (0.0, 1.0),
-    vary_label: "critical ε_p",
+    vary_label: "critical ε_p [–]",
     vary_scale: 1.0,
     omega_k: false,
     nondimensional: false,

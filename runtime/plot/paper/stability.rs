@@ -3,7 +3,9 @@
 //! first unstable mode, max Floquet multiplier). The analysis itself comes through
 //! [`Analyzer`] (the CLI implements it with `analysis::{frequencies, stability}`).
 
+use super::parts::{exact, exact_opt_vec, parts_dir, reuse_or, PartKey, PartUse};
 use super::{write_atomic, FigureError, FigureReport, PaperFigure, StabilitySpec, Variant};
+use serde::{Deserialize, Serialize};
 use crate::plot::figure::{Axis, Figure, Legend, Panel, Series};
 use crate::plot::kinds::{first_unstable_mode, max_multiplier, omega_vs_k, Curve};
 use std::fmt::Write as _;
@@ -22,10 +24,12 @@ pub struct Sweep<'a> {
 }
 
 /// One point of a stability curve.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CriticalRow {
+    #[serde(with = "exact")]
     pub frequency_hz: f64,
     /// Critical value of `vary` (SI); NaN when stable throughout or unstable at the bottom.
+    #[serde(with = "exact")]
     pub critical: f64,
     /// `critical`, `stable_throughout`, `unstable_at_bottom`.
     pub outcome: String,
@@ -34,12 +38,27 @@ pub struct CriticalRow {
 }
 
 /// One natural frequency.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModeRow {
     pub k: usize,
+    #[serde(with = "exact")]
     pub omega_rad_s: f64,
     /// ω t*.
+    #[serde(with = "exact")]
     pub omega_nondim: f64,
+}
+
+/// Everything one family of a stability figure computes (a finished curve, [`super::parts`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct FamilyPart {
+    modes: Vec<ModeRow>,
+    #[serde(with = "exact")]
+    t_star: f64,
+    rows: Vec<CriticalRow>,
+    #[serde(with = "exact_opt_vec")]
+    mus: Option<Vec<f64>>,
+    #[serde(with = "exact")]
+    seconds: f64,
 }
 
 /// The analyses a stability figure needs.
@@ -129,29 +148,45 @@ pub fn make_stability(
     let mut crit = Vec::new(); // (family index, rows, t*)
     let mut omegas = Vec::new();
     let mut mus = Vec::new();
+    // Each finished family is stored in figNN.parts/ and reused by a rerun of the same request.
+    let dir = parts_dir(out_dir, &stem);
+    let resolution = format!(
+        "{} at {:?} Hz; {} in {:?}; omega_k {} (k <= {OMEGA_KMAX}), multiplier {}",
+        spec.freq_key, freqs, spec.vary, spec.range, spec.omega_k || spec.nondimensional, spec.multiplier
+    );
+    let mut parts = Vec::new();
     for &(i, fam) in &families {
-        let t0 = Instant::now();
         let ov: Vec<String> = fam.overrides.iter().map(|s| s.to_string()).collect();
         let err = |message: String| FigureError::Run {
             figure: fig.number,
             variant: fam.label.into(),
             message,
         };
-        let (modes, t_star) = if spec.omega_k || spec.nondimensional {
-            analyzer.modes(&scene, &ov, OMEGA_KMAX).map_err(err)?
-        } else {
-            (Vec::new(), f64::NAN)
-        };
-        let rows = analyzer.critical(&scene, &ov, &sweep).map_err(err)?;
-        if spec.multiplier {
-            mus.push((
-                fam.label,
-                analyzer
-                    .max_multiplier(&scene, &ov, spec.freq_key, &freqs)
-                    .map_err(err)?,
-            ));
+        let key = PartKey::new(fig.number, i, fam.label, &scene, &ov, quick, resolution.clone())?;
+        let (part, how) = reuse_or(&dir, &key, || -> Result<FamilyPart, FigureError> {
+            let t0 = Instant::now();
+            let (modes, t_star) = if spec.omega_k || spec.nondimensional {
+                analyzer.modes(&scene, &ov, OMEGA_KMAX).map_err(err)?
+            } else {
+                (Vec::new(), f64::NAN)
+            };
+            let rows = analyzer.critical(&scene, &ov, &sweep).map_err(err)?;
+            let mus = if spec.multiplier {
+                Some(analyzer.max_multiplier(&scene, &ov, spec.freq_key, &freqs).map_err(err)?)
+            } else {
+                None
+            };
+            Ok(FamilyPart { modes, t_star, rows, mus, seconds: t0.elapsed().as_secs_f64() })
+        })?;
+        match how {
+            PartUse::Reused => progress(&format!("{} (reused)", fam.label)),
+            _ => progress(fam.label),
         }
-        progress(fam.label);
+        parts.push((fam.label.to_string(), how));
+        let FamilyPart { modes, t_star, rows, mus: family_mus, seconds } = part;
+        if let Some(m) = family_mus {
+            mus.push((fam.label, m));
+        }
         let found = rows.iter().filter(|r| r.critical.is_finite()).count();
         runs.push((
             fam.label.to_string(),
@@ -159,7 +194,7 @@ pub fn make_stability(
                 "critical value found at {found} of {} frequencies",
                 rows.len()
             ),
-            t0.elapsed().as_secs_f64(),
+            seconds,
         ));
         omegas.push((fam.label, modes));
         crit.push((i, rows, t_star));
@@ -335,6 +370,7 @@ pub fn make_stability(
         seconds,
         runs,
         quick,
+        parts,
     };
     let md = out_dir.join(format!("{stem}.md"));
     let mut note = super::timeseries::note(fig, &report, &scene);

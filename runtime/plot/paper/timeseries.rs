@@ -1,6 +1,7 @@
 //! The recipe of the time-series figures (12–16): one run per curve, stacked panels sharing
 //! the time axis, a long-format CSV and a note with timings and how each run ended.
 
+use super::parts::{parts_dir, reuse_or, PartKey, PartUse};
 use super::{
     write_atomic, FigureError, PaperFigure, RunOutput, Simulator, TimeSeriesSpec, QUICK_OVERRIDES,
 };
@@ -22,6 +23,9 @@ pub struct FigureReport {
     /// Per curve: label, how the run ended, wall time [s].
     pub runs: Vec<(String, String, f64)>,
     pub quick: bool,
+    /// Per curve kept in `figNN.parts/` ([`super::parts`]): label and whether it was computed
+    /// or reused (empty for the recipes without parts, figs 3 and 4).
+    pub parts: Vec<(String, PartUse)>,
 }
 
 /// `a2` → `a_2`; other names unchanged.
@@ -56,6 +60,7 @@ fn to_time_series(label: &str, out: &RunOutput) -> Result<TimeSeries, String> {
         t_s: out.t_s.clone(),
         radius_m: col(r),
         shapes,
+        blow_up: out.blow_up.clone(),
     })
 }
 
@@ -79,11 +84,14 @@ pub fn make_time_series(
             path: scene,
         });
     }
-    // The curves are independent runs: run them in parallel (results in registry order).
-    let results: Vec<Result<(TimeSeries, RunOutput), FigureError>> = spec
+    // The curves are independent runs: run them in parallel (results in registry order). Each
+    // finished run is stored in figNN.parts/ and reused by a rerun of the same request.
+    let dir = parts_dir(out_dir, &fig.stem());
+    let results: Vec<Result<(TimeSeries, RunOutput, PartUse), FigureError>> = spec
         .variants
         .par_iter()
-        .map(|variant| {
+        .enumerate()
+        .map(|(index, variant)| {
             let mut overrides: Vec<String> =
                 variant.overrides.iter().map(|s| s.to_string()).collect();
             if quick {
@@ -94,7 +102,8 @@ pub fn make_time_series(
                 variant: variant.label.into(),
                 message,
             };
-            let out = sim.simulate(&scene, &overrides).map_err(run_err)?;
+            let key = PartKey::new(fig.number, index, variant.label, &scene, &overrides, quick, "time series".into())?;
+            let (out, how) = reuse_or(&dir, &key, || sim.simulate(&scene, &overrides).map_err(run_err))?;
             let label = match &out.blow_up {
                 Some((mode, t)) => {
                     format!("{} ({mode} blew up at {:.1} µs)", variant.label, t * 1e6)
@@ -102,15 +111,20 @@ pub fn make_time_series(
                 None => variant.label.to_string(),
             };
             let ts = to_time_series(&label, &out).map_err(|m| run_err(m.to_string()))?;
-            progress(variant.label);
-            Ok((ts, out))
+            match how {
+                PartUse::Reused => progress(&format!("{} (reused)", variant.label)),
+                _ => progress(variant.label),
+            }
+            Ok((ts, out, how))
         })
         .collect();
     let mut runs = Vec::new();
     let mut outputs = Vec::new();
     let mut report_runs = Vec::new();
+    let mut parts = Vec::new();
     for (variant, result) in spec.variants.iter().zip(results) {
-        let (ts, out) = result?;
+        let (ts, out, how) = result?;
+        parts.push((variant.label.to_string(), how));
         report_runs.push((
             variant.label.to_string(),
             out.status.clone(),
@@ -168,6 +182,7 @@ pub fn make_time_series(
         seconds,
         runs: report_runs,
         quick,
+        parts,
     };
     let mut text = note(fig, &report, &scene);
     text.push_str(&amplitudes(spec, &runs));
