@@ -10,10 +10,13 @@
 //! ä   = −[3Ṙȧ − (k−1)R̈a]/R − (k+1)/(ρR)[2η(k+2)ȧ/R + 4η(k−1)Ṙa/R²
 //!        + (kηT_w/R)(1 − 2(k+1)δ/R) + G_n]                                 (2.64 × (k+1)/(ρR), audit 2, 5)
 //! ```
-//! R̈ enters ä_k, so the radial equation (§4.1) is evaluated first. The exact Jacobian and the
-//! linear mode system A(t) are in [`super::linearize`].
+//! R̈ enters ä_k, so the radial equation (§4.1) is evaluated first. With second-pass terms
+//! (the quadratic coupling, [`super::effects::second_order`]) R̈ and the mode rates are evaluated
+//! a second time, from the loads completed with the first-order R̈, ä. The exact Jacobian and
+//! the linear mode system A(t) are in [`super::linearize`].
 
-use super::effects::{BdotLoads, MAX_MODES};
+use super::effects::second_order::FirstOrder;
+use super::effects::{BdotLoads, Loads, MAX_MODES};
 use super::equations::{mode_rates, wall_source, Equations, Wall, WallLinear};
 use super::params::Params;
 
@@ -188,6 +191,19 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
+        if self.eq.has_second_order() {
+            // issue 12: second pass with the first-order R̈ and ä just computed, then R̈ and the
+            // mode rates again from the completed loads (no ḃ loads, no rate: refused with it)
+            let mut add = [0.0; MAX_MODES];
+            for (j, x) in add[..m].iter_mut().enumerate() {
+                *x = dy[3 + 3 * j];
+            }
+            let mut l = Loads { pressure: p, gn: &mut gn[..m], gt: &mut gt[..m] };
+            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m] }, &mut l);
+            let rdd = self.eq.acceleration_at(t, y, l.pressure);
+            dy[1] = rdd;
+            self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
+        }
     }
 
     /// The exact Jacobian (dense, row-major), assembled from the terms' gradients

@@ -118,32 +118,18 @@ impl Model {
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
         }
-        // issue 12: the quadratic coupling, last (nothing is assembled for `linear`)
+        // issue 12: the quadratic coupling, a second-pass term (nothing is assembled for `linear`)
+        let mut second: Vec<Box<dyn effects::second_order::SecondOrderTerm>> = Vec::new();
         if scene.modes.coupling == Coupling::Quadratic && !orders.is_empty() {
             check_quadratic(scene)?;
-            let mut inner: Vec<Box<dyn Term>> =
-                vec![Box::new(effects::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa })];
-            if params.pv != 0.0 {
-                inner.push(Box::new(effects::vapour::VapourPressure { pv: params.pv }));
-            }
-            inner.push(Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }));
-            inner.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
             let gamma = scene.shell.surface_tension / (scales.pressure * scales.length);
-            terms.push(Box::new(effects::quadratic::QuadraticCoupling::new(
-                params.rho,
-                gamma,
-                params.three_kappa,
-                params.pg0,
-                params.r0,
-                &kf,
-                inner,
-            )));
+            second.push(Box::new(effects::quadratic::QuadraticCoupling::new(params.rho, gamma, params.three_kappa, params.pg0, params.r0, &kf)));
         }
         let form: Box<dyn RadialForm> = match params.sound_speed {
             None => Box::new(radial::Incompressible),
             Some(c) => Box::new(keller_miksis::KellerMiksis { c }),
         };
-        let eq = Equations { params, orders: kf, form, terms };
+        let eq = Equations { params, orders: kf, form, terms, second };
         if eq.form().needs_rate() {
             let z = vec![1.0; 2 + 3 * orders.len()];
             if let Some(t) = eq.terms().find(|t| !t.add_rate(&effects::At { t: 0.0, z: &z }, &mut Default::default())) {
@@ -362,5 +348,5 @@ fn eq_of(system: &System) -> &Equations {
 
 /// The active-effect labels of the assembled terms, in order (e.g. "acoustic drive", the field).
 fn self_labels(eq: &Equations) -> Vec<String> {
-    eq.terms().filter_map(|t| t.label()).collect()
+    eq.labels()
 }
