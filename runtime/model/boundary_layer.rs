@@ -17,7 +17,7 @@
 
 use super::effects::second_order::FirstOrder;
 use super::effects::{BdotLoads, Loads, MAX_MODES};
-use super::equations::{mode_rates, wall_source, Equations, Wall, WallLinear};
+use super::equations::{mode_rates, mode_shift, wall_source, Equations, Wall, WallLinear};
 use super::params::Params;
 
 /// Per-mode constants.
@@ -192,17 +192,32 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
         if self.eq.has_second_order() {
-            // issue 12: second pass with the first-order R̈ and ä just computed, then R̈ and the
-            // mode rates again from the completed loads (no ḃ loads, no rate: refused with it)
+            // issue 12: the second pass with the first-order R̈, ä just computed; R̈ from the
+            // completed P, and ä shifted exactly by ΔR̈, ΔG_n ((N) is affine in both,
+            // [`mode_shift`]) — or the mode rates again if a tangential load changed (ḃ loads and
+            // the rate are refused with second-pass terms)
             let mut add = [0.0; MAX_MODES];
             for (j, x) in add[..m].iter_mut().enumerate() {
                 *x = dy[3 + 3 * j];
             }
-            let mut l = Loads { pressure: p, gn: &mut gn[..m], gt: &mut gt[..m] };
+            let (mut dgn, mut dgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+            let mut l = Loads { pressure: 0.0, gn: &mut dgn[..m], gt: &mut dgt[..m] };
             self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m] }, &mut l);
-            let rdd = self.eq.acceleration_at(t, y, l.pressure);
-            dy[1] = rdd;
-            self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
+            let rdd2 = self.eq.acceleration_at(t, y, p + l.pressure);
+            dy[1] = rdd2;
+            if dgt[..m].iter().all(|&x| x == 0.0) {
+                let rho = self.eq.params.rho;
+                for (j, mc) in self.modes.iter().enumerate() {
+                    let (s_rdd, s_gn) = mode_shift(mc.k, rho, r, y[2 + 3 * j]);
+                    dy[3 + 3 * j] += s_rdd * (rdd2 - rdd) + s_gn * dgn[j];
+                }
+            } else {
+                for j in 0..m {
+                    gn[j] += dgn[j];
+                    gt[j] += dgt[j];
+                }
+                self.mode_rates(r, rd, rdd2, &gn[..m], &gt[..m], y, dy);
+            }
         }
     }
 

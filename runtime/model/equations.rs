@@ -294,6 +294,14 @@ pub fn mode_rates(k: f64, rho: f64, eta: f64, r: f64, rd: f64, rdd: f64, a: f64,
     (add, bd)
 }
 
+/// (∂ä/∂R̈, ∂ä/∂G_n) of (N) = ((k−1)a/R, −(k+1)/(ρR)): (N) is affine in R̈ and G_n and (NS)
+/// depends on neither, so a change ΔR̈, ΔG_n changes ä by exactly these times them (the second
+/// pass of a quadratic scene, [`super::effects::second_order`]).
+#[inline]
+pub fn mode_shift(k: f64, rho: f64, r: f64, a: f64) -> (f64, f64) {
+    ((k - 1.0) * a / r, -(k + 1.0) / (rho * r))
+}
+
 /// Local variables of the mode equations, in the order of the partial-derivative arrays.
 pub mod var {
     pub const R: usize = 0;

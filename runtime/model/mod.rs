@@ -68,6 +68,8 @@ pub struct Model {
     groups: Groups,
     effects: Vec<String>,
     blow_up_threshold: f64,
+    /// `modes.credible_amplitude` when the quadratic coupling is assembled (issue 12).
+    credible: Option<f64>,
 }
 
 impl Model {
@@ -197,7 +199,8 @@ impl Model {
             mn: source.as_ref().filter(|s| s.group.0 == "mn").map(|s| s.group.1),
             omega_d_star: params.drive.map(|(_, w)| w),
         };
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold })
+        let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible })
     }
 
     /// The equations, as the integrators see them.
@@ -311,9 +314,27 @@ impl Model {
         blow_up::classify(y, &self.orders, self.blow_up_threshold)
     }
 
-    /// The blow-up event function ([`blow_up::margin`]) at this scene's threshold.
+    /// The stop event function: the blow-up's ([`blow_up::margin`]) at this scene's threshold
+    /// and, for a quadratic run, the credible range's ([`blow_up::range_margin`]); a run stops
+    /// where it turns positive ([`stop_status`](Self::stop_status) says why).
     pub fn blow_up_margin(&self, y: &[f64]) -> f64 {
-        blow_up::margin(y, &self.orders, self.blow_up_threshold)
+        let g = blow_up::margin(y, &self.orders, self.blow_up_threshold);
+        match self.credible {
+            Some(b) => g.max(blow_up::range_margin(y, &self.orders, b)),
+            None => g,
+        }
+    }
+
+    /// Why a run stops at state y (nondimensional) and time t [s]: a blow-up if the classifier
+    /// finds one, otherwise a quadratic run's amplitude out of the credible range.
+    pub fn stop_status(&self, t: f64, y: &[f64]) -> RunStatus {
+        if let Some(mode) = self.blow_up(y) {
+            return RunStatus::BlowUp { t, mode };
+        }
+        match self.credible.and_then(|b| blow_up::out_of_range(y, &self.orders, b).map(|m| (b, m))) {
+            Some((bound, mode)) => RunStatus::OutOfCredibleRange { t, mode, bound },
+            None => RunStatus::BlowUp { t, mode: "R".into() },
+        }
     }
 }
 

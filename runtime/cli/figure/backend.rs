@@ -42,6 +42,9 @@ impl Simulator for ModelSimulator {
                 format!("integrator failed at t = {:.2} µs: {reason}", report.t_end * 1e6),
                 None,
             ),
+            RunStatus::OutOfCredibleRange { t, mode, bound } => {
+                (format!("out_of_credible_range: |{mode}|/R0 > {bound} at t = {:.2} µs", t * 1e6), None)
+            }
         };
         Ok(RunOutput {
             columns,
