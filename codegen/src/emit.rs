@@ -270,6 +270,7 @@ pub fn rust(d: &Derived) -> Result<String, CodegenError> {
     let fields = d.fields.iter().map(field);
     let membrane = membrane(d)?;
     let quadratic = crate::emit_quadratic::rust(d);
+    let quadratic_membrane = crate::emit_quadratic_membrane::rust(d);
     let tokens = quote! {
         /// Largest mode of the tables (build setting MAGBUBBLE_KMAX).
         pub const KMAX: usize = #kmax;
@@ -317,6 +318,7 @@ pub fn rust(d: &Derived) -> Result<String, CodegenError> {
         #(#fields)*
         #membrane
         #quadratic
+        #quadratic_membrane
     };
     let file: syn::File = syn::parse2(tokens).map_err(|e| CodegenError::Emit(e.to_string()))?;
     Ok(format!("{}{}", header(d), prettyplease::unparse(&file)))
@@ -378,5 +380,5 @@ pub fn markdown(d: &Derived) -> String {
             s += "\n";
         }
     }
-    s + &crate::emit_quadratic::markdown(d)
+    s + &crate::emit_quadratic::markdown(d) + &crate::emit_quadratic_membrane::markdown(d)
 }

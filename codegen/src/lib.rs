@@ -10,6 +10,7 @@ pub mod algebra;
 pub mod derive;
 pub mod emit;
 pub mod emit_quadratic;
+pub mod emit_quadratic_membrane;
 pub mod error;
 pub mod spec;
 
@@ -61,6 +62,9 @@ pub struct Derived {
     pub membranes: Vec<Membrane>,
     /// The quadratic coupling of a free bubble, when `quadratic.rs` exists.
     pub quadratic: Option<derive::quadratic::QuadraticData>,
+    /// The second-order membrane loads of every law with a strain energy W, when `quadratic.rs`
+    /// exists (derive/quadratic_membrane.rs).
+    pub membrane_quadratic: Vec<derive::quadratic_membrane::MembraneQuadratic>,
 }
 
 /// Mechanics specs (not fields): the equilibrium of stresses, the stresses of a strain energy,
@@ -175,7 +179,21 @@ pub fn derive(cfg: &Config) -> Result<Derived, CodegenError> {
     } else {
         None
     };
-    Ok(Derived { kmax: cfg.kmax, specs, fields, membranes, quadratic })
+    let mut membrane_quadratic = Vec::new();
+    if quadratic.is_some() {
+        let (hyper, mech) = (read_spec(cfg, "hyperelastic.rs")?, read_spec(cfg, "membrane.rs")?);
+        for file in law_files(&cfg.derivations)? {
+            let law = read_spec(cfg, &file)?;
+            if law.get("W").is_none() {
+                continue;
+            }
+            let name = file.trim_start_matches(&format!("{LAWS_DIR}/")).trim_end_matches(".rs");
+            let q = derive::quadratic_membrane::derive_membrane_quadratic(name, &law, &hyper, &kin_spec, &mech)
+                .map_err(|m| CodegenError::Structure { spec: law.path.clone(), message: format!("second-order membrane loads: {m}") })?;
+            membrane_quadratic.push(q);
+        }
+    }
+    Ok(Derived { kmax: cfg.kmax, specs, fields, membranes, quadratic, membrane_quadratic })
 }
 
 /// Generate the Rust tables and the markdown review table.

@@ -6,6 +6,8 @@ pub mod eval;
 pub mod field;
 pub mod fit;
 pub mod fit3;
+pub mod jet2;
 pub mod membrane;
 pub mod project;
 pub mod quadratic;
+pub mod quadratic_membrane;

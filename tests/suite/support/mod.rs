@@ -5,3 +5,4 @@ pub mod quadrature_h4;
 pub mod jacobian;
 pub mod potential_flow;
 pub mod rk4_ref;
+pub mod membrane_loads;

@@ -264,6 +264,20 @@ pub fn linear_response(set: &Setting, field: PaperField, k: usize, amp_b: bool, 
     Projection { normal: combine(|p| &p.normal), tangential: combine(|p| &p.tangential) }
 }
 
+/// Half the second derivative in a_k of the loads of source mode k (the a_k² coefficient of the
+/// second-order magnetic load, not in the tables: issue 12 measures its size), j = 0..=2k+2, in
+/// units of ℋ/R (8th-order central difference, step STEP·R/(k+1)).
+pub fn second_order_response(set: &Setting, field: PaperField, k: usize) -> Projection {
+    let jmax = 2 * k + 2;
+    let nodes = gauss_legendre(4 * k + 60);
+    let h = 2.0 * STEP * set.r / (k as f64 + 1.0);
+    let at: Vec<Projection> = (0..9).map(|i| project(set, field, Perturbation { k, a: (i as f64 - 4.0) * h, b: 0.0 }, jmax, &nodes)).collect();
+    let unit = 2.0 * set.prefactor(field) / set.r * h * h;
+    let w = crate::support::shell_energy::D2;
+    let combine = |sel: fn(&Projection) -> &Vec<f64>| -> Vec<f64> { (0..=jmax).map(|j| w.iter().zip(&at).map(|(c, p)| c * sel(p)[j]).sum::<f64>() / unit).collect() };
+    Projection { normal: combine(|p| &p.normal), tangential: combine(|p| &p.tangential) }
+}
+
 /// The coupling `id` at target mode k in units of ℋ, or `None` where it does not exist
 /// (source mode k + offset < 1, or a tangential load on j = 0, where P^1_0 ≡ 0).
 pub fn coupling(set: &Setting, field: PaperField, id: &CouplingId, k: usize) -> Option<f64> {
