@@ -25,6 +25,11 @@ pub struct FigureArgs {
     /// Directory of the figure scenes (default: scenes/figures, here or in the source tree).
     #[arg(long)]
     pub scenes: Option<PathBuf>,
+    /// Override a scene key of every time-series curve, KEY=VALUE (repeatable), e.g.
+    /// `--set modes.coupling="quadratic" --set run.duration=100e-6`; the plot title and the
+    /// figure note name them. Time-series figures (12–16) only.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
 }
 
 pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
@@ -50,7 +55,7 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
     let mut failed = Vec::new();
     for fig in figures {
         noteln!("figure {}: {}", fig.number, fig.shows);
-        match make(fig, &scenes, &args.out, args.quick) {
+        match make(fig, &scenes, &args.out, args.quick, &args.set) {
             Ok(report) => {
                 noteln!("figure {}: done in {:.2} s", fig.number, report.seconds);
                 for (label, status, wall) in &report.runs {
@@ -102,7 +107,15 @@ fn make(
     scenes: &Path,
     out: &Path,
     quick: bool,
+    set: &[String],
 ) -> Result<FigureReport, FigureError> {
+    if !set.is_empty() && !matches!(fig.recipe, Recipe::TimeSeries(_)) {
+        return Err(FigureError::Run {
+            figure: fig.number,
+            variant: "--set".into(),
+            message: "`figure --set` applies to the time-series figures (12–16) only".into(),
+        });
+    }
     let progress = indicatif::ProgressBar::new(match &fig.recipe {
         Recipe::TimeSeries(s) => s.variants.len() as u64,
         Recipe::Stability(s) => s.families.len() as u64,
@@ -117,7 +130,7 @@ fn make(
         progress.set_message(format!("{label} done"));
     };
     let result = match &fig.recipe {
-        Recipe::TimeSeries(spec) => match simulator() {
+        Recipe::TimeSeries(spec) => match simulator(set) {
             Some(sim) => {
                 paper::make_time_series(fig, spec, scenes, out, quick, sim.as_ref(), &tick)
             }
@@ -138,13 +151,13 @@ fn make(
     };
     progress.finish_and_clear();
     let report = result?;
-    notes::append(fig, &report, out)?;
+    notes::append(fig, &report, out, set)?;
     Ok(report)
 }
 
 /// The model-backed simulator (`scene::load` + `model::simulate`).
-fn simulator() -> Option<Box<dyn Simulator>> {
-    Some(Box::new(backend::ModelSimulator))
+fn simulator(set: &[String]) -> Option<Box<dyn Simulator>> {
+    Some(Box::new(backend::ModelSimulator { extra: set.to_vec() }))
 }
 
 /// The analysis-backed analyzer (natural_frequencies + critical_point + floquet).

@@ -127,9 +127,10 @@ pub fn make_time_series(
     files.push(csv);
 
     let title = format!(
-        "Figure {}{}",
+        "Figure {}{}{}",
         fig.number,
-        if quick { " (quick)" } else { "" }
+        if quick { " (quick)" } else { "" },
+        sim.model().map(|m| format!(", {m}")).unwrap_or_default()
     );
     let saved = time_series_panels(&title, &runs, spec.radius, spec.shapes).save(out_dir, &stem)?;
     files.extend([saved.svg, saved.png]);
