@@ -275,7 +275,7 @@ impl SecondOrderTerm for QuadraticCoupling {
         "quadratic coupling"
     }
     fn label(&self) -> Option<String> {
-        Some("quadratic mode coupling (free bubble)".to_string())
+        Some("quadratic mode coupling (fluid)".to_string())
     }
     fn band(&self) -> usize {
         self.orders.len()
