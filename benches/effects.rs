@@ -22,7 +22,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None },
         drive: Some(Drive { amplitude: 0.5, frequency_hz: 1e6 }),
         field,
-        modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear },
+        modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear, credible_amplitude: 0.1 },
         vorticity: VorticityGrid { y_max: 2.0, points: 200, stretching: 1.0, scheme: VorticityScheme::Monolithic },
         run: Run {
             duration: 100e-6,

@@ -214,6 +214,7 @@ fn status_text(s: &RunStatus) -> String {
         RunStatus::Completed => "completed".into(),
         RunStatus::BlowUp { t, mode } => format!("blow_up at {t:.4e} s ({mode})"),
         RunStatus::Failed { reason } => format!("failed: {reason}"),
+        RunStatus::OutOfCredibleRange { t, mode, bound } => format!("out_of_credible_range at {t:.4e} s ({mode}, |a|/R0 > {bound})"),
     }
 }
 

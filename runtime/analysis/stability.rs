@@ -636,6 +636,9 @@ pub fn series_unstable(scene: &Scene, opts: &SeriesOptions) -> Result<SeriesVerd
         RunStatus::Failed { reason } => {
             Ok(SeriesVerdict { unstable: true, reason: format!("failed: {reason}"), mode: String::new(), ratio: f64::NAN })
         }
+        RunStatus::OutOfCredibleRange { mode, .. } => {
+            Ok(SeriesVerdict { unstable: true, reason: "out_of_credible_range".into(), mode, ratio: f64::INFINITY })
+        }
         RunStatus::Completed => {
             let (mut best, mut ratio) = (1, 0.0);
             for c in 1..cols {

@@ -42,6 +42,10 @@ impl From<VariantArg> for Variant {
     }
 }
 
+/// What `floquet` and `stability --method floquet` say for a scene with quadratic coupling
+/// (issue 12): they stay linear.
+pub(crate) const LINEAR_ONLY: &str = "modes.coupling = quadratic: Floquet analysis is linear — it linearises the shape modes about the spherical orbit (a = 0), where the quadratic terms and their derivatives vanish, so these multipliers are those of the linear model";
+
 /// Loads a scene with `--set` overrides.
 // MERGE(scene): becomes `crate::scene::load(path, overrides)` when the scene branch lands.
 pub(crate) fn load_scene(path: &Path, overrides: &[String]) -> anyhow::Result<Scene> {
@@ -131,6 +135,9 @@ pub fn floquet_json(
         (kind, anyhow::Error::new(e).context(format!("Floquet analysis of {scene_file}")))
     })?;
     let mut warnings = Vec::new();
+    if scene.modes.coupling == crate::scene::Coupling::Quadratic {
+        warnings.push(LINEAR_ONLY.to_string());
+    }
     if let Some(c) = r.convergence.as_ref().filter(|c| !c.converged) {
         warnings.push(format!(
             "max|μ| not converged to {CONVERGENCE_TOLERANCE:e} (relative above 1): {} with {} steps, {} with {} (difference {:.2e}); raise --steps",

@@ -198,6 +198,9 @@ fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) -> an
         RunStatus::Completed => "completed".to_string(),
         RunStatus::BlowUp { t, mode } => format!("blow-up of {mode} at t = {t:e} s"),
         RunStatus::Failed { reason } => format!("FAILED: {reason}"),
+        RunStatus::OutOfCredibleRange { t, mode, bound } => {
+            format!("out_of_credible_range: |{mode}|/R0 exceeded {bound} (modes.credible_amplitude) at t = {t:e} s")
+        }
     };
     outln!("status:     {status}");
     outln!(

@@ -255,6 +255,11 @@ pub fn points_of(args: &StabilityArgs) -> anyhow::Result<usize> {
 
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     let hooks = Hooks { progress_bar: true, ..Hooks::default() };
+    if matches!(args.method, MethodArg::Floquet)
+        && crate::scene::load(&args.scene, &args.set).is_ok_and(|s| s.modes.coupling == crate::scene::Coupling::Quadratic)
+    {
+        noteln!("note: {}", super::floquet::LINEAR_ONLY);
+    }
     let StabilityOutput { curves, failed, shard, .. } = run_with(args, &hooks)?;
     for c in &curves {
         let r = &c.report;

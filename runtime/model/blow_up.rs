@@ -36,9 +36,39 @@ pub fn margin(y: &[f64], orders: &[usize], threshold: f64) -> f64 {
     g
 }
 
+/// The credible-range check of a quadratic run (issue 12): the mode "a{k}" with the largest
+/// |a_k|/R0 above `bound`, or `None`.
+pub fn out_of_range(y: &[f64], orders: &[usize], bound: f64) -> Option<String> {
+    let mut worst: Option<(f64, usize)> = None;
+    for (m, &k) in orders.iter().enumerate() {
+        let v = y[2 + 3 * m].abs();
+        if v > bound && worst.is_none_or(|w| v > w.0) {
+            worst = Some((v, k));
+        }
+    }
+    worst.map(|(_, k)| format!("a{k}"))
+}
+
+/// Its event function: max_k |a_k|/R0 − bound (positive exactly when [`out_of_range`] reports).
+pub fn range_margin(y: &[f64], orders: &[usize], bound: f64) -> f64 {
+    (0..orders.len()).map(|m| y[2 + 3 * m].abs() - bound).fold(f64::NEG_INFINITY, f64::max)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{classify, margin};
+    use super::{classify, margin, out_of_range, range_margin};
+
+    #[test]
+    fn credible_range_reports_the_largest_a_k_above_the_bound() {
+        let orders = [2, 4];
+        let mut y = vec![1.0, 0.0, 0.05, 0.0, 0.3, 0.0, 0.0, 0.0];
+        assert_eq!(out_of_range(&y, &orders, 0.1), None); // b_k do not count
+        assert!(range_margin(&y, &orders, 0.1) < 0.0);
+        y[5] = -0.12;
+        y[2] = 0.11;
+        assert_eq!(out_of_range(&y, &orders, 0.1).as_deref(), Some("a4"));
+        assert!((range_margin(&y, &orders, 0.1) - 0.02).abs() < 1e-15);
+    }
 
     #[test]
     fn margin_is_positive_exactly_when_classified() {

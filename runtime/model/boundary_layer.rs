@@ -10,11 +10,14 @@
 //! ä   = −[3Ṙȧ − (k−1)R̈a]/R − (k+1)/(ρR)[2η(k+2)ȧ/R + 4η(k−1)Ṙa/R²
 //!        + (kηT_w/R)(1 − 2(k+1)δ/R) + G_n]                                 (2.64 × (k+1)/(ρR), audit 2, 5)
 //! ```
-//! R̈ enters ä_k, so the radial equation (§4.1) is evaluated first. The exact Jacobian and the
-//! linear mode system A(t) are in [`super::linearize`].
+//! R̈ enters ä_k, so the radial equation (§4.1) is evaluated first. With second-pass terms
+//! (the quadratic coupling, [`super::effects::second_order`]) R̈ and the mode rates are evaluated
+//! a second time, from the loads completed with the first-order R̈, ä. The exact Jacobian and
+//! the linear mode system A(t) are in [`super::linearize`].
 
-use super::effects::{BdotLoads, MAX_MODES};
-use super::equations::{mode_rates, wall_source, Equations, Wall, WallLinear};
+use super::effects::second_order::FirstOrder;
+use super::effects::{BdotLoads, Loads, MAX_MODES};
+use super::equations::{mode_rates, mode_shift, wall_source, Equations, Wall, WallLinear};
 use super::params::Params;
 
 /// Per-mode constants.
@@ -188,6 +191,34 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
+        if self.eq.has_second_order() {
+            // issue 12: the second pass with the first-order R̈, ä just computed; R̈ from the
+            // completed P, and ä shifted exactly by ΔR̈, ΔG_n ((N) is affine in both,
+            // [`mode_shift`]) — or the mode rates again if a tangential load changed (ḃ loads and
+            // the rate are refused with second-pass terms)
+            let mut add = [0.0; MAX_MODES];
+            for (j, x) in add[..m].iter_mut().enumerate() {
+                *x = dy[3 + 3 * j];
+            }
+            let (mut dgn, mut dgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+            let mut l = Loads { pressure: 0.0, gn: &mut dgn[..m], gt: &mut dgt[..m] };
+            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m] }, &mut l);
+            let rdd2 = self.eq.acceleration_at(t, y, p + l.pressure);
+            dy[1] = rdd2;
+            if dgt[..m].iter().all(|&x| x == 0.0) {
+                let rho = self.eq.params.rho;
+                for (j, mc) in self.modes.iter().enumerate() {
+                    let (s_rdd, s_gn) = mode_shift(mc.k, rho, r, y[2 + 3 * j]);
+                    dy[3 + 3 * j] += s_rdd * (rdd2 - rdd) + s_gn * dgn[j];
+                }
+            } else {
+                for j in 0..m {
+                    gn[j] += dgn[j];
+                    gt[j] += dgt[j];
+                }
+                self.mode_rates(r, rd, rdd2, &gn[..m], &gt[..m], y, dy);
+            }
+        }
     }
 
     /// The exact Jacobian (dense, row-major), assembled from the terms' gradients

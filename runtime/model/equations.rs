@@ -17,7 +17,12 @@
 //! Ĩ = w_0T_w + Ĩ_int, J = R∫(y⁻³−1)y^{−k}T dy, T_w = (A − 2Ĩ_int)/(1 + 2w_0).
 //! The linearisation of the same expressions ([`WallLinear`], [`mode_partials`]) gives the exact
 //! Jacobian and A(t) ([`super::linearize`]).
+//!
+//! Two passes (issue 12): the ordinary terms give P, G and with them the first-order R̈⁽¹⁾,
+//! ä⁽¹⁾; second-pass terms ([`super::effects::second_order`], the quadratic coupling) add their
+//! loads given those, and R̈ and the mode rates are evaluated again from the completed loads.
 
+use super::effects::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
 use super::effects::{At, BdotLoads, LoadJacobian, Loads, PressureRate, Term};
 use super::params::Params;
 use super::radial::RadialForm;
@@ -31,6 +36,9 @@ pub struct Equations {
     pub(crate) form: Box<dyn RadialForm>,
     /// In summation order (docs/architecture.md, "Adding an effect").
     pub(crate) terms: Vec<Box<dyn Term>>,
+    /// Second-pass terms (the quadratic coupling): loads that need the first-order R̈, ä
+    /// ([`super::effects::second_order`]); empty for a linear scene.
+    pub(crate) second: Vec<Box<dyn SecondOrderTerm>>,
 }
 
 impl Equations {
@@ -44,15 +52,47 @@ impl Equations {
     pub fn terms(&self) -> impl Iterator<Item = &dyn Term> {
         self.terms.iter().map(|t| t.as_ref())
     }
-    /// Whether a term called `name` is assembled.
+    /// Whether a term (ordinary or second-pass) called `name` is assembled.
     pub fn has(&self, name: &str) -> bool {
-        self.terms.iter().any(|t| t.name() == name)
+        self.terms.iter().any(|t| t.name() == name) || self.second.iter().any(|t| t.name() == name)
+    }
+    /// The active-effect labels of the assembled terms, ordinary then second-pass.
+    pub fn labels(&self) -> Vec<String> {
+        self.terms.iter().filter_map(|t| t.label()).chain(self.second.iter().filter_map(|t| t.label())).collect()
+    }
+    /// Half-width, in modes, of the shape-load coupling over all terms (the Jacobian's band).
+    pub fn band(&self) -> usize {
+        self.terms.iter().map(|t| t.band()).chain(self.second.iter().map(|t| t.band())).max().unwrap_or(0)
+    }
+    /// Whether second-pass terms are assembled ([`super::effects::second_order`]).
+    pub fn has_second_order(&self) -> bool {
+        !self.second.is_empty()
+    }
+
+    /// Adds the second-pass terms' loads to `loads` (which holds the ordinary terms' P, G_n,
+    /// G_t on entry), given the first-order accelerations at (t, z).
+    #[inline]
+    pub fn add_second_order(&self, t: f64, z: &[f64], first: &FirstOrder<'_>, loads: &mut Loads<'_>) {
+        let at = At { t, z };
+        for term in &self.second {
+            term.add(&at, first, loads);
+        }
+    }
+
+    /// Adds the second-pass terms' exact derivatives to `jac` (the ordinary terms' on entry).
+    pub fn add_second_order_jacobian(&self, t: f64, z: &[f64], first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
+        let at = At { t, z };
+        for term in &self.second {
+            term.add_jacobian(&at, first, grad, jac);
+        }
     }
     pub fn form(&self) -> &dyn RadialForm {
         self.form.as_ref()
     }
 
-    /// The radial pressure balance P at (t, z) and, for m < gn.len(), G_n,k, G_t,k.
+    /// The radial pressure balance P at (t, z) and, for m < gn.len(), G_n,k, G_t,k, of the
+    /// ordinary terms (the second-pass terms, [`add_second_order`](Self::add_second_order),
+    /// are added by the system once it knows the first-order accelerations).
     #[inline]
     pub fn loads(&self, t: f64, z: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
         gn.fill(0.0);
@@ -267,6 +307,14 @@ pub fn mode_rates(k: f64, rho: f64, eta: f64, r: f64, rd: f64, rdd: f64, a: f64,
         + gn;
     let add = -(3.0 * rd * ad - (k - 1.0) * rdd * a) / r - kp1 / (rho * r) * bracket;
     (add, bd)
+}
+
+/// (∂ä/∂R̈, ∂ä/∂G_n) of (N) = ((k−1)a/R, −(k+1)/(ρR)): (N) is affine in R̈ and G_n and (NS)
+/// depends on neither, so a change ΔR̈, ΔG_n changes ä by exactly these times them (the second
+/// pass of a quadratic scene, [`super::effects::second_order`]).
+#[inline]
+pub fn mode_shift(k: f64, rho: f64, r: f64, a: f64) -> (f64, f64) {
+    ((k - 1.0) * a / r, -(k + 1.0) / (rho * r))
 }
 
 /// Local variables of the mode equations, in the order of the partial-derivative arrays.

@@ -89,9 +89,9 @@ pub(crate) fn execute(
     (plan.layout)(st.y(), &mut z);
     rows.emit(t0, &z);
     if model.blow_up_margin(&z) > 0.0 {
-        let mode = model.blow_up(&z).unwrap_or_else(|| "R".into());
+        let status = model.stop_status(t0 * ts, &z);
         let stats = st.stats();
-        return outcome(rows, RunStatus::BlowUp { t: t0 * ts, mode }, stats);
+        return outcome(rows, status, stats);
     }
     let d = plan.sample;
     let mut sample: u64 = 1;
@@ -122,10 +122,10 @@ pub(crate) fn execute(
             (plan.layout)(&y_at, &mut z);
             if model.blow_up_margin(&z) > 0.0 {
                 let t_b = locate_crossing(model, plan, &*st, t_left, t_pt, &mut y_at, &mut z);
-                let mode = model.blow_up(&z).unwrap_or_else(|| "R".into());
+                let status = model.stop_status(t_b * ts, &z);
                 rows.emit(t_b, &z);
                 let stats = st.stats();
-                return outcome(rows, RunStatus::BlowUp { t: t_b * ts, mode }, stats);
+                return outcome(rows, status, stats);
             }
             if !is_sample {
                 if st.t() >= plan.t_end {

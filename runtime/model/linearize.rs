@@ -11,7 +11,8 @@
 //! field: 3×3 diagonal blocks; 1 for the paper's coil and the dipole).
 
 use super::boundary_layer::{BdotMode, BoundaryLayerSystem};
-use super::effects::{a_index, LoadJacobian, MAX_MODES};
+use super::effects::second_order::{FirstOrder, FirstOrderGradient};
+use super::effects::{a_index, LoadJacobian, Loads, MAX_MODES};
 use super::equations::{mode_partials, var, wall_source, wall_source_partials};
 use nalgebra::{DMatrix, DVector};
 
@@ -61,7 +62,7 @@ struct Lin {
 impl BoundaryLayerSystem {
     /// The Jacobian's sparsity (see the module doc).
     pub fn jacobian_pattern(&self) -> JacobianPattern {
-        let band = self.eq.terms().map(|t| t.band()).max().unwrap_or(0);
+        let band = self.eq.band();
         // through ḃ of the modes M0 sees, R̈ reaches one band further (KM with a field)
         JacobianPattern { modes: self.modes.len(), band, radial: if self.bdot_radial { 2 * band } else { band } }
     }
@@ -76,6 +77,7 @@ impl BoundaryLayerSystem {
         let mut bdot = vec![[0.0; 5]; m];
         let bdot = self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut bdot).then_some(bdot);
         let mut drdd = vec![0.0; n];
+        let prescribed = rdd.is_some();
         let rdd = match rdd {
             Some(v) => v,
             None if self.bdot_radial => {
@@ -99,7 +101,36 @@ impl BoundaryLayerSystem {
                 self.eq.acceleration_at(t, y, p)
             }
         };
-        Lin { lj, rdd, drdd, gn, gt, bdot }
+        let l = Lin { lj, rdd, drdd, gn, gt, bdot };
+        if self.eq.has_second_order() && !prescribed {
+            return self.second_pass(t, y, p, l);
+        }
+        l
+    }
+
+    /// With second-pass terms (issue 12): the first-order ä and their rows from `l` (the
+    /// ordinary terms'), the second-pass loads and derivatives added, R̈ and its gradient again
+    /// from the completed P — so that [`mode_rows`](Self::mode_rows) differentiates the
+    /// two-pass rhs exactly.
+    fn second_pass(&self, t: f64, y: &[f64], p: f64, mut l: Lin) -> Lin {
+        let (m, n) = (self.modes.len(), y.len());
+        let mut dy = vec![0.0; n];
+        self.mode_rates(y[0], y[1], l.rdd, &l.gn[..m], &l.gt[..m], y, &mut dy);
+        let add: Vec<f64> = (0..m).map(|j| dy[3 + 3 * j]).collect();
+        let (mut dadd, mut scratch) = (vec![0.0; m * n], vec![0.0; n]);
+        for j in 0..m {
+            self.mode_rows(y, &l, j, &mut dadd[j * n..(j + 1) * n], &mut scratch);
+        }
+        let first = FirstOrder { rdd: l.rdd, add: &add };
+        let mut lj = l.lj.clone();
+        self.eq.add_second_order_jacobian(t, y, &first, &FirstOrderGradient { drdd: &l.drdd, dadd: &dadd }, &mut lj);
+        let mut loads = Loads { pressure: p, gn: &mut l.gn[..m], gt: &mut l.gt[..m] };
+        self.eq.add_second_order(t, y, &first, &mut loads);
+        let p = loads.pressure;
+        l.lj = lj;
+        self.eq.acceleration_gradient_at(t, y, p, &l.lj.pressure, &mut l.drdd);
+        l.rdd = self.eq.acceleration_at(t, y, p);
+        l
     }
 
     /// Rows of (ä, ḃ) of mode index m as gradients over y (length n): `out_a`, `out_b`.
@@ -168,7 +199,9 @@ impl BoundaryLayerSystem {
     /// (dimension 3M, state order), nondimensional. For the Floquet and frequency analyses
     /// (FORMULATION §4.6): R(t) is prescribed, so M0's coupling to a_2, b_2 is not part of it.
     /// g holds the magnetic forcing ℋ2, ℋ¹2 (zero without a field). Exact: the equations are
-    /// affine in x at fixed (R, Ṙ, R̈).
+    /// affine in x at fixed (R, Ṙ, R̈). Linear only: second-pass terms (the quadratic coupling,
+    /// issue 12) are left out — they and their derivatives vanish at x = 0, about which Floquet
+    /// and the stability analyses linearise.
     pub fn linear_modes(&self, t: f64, r: f64, rd: f64, rdd: f64) -> (DMatrix<f64>, DVector<f64>) {
         let n = 3 * self.modes.len();
         let (mut a, mut g) = (DMatrix::zeros(n, n), DVector::zeros(n));

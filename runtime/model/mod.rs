@@ -68,6 +68,8 @@ pub struct Model {
     groups: Groups,
     effects: Vec<String>,
     blow_up_threshold: f64,
+    /// `modes.credible_amplitude` when the quadratic coupling is assembled (issue 12).
+    credible: Option<f64>,
 }
 
 impl Model {
@@ -118,37 +120,14 @@ impl Model {
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
         }
-        // issue 12: the quadratic coupling, last (nothing is assembled for `linear`)
+        // issue 12: the quadratic coupling, a second-pass term (nothing is assembled for `linear`)
+        let mut second: Vec<Box<dyn effects::second_order::SecondOrderTerm>> = Vec::new();
         if scene.modes.coupling == Coupling::Quadratic && !orders.is_empty() {
             check_quadratic(scene)?;
-            let mut inner: Vec<Box<dyn Term>> =
-                vec![Box::new(effects::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa })];
-            if params.pv != 0.0 {
-                inner.push(Box::new(effects::vapour::VapourPressure { pv: params.pv }));
-            }
-            inner.push(Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }));
-            if !scene.shell.is_free() {
-                // the membrane's linear loads are part of R̈⁽⁰⁾ and ä⁽¹⁾ inside Q
-                inner.push(Box::new(effects::membrane::MembraneTerm {
-                    law: params.membrane,
-                    r0: params.r0,
-                    c1: params.membrane_args.0,
-                    c2: params.membrane_args.1,
-                    orders: kf.clone(),
-                }));
-            }
-            inner.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
             let gamma = scene.shell.surface_tension / (scales.pressure * scales.length);
-            terms.push(Box::new(effects::quadratic::QuadraticCoupling::new(
-                params.rho,
-                gamma,
-                params.three_kappa,
-                params.pg0,
-                params.r0,
-                &kf,
-                inner,
-            )));
+            second.push(Box::new(effects::quadratic::QuadraticCoupling::new(params.rho, gamma, params.three_kappa, params.pg0, params.r0, &kf)));
             if !scene.shell.is_free() {
+                // the membrane's second-order loads need no accelerations: an ordinary term
                 terms.push(Box::new(quadratic_membrane_term(scene, &params, &kf)?));
             }
         }
@@ -156,7 +135,7 @@ impl Model {
             None => Box::new(radial::Incompressible),
             Some(c) => Box::new(keller_miksis::KellerMiksis { c }),
         };
-        let eq = Equations { params, orders: kf, form, terms };
+        let eq = Equations { params, orders: kf, form, terms, second };
         if eq.form().needs_rate() {
             let z = vec![1.0; 2 + 3 * orders.len()];
             if let Some(t) = eq.terms().find(|t| !t.add_rate(&effects::At { t: 0.0, z: &z }, &mut Default::default())) {
@@ -224,7 +203,8 @@ impl Model {
             mn: source.as_ref().filter(|s| s.group.0 == "mn").map(|s| s.group.1),
             omega_d_star: params.drive.map(|(_, w)| w),
         };
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold })
+        let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible })
     }
 
     /// The equations, as the integrators see them.
@@ -338,9 +318,27 @@ impl Model {
         blow_up::classify(y, &self.orders, self.blow_up_threshold)
     }
 
-    /// The blow-up event function ([`blow_up::margin`]) at this scene's threshold.
+    /// The stop event function: the blow-up's ([`blow_up::margin`]) at this scene's threshold
+    /// and, for a quadratic run, the credible range's ([`blow_up::range_margin`]); a run stops
+    /// where it turns positive ([`stop_status`](Self::stop_status) says why).
     pub fn blow_up_margin(&self, y: &[f64]) -> f64 {
-        blow_up::margin(y, &self.orders, self.blow_up_threshold)
+        let g = blow_up::margin(y, &self.orders, self.blow_up_threshold);
+        match self.credible {
+            Some(b) => g.max(blow_up::range_margin(y, &self.orders, b)),
+            None => g,
+        }
+    }
+
+    /// Why a run stops at state y (nondimensional) and time t [s]: a blow-up if the classifier
+    /// finds one, otherwise a quadratic run's amplitude out of the credible range.
+    pub fn stop_status(&self, t: f64, y: &[f64]) -> RunStatus {
+        if let Some(mode) = self.blow_up(y) {
+            return RunStatus::BlowUp { t, mode };
+        }
+        match self.credible.and_then(|b| blow_up::out_of_range(y, &self.orders, b).map(|m| (b, m))) {
+            Some((bound, mode)) => RunStatus::OutOfCredibleRange { t, mode, bound },
+            None => RunStatus::BlowUp { t, mode: "R".into() },
+        }
     }
 }
 
@@ -397,5 +395,5 @@ fn eq_of(system: &System) -> &Equations {
 
 /// The active-effect labels of the assembled terms, in order (e.g. "acoustic drive", the field).
 fn self_labels(eq: &Equations) -> Vec<String> {
-    eq.terms().filter_map(|t| t.label()).collect()
+    eq.labels()
 }

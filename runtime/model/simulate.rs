@@ -17,6 +17,10 @@ pub enum RunStatus {
     /// A shape mode exceeded the blow-up threshold (or R left (0, ∞), or the state became
     /// non-finite) at time t [s]; a result, not an error (FORMULATION §5).
     BlowUp { t: f64, mode: String },
+    /// Quadratic coupling (issue 12): max_k |a_k|/R0 of shape mode `mode` exceeded `bound`
+    /// (`modes.credible_amplitude`) at time t [s], where second order stops being credible; a
+    /// result (the run stops there), not a blow-up.
+    OutOfCredibleRange { t: f64, mode: String, bound: f64 },
     /// The integrator gave up (serialised as its message, a string, as before).
     Failed { reason: Failure },
 }

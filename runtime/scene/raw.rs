@@ -129,6 +129,7 @@ pub struct RawModes {
     pub viscous: Option<String>,
     pub boundary_layer_frequency: Option<String>,
     pub coupling: Option<String>,
+    pub credible_amplitude: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

@@ -309,6 +309,10 @@ pub static SCHEMA: &[Param] = &[
       "issue 12", "Order of the shape-mode equations: `linear` (the paper's) or `quadratic` (plus the \
        second-order mode coupling of a free bubble, docs/model.md \"Quadratic mode coupling\"; free bubble \
        with surface tension only, boundary-layer closure, incompressible liquid, no field)."),
+    p("modes.credible_amplitude", K::Float, "", D::Float(0.1), Rg::Positive, "issue 12",
+      "With `modes.coupling = \"quadratic\"`: the run stops as `out_of_credible_range` (with the mode and \
+       the time) when max_k |a_k|/R0 exceeds this, the range where second order is credible (docs/model.md \
+       \"Quadratic mode coupling\"); raise it to follow the run further. Ignored by linear runs."),
     section("vorticity", D::Present, "Radial grid y = r/R in [1, y_max] of the vorticity PDE (modes.viscous = \"vorticity\")."),
     p("vorticity.y_max", K::Float, "", D::Float(3.0),
       Rg::Between { lo: 1.0, hi: f64::INFINITY, lo_incl: false, hi_incl: false }, "Y_max",

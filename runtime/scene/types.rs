@@ -261,6 +261,9 @@ pub struct Modes {
     pub viscous: Viscous,
     pub boundary_layer_frequency: BoundaryLayerFrequency,
     pub coupling: Coupling,
+    /// Quadratic coupling: the run stops as `out_of_credible_range` when max_k |a_k|/R0 exceeds
+    /// this (issue 12; default 0.1).
+    pub credible_amplitude: f64,
 }
 
 impl Modes {

@@ -184,6 +184,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             "linear" => Coupling::Linear,
             other => unreachable!("schema choice {other}"),
         },
+        credible_amplitude: c.float("modes.credible_amplitude", rm.credible_amplitude),
     };
     // Mode keys are compared with the largest *valid* order (an invalid one is reported already).
     let order_limit =

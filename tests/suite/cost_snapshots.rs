@@ -43,6 +43,7 @@ fn line(file: &str, overrides: &[String]) -> String {
         RunStatus::Completed => "completed".to_string(),
         RunStatus::BlowUp { t, mode } => format!("blow_up({mode} at {:.4e} s)", t),
         RunStatus::Failed { reason } => format!("failed({reason})"),
+        RunStatus::OutOfCredibleRange { t, mode, .. } => format!("out_of_credible_range({mode} at {:.4e} s)", t),
     };
     format!(
         "{file} [{}]: {status}; steps {} rejected {} rhs {} jacobians {} lu {}",

@@ -45,6 +45,7 @@ mod liquid_gas;
 mod modes_damped;
 mod modes_frequencies;
 mod physics_bl;
+mod quadratic_cases;
 mod quadratic_magnetic;
 mod quadratic_membrane;
 mod quadratic_oracle;

@@ -29,7 +29,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
         liquid: Liquid { density: RHO, viscosity: ETA, ambient_pressure: P0, sound_speed: None },
         drive: None,
         field: None,
-        modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear },
+        modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear, credible_amplitude: 0.1 },
         vorticity: VorticityGrid { y_max: 2.0, points: 200, stretching: 1.0, scheme: VorticityScheme::Monolithic },
         run: Run {
             duration,

@@ -23,7 +23,7 @@ fn scene(amplitude: f64, a2: f64, points: usize) -> Scene {
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: p0, sound_speed: None },
         drive: Some(Drive { amplitude, frequency_hz: 1e6 }),
         field: None,
-        modes: Modes { max_order: 4, viscous: Viscous::Vorticity, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear },
+        modes: Modes { max_order: 4, viscous: Viscous::Vorticity, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear, credible_amplitude: 0.1 },
         vorticity: VorticityGrid { y_max: 3.0, points, stretching: 20.0, scheme: VorticityScheme::Monolithic },
         run: Run {
             duration: 10e-6,

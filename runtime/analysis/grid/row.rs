@@ -8,6 +8,8 @@ pub enum GridStatus {
     BlowUp,
     /// The integrator gave up, or the model could not be assembled (`note` says why).
     Failed,
+    /// A quadratic run left the credible range (issue 12; `note` has the mode and time).
+    OutOfCredibleRange,
 }
 
 impl GridStatus {
@@ -17,11 +19,12 @@ impl GridStatus {
             GridStatus::Completed => "completed",
             GridStatus::BlowUp => "blow_up",
             GridStatus::Failed => "failed",
+            GridStatus::OutOfCredibleRange => "out_of_credible_range",
         }
     }
 
     fn parse(s: &str) -> Option<GridStatus> {
-        [GridStatus::Completed, GridStatus::BlowUp, GridStatus::Failed].into_iter().find(|g| g.as_str() == s)
+        [GridStatus::Completed, GridStatus::BlowUp, GridStatus::Failed, GridStatus::OutOfCredibleRange].into_iter().find(|g| g.as_str() == s)
     }
 }
 

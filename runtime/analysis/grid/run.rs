@@ -208,6 +208,10 @@ fn run_point(scene: &Scene, point: Point, cancel: Option<&AtomicBool>) -> Option
             row.blow_up_mode = Some(mode.clone());
         }
         RunStatus::Failed { reason } => row.note = reason.to_string(),
+        RunStatus::OutOfCredibleRange { t, mode, bound } => {
+            row.status = GridStatus::OutOfCredibleRange;
+            row.note = format!("|{mode}|/R0 > {bound} at t = {t:e} s");
+        }
     }
     for (name, v) in &mut row.max_abs {
         *v = report.max_abs.iter().find(|(n, _)| n == name).map(|p| p.1);

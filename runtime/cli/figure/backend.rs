@@ -18,12 +18,19 @@ use std::time::Instant;
 /// `modes.max_order` itself keeps its value, see [`ModelAnalyzer::load`]).
 pub const QUICK_STABILITY: &[&str] = &["modes.max_order=8"];
 
-/// `scene::load` + `model::simulate`, keeping every sample.
-pub struct ModelSimulator;
+/// `scene::load` + `model::simulate`, keeping every sample; `extra` (`figure --set`) is applied
+/// after each curve's own overrides.
+pub struct ModelSimulator {
+    pub extra: Vec<String>,
+}
 
 impl Simulator for ModelSimulator {
+    fn model(&self) -> Option<String> {
+        (!self.extra.is_empty()).then(|| self.extra.join(", "))
+    }
     fn simulate(&self, path: &Path, overrides: &[String]) -> Result<RunOutput, String> {
-        let scene = scene::load(path, overrides).map_err(|e| e.to_string())?;
+        let all: Vec<String> = overrides.iter().chain(&self.extra).cloned().collect();
+        let scene = scene::load(path, &all).map_err(|e| e.to_string())?;
         let start = Instant::now();
         let (mut t_s, mut rows) = (Vec::new(), Vec::new());
         let report = simulate(&scene, &mut |t, row| {
@@ -42,6 +49,9 @@ impl Simulator for ModelSimulator {
                 format!("integrator failed at t = {:.2} µs: {reason}", report.t_end * 1e6),
                 None,
             ),
+            RunStatus::OutOfCredibleRange { t, mode, bound } => {
+                (format!("out_of_credible_range: |{mode}|/R0 > {bound} at t = {:.2} µs", t * 1e6), None)
+            }
         };
         Ok(RunOutput {
             columns,

@@ -29,6 +29,11 @@ pub struct FigureArgs {
     /// DIR/figNN.parts/ (they are reused only when scene, overrides, resolution and build match).
     #[arg(long)]
     pub fresh: bool,
+    /// Override a scene key of every time-series curve, KEY=VALUE (repeatable), e.g.
+    /// `--set modes.coupling="quadratic" --set run.duration=100e-6`; the plot title and the
+    /// figure note name them. Time-series figures (12–16) only.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
 }
 
 pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
@@ -70,7 +75,7 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
         }
         remove_stale_temp_files(&args.out);
         remove_stale_temp_files(&parts);
-        match make(fig, &scenes, &args.out, args.quick) {
+        match make(fig, &scenes, &args.out, args.quick, &args.set) {
             Ok(report) => {
                 noteln!("figure {}: done in {:.2} s", fig.number, report.seconds);
                 report_parts(&report, &parts);
@@ -156,7 +161,15 @@ fn make(
     scenes: &Path,
     out: &Path,
     quick: bool,
+    set: &[String],
 ) -> Result<FigureReport, FigureError> {
+    if !set.is_empty() && !matches!(fig.recipe, Recipe::TimeSeries(_)) {
+        return Err(FigureError::Run {
+            figure: fig.number,
+            variant: "--set".into(),
+            message: "`figure --set` applies to the time-series figures (12–16) only".into(),
+        });
+    }
     let progress = indicatif::ProgressBar::new(match &fig.recipe {
         Recipe::TimeSeries(s) => s.variants.len() as u64,
         Recipe::Stability(s) => s.families.len() as u64,
@@ -171,7 +184,7 @@ fn make(
         progress.set_message(format!("{label} done"));
     };
     let result = match &fig.recipe {
-        Recipe::TimeSeries(spec) => match simulator() {
+        Recipe::TimeSeries(spec) => match simulator(set) {
             Some(sim) => {
                 paper::make_time_series(fig, spec, scenes, out, quick, sim.as_ref(), &tick)
             }
@@ -192,13 +205,13 @@ fn make(
     };
     progress.finish_and_clear();
     let report = result?;
-    notes::append(fig, &report, out)?;
+    notes::append(fig, &report, out, set)?;
     Ok(report)
 }
 
 /// The model-backed simulator (`scene::load` + `model::simulate`).
-fn simulator() -> Option<Box<dyn Simulator>> {
-    Some(Box::new(backend::ModelSimulator))
+fn simulator(set: &[String]) -> Option<Box<dyn Simulator>> {
+    Some(Box::new(backend::ModelSimulator { extra: set.to_vec() }))
 }
 
 /// The analysis-backed analyzer (natural_frequencies + critical_point + floquet).

@@ -21,9 +21,12 @@ pub fn differences(number: u32) -> &'static str {
 }
 
 /// Appends the comparison section to `out/figNN.md`.
-pub fn append(fig: &PaperFigure, report: &FigureReport, out: &Path) -> Result<(), FigureError> {
+pub fn append(fig: &PaperFigure, report: &FigureReport, out: &Path, set: &[String]) -> Result<(), FigureError> {
     let md = out.join(format!("{}.md", fig.stem()));
     let mut text = std::fs::read_to_string(&md).unwrap_or_default();
+    if !set.is_empty() {
+        text.push_str(&format!("\n**Model**: the scenes with `{}` (`figure --set`); the plot title says so too.\n", set.join("`, `")));
+    }
     if report.quick && matches!(fig.recipe, crate::plot::paper::Recipe::Stability(_)) {
         text.push_str("\n`--quick` for a stability figure: the first two families, the coarse frequency grid, modes up to 8 (unless the family sets `modes.max_order`), bisection to 2 % of the search range, 100 Magnus steps per period (the \"20 µs, modes up to 4\" above is the time-series setting).\n");
     }
@@ -33,7 +36,7 @@ pub fn append(fig: &PaperFigure, report: &FigureReport, out: &Path) -> Result<()
     let blown: Vec<String> = report
         .runs
         .iter()
-        .filter(|r| r.1.contains("blow_up") || r.1.contains("BlowUp") || r.1.contains("failed"))
+        .filter(|r| r.1.contains("blow_up") || r.1.contains("BlowUp") || r.1.contains("failed") || r.1.contains("out_of_credible_range"))
         .map(|r| format!("{}: {}", r.0, r.1))
         .collect();
     if !blown.is_empty() {

@@ -24,6 +24,7 @@ pub mod magnetic;
 pub mod membrane;
 pub mod quadratic;
 pub mod quadratic_membrane;
+pub mod second_order;
 pub mod shell;
 pub mod vapour;
 pub mod viscosity;

@@ -137,6 +137,11 @@ pub struct RunOutput {
 /// `Sync`: the curves of a figure run in parallel.
 pub trait Simulator: Sync {
     fn simulate(&self, scene: &Path, overrides: &[String]) -> Result<RunOutput, String>;
+    /// The model, when it is not the scenes' own (e.g. "modes.coupling=\"quadratic\"" from
+    /// `figure --set`): named in the plot title and the figure note.
+    fn model(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Errors of the figure pipeline.

@@ -97,12 +97,15 @@ pub fn make_time_series(
             if quick {
                 overrides.extend(QUICK_OVERRIDES.iter().map(|s| s.to_string()));
             }
+            // the key holds the simulator's own overrides (`figure --set`) too: a quadratic
+            // rerun never reuses a linear curve
+            let keyed: Vec<String> = overrides.iter().cloned().chain(sim.model()).collect();
             let run_err = |message: String| FigureError::Run {
                 figure: fig.number,
                 variant: variant.label.into(),
                 message,
             };
-            let key = PartKey::new(fig.number, index, variant.label, &scene, &overrides, quick, "time series".into())?;
+            let key = PartKey::new(fig.number, index, variant.label, &scene, &keyed, quick, "time series".into())?;
             let (out, how) = reuse_or(&dir, &key, || sim.simulate(&scene, &overrides).map_err(run_err))?;
             let label = match &out.blow_up {
                 Some((mode, t)) => {
@@ -141,9 +144,10 @@ pub fn make_time_series(
     files.push(csv);
 
     let title = format!(
-        "Figure {}{}",
+        "Figure {}{}{}",
         fig.number,
-        if quick { " (quick)" } else { "" }
+        if quick { " (quick)" } else { "" },
+        sim.model().map(|m| format!(", {m}")).unwrap_or_default()
     );
     let saved = time_series_panels(&title, &runs, spec.radius, spec.shapes).save(out_dir, &stem)?;
     files.extend([saved.svg, saved.png]);
