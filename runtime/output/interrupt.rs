@@ -23,8 +23,15 @@ pub fn clean_up_on_signal(paths: &[&Path]) {
     if TEMP_FILES.set(list).is_err() {
         return;
     }
-    let handler = on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
-    // SAFETY: `on_signal` only calls async-signal-safe functions on data fixed before this call.
+    // `on_signal` only calls async-signal-safe functions on data fixed before this call.
+    install(on_signal);
+}
+
+/// `handler` for SIGINT and SIGTERM. The caller guarantees that it calls only
+/// async-signal-safe functions on data fixed before the call.
+fn install(handler: extern "C" fn(libc::c_int)) {
+    let handler = handler as libc::sighandler_t;
+    // SAFETY: installing a handler is safe; what it may do is the caller's guarantee above.
     unsafe {
         libc::signal(libc::SIGINT, handler);
         libc::signal(libc::SIGTERM, handler);
@@ -59,12 +66,8 @@ pub fn note_on_signal(note: &str) {
     if EXIT_NOTE.set(text).is_err() {
         return;
     }
-    let handler = on_note_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
-    // SAFETY: `on_note_signal` only calls write and _exit on a string fixed before this call.
-    unsafe {
-        libc::signal(libc::SIGINT, handler);
-        libc::signal(libc::SIGTERM, handler);
-    }
+    // `on_note_signal` only calls write and _exit on a string fixed before this call.
+    install(on_note_signal);
 }
 
 extern "C" fn on_note_signal(sig: libc::c_int) {
