@@ -124,20 +124,25 @@ fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, S
     let mut chosen = None;
     if n >= 64 {
         // the ladder n/16, n/8, n/4, n/2 (module doc): stop at the first decided pair
-        let mut coarse = prep.spectrum(n / 16)?;
+        // A cheap rung whose monodromy overflows (a coarse step on a fast-growing system) is
+        // skipped, not an error: the next rungs, or the n-step computation, decide.
+        let mut coarse = prep.spectrum(n / 16).ok();
         for m in [n / 8, n / 4, n / 2] {
-            let fine = prep.spectrum(m)?;
-            let d = (fine.max_modulus - coarse.max_modulus).abs();
+            let Ok(fine) = prep.spectrum(m) else {
+                coarse = None;
+                continue;
+            };
+            let Some(coarse_spec) = coarse.replace(fine.clone()) else { continue };
+            let d = (fine.max_modulus - coarse_spec.max_modulus).abs();
             let decided = (fine.max_modulus - 1.0).abs() > 8.0 * d && d < 1e-3 * fine.max_modulus;
             if decided || m == n / 2 {
-                let mu = fine.max_modulus + (fine.max_modulus - coarse.max_modulus) / 15.0;
+                let mu = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) / 15.0;
                 // the estimated error of μ(m) bounds the kept value's distance to the n-step one
                 // (the Richardson value's own O(h⁶) error is not estimated: at 25/50 steps it
                 // reached 6e-7, far above (d/15)(m/n)⁴)
                 chosen = Some((fine, mu, d / 15.0));
                 break;
             }
-            coarse = fine;
         }
     }
     let (spec, mu, mu_error) = match chosen {
