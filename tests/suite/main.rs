@@ -52,6 +52,7 @@ mod quadratic_oracle;
 mod quadratic_runtime;
 mod quadratic_shell;
 mod quadratic_shell_oracle;
+mod quadratic_shell_effects;
 mod plot;
 mod plot_figures;
 mod plot_studies;
