@@ -1,8 +1,10 @@
-//! Second-order (bilinear) membrane loads of a hyperelastic shell law (issue 12, scope 1: the
-//! membrane), derived from the same specs as the linear tables: `kinematics.rs` (the exact
-//! stretches, normal and curvatures of r = R + Σ a_n P_n(cos Θ), θ = Θ + Σ b_n P¹_n/R), the
-//! law's W through `hyperelastic.rs` (σ_i = λ_i ∂W/∂λ_i) and `membrane.rs` (F_n, F_t in both
-//! forms), expanded to the bilinear order for pairs of modes (l, m) by [`super::jet2`] and
+//! Second-order (bilinear) membrane loads of a shell law (issue 12, scope 1: the membrane),
+//! derived from the same specs as the linear tables: `kinematics.rs` (the exact stretches, normal
+//! and curvatures of r = R + Σ a_n P_n(cos Θ), θ = Θ + Σ b_n P¹_n/R), and the law: a W through
+//! `hyperelastic.rs` (σ_i = λ_i ∂W/∂λ_i) and `membrane.rs` (F_n, F_t in both forms), stresses
+//! σ1, σ2 (a viscous law, by `rate`: terms then hold ȧ, ḃ or Ṙ) through `membrane.rs`, or a shape
+//! energy w_area (bending, by `vary`) through `shape.rs` — expanded to the bilinear order for
+//! pairs of modes (l, m) by [`super::jet2`] and
 //! projected exactly on P_j (normal, weight (2j+1)/2) and P¹_j (tangential, weight
 //! (2j+1)/(2j(j+1))) at the material angle, as the linear loads S1, S2, S11, S12 are.
 //!
