@@ -53,6 +53,7 @@ mod quadratic_runtime;
 mod quadratic_shell;
 mod quadratic_shell_oracle;
 mod quadratic_shell_effects;
+mod quadratic_virial;
 mod plot;
 mod plot_figures;
 mod plot_studies;
