@@ -51,6 +51,8 @@ mod quadratic_membrane;
 mod quadratic_oracle;
 mod quadratic_runtime;
 mod quadratic_shell;
+mod quadratic_shell_oracle;
+mod quadratic_shell_effects;
 mod quadratic_virial;
 mod plot;
 mod plot_figures;
