@@ -1,0 +1,190 @@
+//! The sparse bilinear sums shared by the quadratic terms (issue 12, "Performance";
+//! docs/performance.md): out_o = Σ_{pairs l ≤ m} Σ_s c_o(l, m, s) · w_s(l, m), where the *slots*
+//! s of a pair are the products the term needs (a_l a_m, a_l b_m, …, each times a prefactor) and
+//! only the (output, pair) rows the selection rules allow (|l − m| ≤ j ≤ l + m, l + m + j even)
+//! are stored, grouped by output.
+//!
+//! The caller fills w (pairs × stride, once per evaluation: the products are shared by every
+//! output of a pair) and [`PairRows::apply`] runs one contiguous dot product per output — the
+//! coefficients are read once, in order, into independent partial sums (AVX where the processor
+//! has it: the same sums in the same order, so bit for bit the SSE2 result). The Jacobian walks
+//! the same rows ([`PairRows::rows`]), so rhs and Jacobian share one table and one sparsity.
+
+use std::cell::RefCell;
+
+/// The rows of one term: `stride` slots per pair (a multiple of 4).
+#[derive(Debug)]
+pub struct PairRows {
+    stride: usize,
+    /// the unordered pairs l ≤ m (mode indices), in the layout of w
+    pairs: Vec<(usize, usize)>,
+    /// rows of output o: `out_start[o]..out_start[o + 1]`
+    out_start: Vec<usize>,
+    /// pair index of each row
+    row_pair: Vec<usize>,
+    /// row · stride + slot
+    coef: Vec<f64>,
+}
+
+thread_local! {
+    /// Scratch for w (no allocation per evaluation once grown).
+    static SCRATCH: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+}
+
+impl PairRows {
+    /// `modes` mode indices, `outputs` outputs, `slots` products per pair; `fill(o, l, m, c)`
+    /// writes the coefficients of output o on pair (l ≤ m) into `c` (length `slots`, zeroed) and
+    /// returns false when the selection rules exclude the row (the closure need not look at it).
+    /// A row is kept when a coefficient is non-zero.
+    pub fn new(modes: usize, outputs: usize, slots: usize, mut fill: impl FnMut(usize, usize, usize, &mut [f64]) -> bool) -> Self {
+        let stride = slots.div_ceil(4).max(1) * 4;
+        let pairs: Vec<(usize, usize)> = (0..modes).flat_map(|l| (l..modes).map(move |m| (l, m))).collect();
+        let (mut out_start, mut row_pair, mut coef) = (vec![0], Vec::new(), Vec::new());
+        let mut c = vec![0.0; stride];
+        for o in 0..outputs {
+            for (p, &(l, m)) in pairs.iter().enumerate() {
+                c.fill(0.0);
+                if fill(o, l, m, &mut c[..slots]) && c.iter().any(|&x| x != 0.0) {
+                    row_pair.push(p);
+                    coef.extend_from_slice(&c);
+                }
+            }
+            out_start.push(row_pair.len());
+        }
+        Self { stride, pairs, out_start, row_pair, coef }
+    }
+
+    #[cfg(test)]
+    pub fn stride(&self) -> usize {
+        self.stride
+    }
+    #[cfg(test)]
+    pub fn pairs(&self) -> &[(usize, usize)] {
+        &self.pairs
+    }
+    /// Number of stored (output, pair) rows.
+    pub fn len(&self) -> usize {
+        self.row_pair.len()
+    }
+
+    /// The rows of output o: (pair (l, m), the `stride` coefficients).
+    pub fn rows(&self, o: usize) -> impl Iterator<Item = ((usize, usize), &[f64])> + '_ {
+        let r = self.out_start[o]..self.out_start[o + 1];
+        self.row_pair[r.clone()].iter().zip(self.coef[r.start * self.stride..r.end * self.stride].chunks_exact(self.stride)).map(|(&p, c)| (self.pairs[p], c))
+    }
+
+    /// out_o += Σ rows of o · w, with w written by `products(l, m, w_pair)` (a `stride`-long
+    /// slice per pair; every slot written, padding included). `out.len()` outputs.
+    pub fn eval(&self, out: &mut [f64], mut products: impl FnMut(usize, usize, &mut [f64])) {
+        let s = self.stride;
+        SCRATCH.with(|cell| {
+            let mut w = cell.borrow_mut();
+            w.resize(self.pairs.len() * s, 0.0);
+            for (&(l, m), wp) in self.pairs.iter().zip(w.chunks_exact_mut(s)) {
+                products(l, m, wp);
+            }
+            self.apply(&w, out);
+        });
+    }
+
+    /// out_o += Σ_{rows r of o} coef_r · w[pair_r] (module doc).
+    fn apply(&self, w: &[f64], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor supports AVX (checked just above).
+            unsafe { self.apply_avx(w, out) };
+            return;
+        }
+        self.apply_any(w, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn apply_avx(&self, w: &[f64], out: &mut [f64]) {
+        self.apply_any(w, out)
+    }
+
+    #[inline(always)]
+    fn apply_any(&self, w: &[f64], out: &mut [f64]) {
+        match self.stride {
+            4 => self.apply_s::<4>(w, out),
+            8 => self.apply_s::<8>(w, out),
+            12 => self.apply_s::<12>(w, out),
+            16 => self.apply_s::<16>(w, out),
+            20 => self.apply_s::<20>(w, out),
+            24 => self.apply_s::<24>(w, out),
+            28 => self.apply_s::<28>(w, out),
+            _ => self.apply_s::<32>(w, out),
+        }
+    }
+
+    /// With the stride `S` known at compile time: per output two rows at a time, each 4-slot
+    /// chunk into its own partial sum (S/4 · 2 independent chains), summed in a fixed order.
+    #[inline(always)]
+    fn apply_s<const S: usize>(&self, w: &[f64], out: &mut [f64]) {
+        assert_eq!(S, self.stride, "PairRows stride");
+        for (o, x) in out.iter_mut().enumerate().take(self.out_start.len() - 1) {
+            let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
+            let (mut even, mut odd) = ([0.0f64; S], [0.0f64; S]);
+            let mut r = r0;
+            while r + 1 < r1 {
+                let (c0, c1) = (&self.coef[r * S..(r + 1) * S], &self.coef[(r + 1) * S..(r + 2) * S]);
+                let (p0, p1) = (self.row_pair[r] * S, self.row_pair[r + 1] * S);
+                let (w0, w1) = (&w[p0..p0 + S], &w[p1..p1 + S]);
+                for s in 0..S {
+                    even[s] += c0[s] * w0[s];
+                    odd[s] += c1[s] * w1[s];
+                }
+                r += 2;
+            }
+            if r < r1 {
+                let c0 = &self.coef[r * S..(r + 1) * S];
+                let p0 = self.row_pair[r] * S;
+                let w0 = &w[p0..p0 + S];
+                for s in 0..S {
+                    even[s] += c0[s] * w0[s];
+                }
+            }
+            let mut v = [0.0f64; 4];
+            for s in 0..S {
+                v[s % 4] += even[s] + odd[s];
+            }
+            *x += (v[0] + v[1]) + (v[2] + v[3]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sparse sums equal the plain double loop over every (output, pair, slot).
+    #[test]
+    fn eval_is_the_plain_sum() {
+        let (modes, outputs, slots) = (5, 4, 6);
+        let coef = |o: usize, l: usize, m: usize, s: usize| if (l + m + o) % 3 == 0 { 0.0 } else { (1 + o + 2 * l + 3 * m + 5 * s) as f64 * 0.01 };
+        let rows = PairRows::new(modes, outputs, slots, |o, l, m, c| {
+            for (s, x) in c.iter_mut().enumerate() {
+                *x = coef(o, l, m, s);
+            }
+            true
+        });
+        assert_eq!(rows.stride(), 8);
+        let prod = |l: usize, m: usize, s: usize| ((l * 7 + m * 3 + s) as f64).sin();
+        let mut out = vec![0.0; outputs];
+        rows.eval(&mut out, |l, m, w| {
+            for (s, x) in w.iter_mut().enumerate() {
+                *x = if s < slots { prod(l, m, s) } else { 0.0 };
+            }
+        });
+        for (o, &got) in out.iter().enumerate() {
+            let mut want = 0.0;
+            for &(l, m) in rows.pairs() {
+                for s in 0..slots {
+                    want += coef(o, l, m, s) * prod(l, m, s);
+                }
+            }
+            assert!((got - want).abs() <= 1e-14 * want.abs().max(1.0), "output {o}: {got} against {want}");
+        }
+    }
+}
