@@ -118,36 +118,35 @@ impl PairRows {
         }
     }
 
-    /// With the stride `S` known at compile time: per output two rows at a time, each 4-slot
-    /// chunk into its own partial sum (S/4 · 2 independent chains), summed in a fixed order.
+    /// With the stride `S` known at compile time: per output two rows at a time into one
+    /// partial sum per slot (S/4 independent vector chains), summed in a fixed order.
     #[inline(always)]
     fn apply_s<const S: usize>(&self, w: &[f64], out: &mut [f64]) {
         assert_eq!(S, self.stride, "PairRows stride");
+        let at = |p: usize| -> &[f64; S] { w[p * S..(p + 1) * S].try_into().expect("S slots") };
         for (o, x) in out.iter_mut().enumerate().take(self.out_start.len() - 1) {
             let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
-            let (mut even, mut odd) = ([0.0f64; S], [0.0f64; S]);
-            let mut r = r0;
-            while r + 1 < r1 {
-                let (c0, c1) = (&self.coef[r * S..(r + 1) * S], &self.coef[(r + 1) * S..(r + 2) * S]);
-                let (p0, p1) = (self.row_pair[r] * S, self.row_pair[r + 1] * S);
-                let (w0, w1) = (&w[p0..p0 + S], &w[p1..p1 + S]);
+            let (pairs, coef) = (&self.row_pair[r0..r1], &self.coef[r0 * S..r1 * S]);
+            let mut acc = [0.0f64; S];
+            let (pp, cc) = (pairs.chunks_exact(2), coef.chunks_exact(2 * S));
+            let (p_rest, c_rest) = (pp.remainder(), cc.remainder());
+            for (p, c) in pp.zip(cc) {
+                let (c0, c1) = c.split_at(S);
+                let (c0, c1): (&[f64; S], &[f64; S]) = (c0.try_into().expect("S"), c1.try_into().expect("S"));
+                let (w0, w1) = (at(p[0]), at(p[1]));
                 for s in 0..S {
-                    even[s] += c0[s] * w0[s];
-                    odd[s] += c1[s] * w1[s];
+                    acc[s] += c0[s] * w0[s] + c1[s] * w1[s];
                 }
-                r += 2;
             }
-            if r < r1 {
-                let c0 = &self.coef[r * S..(r + 1) * S];
-                let p0 = self.row_pair[r] * S;
-                let w0 = &w[p0..p0 + S];
+            if let (Some(&p), Ok(c0)) = (p_rest.first(), <&[f64; S]>::try_from(c_rest)) {
+                let w0 = at(p);
                 for s in 0..S {
-                    even[s] += c0[s] * w0[s];
+                    acc[s] += c0[s] * w0[s];
                 }
             }
             let mut v = [0.0f64; 4];
             for s in 0..S {
-                v[s % 4] += even[s] + odd[s];
+                v[s % 4] += acc[s];
             }
             *x += (v[0] + v[1]) + (v[2] + v[3]);
         }

@@ -33,8 +33,8 @@ pub struct QuadraticMembrane {
     law: &'static str,
     /// Exponents of (R, R0, symbol 1, symbol 2) of each distinct prefactor.
     monos: Vec<[i32; 4]>,
-    /// Values of (R0, symbol 1, symbol 2).
-    consts: [f64; 3],
+    /// The constant part (R0 and the law's symbols) of each prefactor.
+    constant: [f64; MAXP],
     /// outputs: 0 = −P, 1 + j = G_n,j, 1 + M + j = G_t,j
     rows: PairRows,
     modes: usize,
@@ -53,13 +53,15 @@ fn product(first: Ab, second: Ab, forward: bool) -> usize {
     }
 }
 
-/// C(j, l, m) N(L_l, L_m, L_j)/D of one table term.
-fn value(t: &crate::coefficients::quadratic_membrane::Term, j: usize, l: usize, m: usize) -> f64 {
+/// C(j, l, m) = (2j + 1)/2 ∫ P_l P_m P_j: the coefficient of P_j in P_l P_m (0 outside the
+/// selection rules).
+fn projection(j: usize, l: usize, m: usize) -> f64 {
+    ppp(l, m, j) * (2.0 * j as f64 + 1.0) / 2.0
+}
+
+/// C(j, l, m) N(L_l, L_m, L_j)/D of one table term, `c` = C(j, l, m) ≠ 0.
+fn value(t: &crate::coefficients::quadratic_membrane::Term, c: f64, j: usize, l: usize, m: usize) -> f64 {
     if t.load == Load::Tangential && j == 0 {
-        return 0.0;
-    }
-    let c = ppp(l, m, j) * (2.0 * j as f64 + 1.0) / 2.0;
-    if c == 0.0 {
         return 0.0;
     }
     let big = |n: usize| (n * (n + 1)) as f64;
@@ -118,17 +120,27 @@ impl QuadraticMembrane {
             if kj < kl.abs_diff(km) || kj > kl + km {
                 return false;
             }
+            // C(j, l, m) is symmetric in (l, m)
+            let cj = projection(kj, kl, km);
+            if cj == 0.0 {
+                return false;
+            }
             for (t, mono) in kinds.iter().filter(|(t, _)| t.load == load) {
-                c[mono * PRODUCTS + product(t.first, t.second, true)] += value(t, kj, kl, km);
+                c[mono * PRODUCTS + product(t.first, t.second, true)] += value(t, cj, kj, kl, km);
                 if l != m {
                     // the ordered pair (m, l): a symmetric product folds in, an asymmetric one
                     // is the other slot
-                    c[mono * PRODUCTS + product(t.first, t.second, false)] += value(t, kj, km, kl);
+                    c[mono * PRODUCTS + product(t.first, t.second, false)] += value(t, cj, kj, km, kl);
                 }
             }
             true
         });
-        Some(Self { law: law.name, monos, consts: [r0, args.0, args.1], rows, modes: n })
+        let consts = [r0, args.0, args.1];
+        let mut constant = [0.0; MAXP];
+        for (c, e) in constant.iter_mut().zip(&monos) {
+            *c = consts.iter().zip(&e[1..]).fold(1.0, |acc, (v, k)| if *k == 0 { acc } else { acc * v.powi(*k) });
+        }
+        Some(Self { law: law.name, monos, constant, rows, modes: n })
     }
 
     /// Number of stored (load, pair) rows.
@@ -139,10 +151,10 @@ impl QuadraticMembrane {
     /// Prefactor values and their R-derivatives at R.
     fn prefactors(&self, r: f64) -> ([f64; MAXP], [f64; MAXP]) {
         let (mut p, mut d) = ([0.0; MAXP], [0.0; MAXP]);
-        for (i, e) in self.monos.iter().enumerate() {
-            let c = self.consts.iter().zip(&e[1..]).fold(1.0, |acc, (v, k)| if *k == 0 { acc } else { acc * v.powi(*k) });
-            p[i] = c * r.powi(e[0]);
-            d[i] = c * e[0] as f64 * r.powi(e[0] - 1);
+        for (i, (e, c)) in self.monos.iter().zip(&self.constant).enumerate() {
+            let below = r.powi(e[0] - 1);
+            p[i] = c * (below * r);
+            d[i] = c * e[0] as f64 * below;
         }
         (p, d)
     }
@@ -191,20 +203,30 @@ impl Term for QuadraticMembrane {
                 o if o <= nm => (&mut jac.gn[(o - 1) * n..o * n], 1.0),
                 o => (&mut jac.gt[(o - 1 - nm) * n..(o - nm) * n], 1.0),
             };
+            // ∂/∂R and ∂/∂z_x of the output, summed locally (no chain through memory)
+            let (mut dr, mut dz) = (0.0, [0.0; 2 + 3 * super::MAX_MODES]);
             for ((l, m), c) in self.rows.rows(o) {
                 let (ia, ib, ja, jb) = (a_index(l), a_index(l) + 2, a_index(m), a_index(m) + 2);
                 // (x, y) state indices of each product
                 let idx = [(ia, ja), (ia, jb), (ja, ib), (ib, jb)];
+                // the prefactors summed per product: value and ∂/∂R
+                let (mut cp, mut cd) = ([0.0; PRODUCTS], [0.0; PRODUCTS]);
                 for (ci, (pi, di)) in c.chunks_exact(PRODUCTS).zip(p[..np].iter().zip(&d[..np])) {
-                    for (&cs, &(x, y)) in ci.iter().zip(&idx) {
-                        if cs != 0.0 {
-                            let (vx, vy) = (at.z[x], at.z[y]);
-                            row[0] += sign * cs * di * vx * vy;
-                            row[x] += sign * cs * pi * vy;
-                            row[y] += sign * cs * pi * vx;
-                        }
+                    for t in 0..PRODUCTS {
+                        cp[t] += ci[t] * pi;
+                        cd[t] += ci[t] * di;
                     }
                 }
+                for ((&(x, y), cp), cd) in idx.iter().zip(cp).zip(cd) {
+                    let (vx, vy) = (at.z[x], at.z[y]);
+                    dr += cd * vx * vy;
+                    dz[x] += cp * vy;
+                    dz[y] += cp * vx;
+                }
+            }
+            row[0] += sign * dr;
+            for (rj, dj) in row.iter_mut().zip(&dz).skip(2) {
+                *rj += sign * dj;
             }
         }
     }
