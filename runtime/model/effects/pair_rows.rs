@@ -4,8 +4,10 @@
 //! only the (output, pair) rows the selection rules allow (|l − m| ≤ j ≤ l + m, l + m + j even)
 //! are stored, grouped by output.
 //!
-//! The caller fills w (pairs × stride, once per evaluation: the products are shared by every
-//! output of a pair) and [`PairRows::apply`] runs one contiguous dot product per output — the
+//! Every slot is a product of a factor of mode l and a factor of mode m, so the caller gives, per
+//! mode, its left factors (prefactors included) and its right factors (`stride` each); the
+//! products w(l, m) = left(l) ⊙ right(m) are formed once per evaluation (they are shared by every
+//! output of a pair, no gathers) and [`PairRows::eval`] runs one contiguous dot product per output — the
 //! coefficients are read once, in order, into independent partial sums (AVX where the processor
 //! has it: the same sums in the same order, so bit for bit the SSE2 result). The Jacobian walks
 //! the same rows ([`PairRows::rows`]), so rhs and Jacobian share one table and one sparsity.
@@ -16,6 +18,7 @@ use std::cell::RefCell;
 #[derive(Debug)]
 pub struct PairRows {
     stride: usize,
+    modes: usize,
     /// the unordered pairs l ≤ m (mode indices), in the layout of w
     pairs: Vec<(usize, usize)>,
     /// rows of output o: `out_start[o]..out_start[o + 1]`
@@ -51,7 +54,7 @@ impl PairRows {
             }
             out_start.push(row_pair.len());
         }
-        Self { stride, pairs, out_start, row_pair, coef }
+        Self { stride, modes, pairs, out_start, row_pair, coef }
     }
 
     #[cfg(test)]
@@ -73,56 +76,68 @@ impl PairRows {
         self.row_pair[r.clone()].iter().zip(self.coef[r.start * self.stride..r.end * self.stride].chunks_exact(self.stride)).map(|(&p, c)| (self.pairs[p], c))
     }
 
-    /// out_o += Σ rows of o · w, with w written by `products(l, m, w_pair)` (a `stride`-long
-    /// slice per pair; every slot written, padding included). `out.len()` outputs.
-    pub fn eval(&self, out: &mut [f64], mut products: impl FnMut(usize, usize, &mut [f64])) {
+    /// out_o += Σ rows of o · w, w(l, m) = left(l) ⊙ right(m), with `factors(left, right)`
+    /// writing every entry of left and right (modes × `stride` each, padding included: a
+    /// padding slot's factors are 0). `out.len()` outputs.
+    pub fn eval(&self, out: &mut [f64], factors: impl FnOnce(&mut [f64], &mut [f64])) {
         let s = self.stride;
+        let (nm, np) = (self.modes * s, self.pairs.len() * s);
         SCRATCH.with(|cell| {
-            let mut w = cell.borrow_mut();
-            w.resize(self.pairs.len() * s, 0.0);
-            for (&(l, m), wp) in self.pairs.iter().zip(w.chunks_exact_mut(s)) {
-                products(l, m, wp);
+            let mut buf = cell.borrow_mut();
+            if buf.len() < 2 * nm + np {
+                buf.resize(2 * nm + np, 0.0);
             }
-            self.apply(&w, out);
+            let (lr, w) = buf.split_at_mut(2 * nm);
+            let (left, right) = lr.split_at_mut(nm);
+            factors(left, right);
+            self.apply(left, right, &mut w[..np], out);
         });
     }
 
-    /// out_o += Σ_{rows r of o} coef_r · w[pair_r] (module doc).
-    fn apply(&self, w: &[f64], out: &mut [f64]) {
+    /// w = the pair products, then out_o += Σ_{rows r of o} coef_r · w[pair_r] (module doc).
+    fn apply(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
             // SAFETY: the processor supports AVX (checked just above).
-            unsafe { self.apply_avx(w, out) };
+            unsafe { self.apply_avx(left, right, w, out) };
             return;
         }
-        self.apply_any(w, out)
+        self.apply_any(left, right, w, out)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn apply_avx(&self, w: &[f64], out: &mut [f64]) {
-        self.apply_any(w, out)
+    unsafe fn apply_avx(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {
+        self.apply_any(left, right, w, out)
     }
 
     #[inline(always)]
-    fn apply_any(&self, w: &[f64], out: &mut [f64]) {
+    fn apply_any(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {
         match self.stride {
-            4 => self.apply_s::<4>(w, out),
-            8 => self.apply_s::<8>(w, out),
-            12 => self.apply_s::<12>(w, out),
-            16 => self.apply_s::<16>(w, out),
-            20 => self.apply_s::<20>(w, out),
-            24 => self.apply_s::<24>(w, out),
-            28 => self.apply_s::<28>(w, out),
-            _ => self.apply_s::<32>(w, out),
+            4 => self.apply_s::<4>(left, right, w, out),
+            8 => self.apply_s::<8>(left, right, w, out),
+            12 => self.apply_s::<12>(left, right, w, out),
+            16 => self.apply_s::<16>(left, right, w, out),
+            20 => self.apply_s::<20>(left, right, w, out),
+            24 => self.apply_s::<24>(left, right, w, out),
+            28 => self.apply_s::<28>(left, right, w, out),
+            _ => self.apply_s::<32>(left, right, w, out),
         }
     }
 
     /// With the stride `S` known at compile time: per output two rows at a time into one
     /// partial sum per slot (S/4 independent vector chains), summed in a fixed order.
     #[inline(always)]
-    fn apply_s<const S: usize>(&self, w: &[f64], out: &mut [f64]) {
+    fn apply_s<const S: usize>(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {
         assert_eq!(S, self.stride, "PairRows stride");
+        let factor = |v: &[f64], i: usize| -> [f64; S] { v[i * S..(i + 1) * S].try_into().expect("S slots") };
+        for (&(l, m), wp) in self.pairs.iter().zip(w.chunks_exact_mut(S)) {
+            let (x, y) = (factor(left, l), factor(right, m));
+            for s in 0..S {
+                wp[s] = x[s] * y[s];
+            }
+        }
+        let w: &[f64] = w;
         let at = |p: usize| -> &[f64; S] { w[p * S..(p + 1) * S].try_into().expect("S slots") };
         for (o, x) in out.iter_mut().enumerate().take(self.out_start.len() - 1) {
             let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
@@ -169,11 +184,15 @@ mod tests {
             true
         });
         assert_eq!(rows.stride(), 8);
-        let prod = |l: usize, m: usize, s: usize| ((l * 7 + m * 3 + s) as f64).sin();
         let mut out = vec![0.0; outputs];
-        rows.eval(&mut out, |l, m, w| {
-            for (s, x) in w.iter_mut().enumerate() {
-                *x = if s < slots { prod(l, m, s) } else { 0.0 };
+        // prod(l, m, s) = left_s(l) · right_s(m)
+        let (lf, rf) = (|l: usize, s: usize| 1.0 + 0.1 * (l * 7 + s) as f64, |m: usize, s: usize| ((m * 3 + s) as f64).sin());
+        let prod = |l: usize, m: usize, s: usize| lf(l, s) * rf(m, s);
+        rows.eval(&mut out, |left, right| {
+            for (i, (lv, rv)) in left.chunks_exact_mut(8).zip(right.chunks_exact_mut(8)).enumerate() {
+                for s in 0..8 {
+                    (lv[s], rv[s]) = if s < slots { (lf(i, s), rf(i, s)) } else { (0.0, 0.0) };
+                }
             }
         });
         for (o, &got) in out.iter().enumerate() {

@@ -63,6 +63,8 @@ pub struct QuadraticCoupling {
     slots: Vec<Slot>,
     /// per slot, where its two factors are in [a_l, ȧ_l, ä_l, a_m, ȧ_m, ä_m]
     gather: Vec<(usize, usize)>,
+    /// per slot, which of (a, ȧ, ä) of mode l and of mode m it multiplies (3: padding, a zero)
+    sides: [(usize, usize); MAX_SLOTS],
     /// the (output, pair) rows: output 0 radial, 1 + i mode index i
     rows: PairRows,
     /// the radial-only terms (j = 0, l = m), scalar
@@ -105,7 +107,7 @@ impl QuadraticCoupling {
             }
         }
         assert!(slots.len() <= MAX_SLOTS, "the quadratic table has more products than MAX_SLOTS");
-        let gather = slots.iter().map(|s| if s.swap { (3 + s.first, s.second) } else { (s.first, 3 + s.second) }).collect();
+        let gather: Vec<(usize, usize)> = slots.iter().map(|s| if s.swap { (3 + s.first, s.second) } else { (s.first, 3 + s.second) }).collect();
         // outputs: 0 = radial (j = 0), 1 + i = mode index i
         let outs: Vec<usize> = std::iter::once(0).chain(ks.iter().copied()).collect();
         let rows = PairRows::new(nm, outs.len(), slots.len(), |o, l, m, c| {
@@ -128,7 +130,12 @@ impl QuadraticCoupling {
             }
             true
         });
-        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, slots, gather, rows, radial_only }
+        let mut sides = [(3, 3); MAX_SLOTS];
+        for (sd, &(x, y)) in sides.iter_mut().zip(&gather) {
+            // one factor of each mode: (l side, m side)
+            *sd = if x < 3 { (x, y - 3) } else { (y, x - 3) };
+        }
+        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, slots, gather, sides, rows, radial_only }
     }
 
     /// Number of (unordered pair, target) rows the rhs evaluates.
@@ -194,14 +201,14 @@ impl SecondOrderTerm for QuadraticCoupling {
             let (f, g, _) = self.kinds[e.term];
             out[0] += e.value * tp[e.term] * amp[e.l][f] * amp[e.m][g];
         }
-        let ns = self.slots.len();
-        self.rows.eval(&mut out[..=n], |l, m, w| {
-            let (al, am) = (&amp[l], &amp[m]);
-            let lm = [al[0], al[1], al[2], am[0], am[1], am[2]];
-            for (s, &(x, y)) in self.gather.iter().enumerate() {
-                w[s] = pre[s] * lm[x] * lm[y];
+        self.rows.eval(&mut out[..=n], |left, right| {
+            let st = left.len() / n.max(1);
+            for ((lv, rv), a) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).zip(&amp) {
+                let a4 = [a[0], a[1], a[2], 0.0];
+                for (((x, y), &(f, g)), p) in lv.iter_mut().zip(rv.iter_mut()).zip(&self.sides).zip(&pre) {
+                    (*x, *y) = (p * a4[f & 3], a4[g & 3]);
+                }
             }
-            w[ns..].fill(0.0);
         });
         loads.pressure += out[0];
         for (g, q) in loads.gn.iter_mut().zip(&out[1..=n]) {

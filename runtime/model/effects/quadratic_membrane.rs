@@ -175,12 +175,14 @@ impl Term for QuadraticMembrane {
         let n = self.modes;
         let np = self.monos.len();
         let mut out = [0.0; 1 + 2 * super::MAX_MODES];
-        self.rows.eval(&mut out[..1 + 2 * n], |l, m, w| {
-            let (al, bl, am, bm) = (at.a(l), at.b(l), at.a(m), at.b(m));
-            let prod = [al * am, al * bm, am * bl, bl * bm];
-            for (wi, pi) in w.chunks_exact_mut(PRODUCTS).zip(&p[..np]) {
-                for (x, q) in wi.iter_mut().zip(&prod) {
-                    *x = pi * q;
+        // slot i·4 + t: p_i (a_l, a_l, b_l, b_l)_t · (a_m, b_m, a_m, b_m)_t
+        self.rows.eval(&mut out[..1 + 2 * n], |left, right| {
+            let st = PRODUCTS * np;
+            for (k, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate() {
+                let (a, b) = (at.a(k), at.b(k));
+                for ((lc, rc), pi) in lv.chunks_exact_mut(PRODUCTS).zip(rv.chunks_exact_mut(PRODUCTS)).zip(&p[..np]) {
+                    lc.copy_from_slice(&[pi * a, pi * a, pi * b, pi * b]);
+                    rc.copy_from_slice(&[a, b, a, b]);
                 }
             }
         });
