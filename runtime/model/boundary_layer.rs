@@ -264,9 +264,14 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
     fn structured_jacobian(&self, t: f64, y: &[f64]) -> Option<Box<dyn crate::integrate::linear::StructuredJacobian>> {
         let n = y.len();
         let band = self.jacobian_pattern().band;
+        let w = 3 * band + 2;
+        if 2 + 3 * band >= n || n - (2 + 3 * band) <= 2 * w + 1 {
+            // the split cannot pay (BorderedBand::new declines): the caller's dense path
+            // evaluates J, so do not evaluate it here as well (quadratic coupling: band = M)
+            return None;
+        }
         let mut jac = vec![0.0; n * n];
         self.jacobian_into(t, y, &mut jac);
-        let w = 3 * band + 2;
         crate::integrate::bordered::BorderedBand::new(&jac, n, 2 + 3 * band, w, w)
             .map(|b| Box::new(b) as Box<dyn crate::integrate::linear::StructuredJacobian>)
     }

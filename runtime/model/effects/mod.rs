@@ -31,6 +31,8 @@ pub mod shell;
 pub mod vapour;
 pub mod viscosity;
 
+mod pair_rows;
+
 /// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.
 pub const MAX_MODES: usize = crate::coefficients::KMAX / 2 + 1;
 

@@ -12,28 +12,27 @@
 //! Cost (issue 12: ≤ 3× the linear rhs at k ≤ 16; docs/performance.md): only the coefficients
 //! the selection rules allow (|l − m| ≤ j ≤ l + m, l + m + j even) are stored, per unordered pair
 //! l ≤ m (symmetric products folded), each with one coefficient per *slot* — a table term's
-//! product first(l)·second(m), or for an asymmetric term also first(m)·second(l). Per rhs and
-//! pair: the slot products once (prefactor included, kept in registers), then one short dot
-//! product per allowed target, into four partial sums per target (AVX where the processor has
-//! it: the same sums in the same order). No allocation. The radial-
-//! only terms (the gas at the exact volume) are a short scalar list. The Jacobian is exact
-//! (chain rule through R̈⁽¹⁾, ä⁽¹⁾ and p_g(R)).
+//! product first(l)·second(m), or for an asymmetric term also first(m)·second(l)
+//! ([`super::pair_rows`]: the slot products once per pair, prefactor included, then one
+//! contiguous dot product per output). No allocation. The radial-only terms (the gas at the
+//! exact volume) are a short scalar list. The Jacobian is exact (chain rule through R̈⁽¹⁾, ä⁽¹⁾
+//! and p_g(R)) and walks the same rows: per output the derivatives with respect to the 3M
+//! amplitudes and the prefactor symbols, then the chain rule once.
 
+use super::pair_rows::PairRows;
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
 use super::{a_index, At, LoadJacobian, Loads, MAX_MODES};
 use crate::coefficients::quadratic::{Term as QTerm, FREE_BUBBLE};
 
 /// Symbols of the prefactors, in this order.
 const SYMBOLS: [&str; 7] = ["rho", "gamma", "R", "Rd", "Rdd", "pg", "kappa"];
-/// Largest number of slots (padded to a multiple of 4) and of table terms; the free-bubble
-/// table has 8 slots on the mode rows.
+/// Largest number of slots and of table terms; the free-bubble table has 8 slots on the mode
+/// rows.
 const MAX_SLOTS: usize = 16;
 
-/// One coefficient (l, m → target), for the Jacobian and the radial-only terms.
+/// One radial-only coefficient (l, l → j = 0), scalar.
 #[derive(Debug, Clone, Copy)]
 struct Entry {
-    /// mode index of the target, or None for the radial balance (j = 0)
-    target: Option<usize>,
     l: usize,
     m: usize,
     term: usize,
@@ -50,15 +49,6 @@ struct Slot {
     swap: bool,
 }
 
-/// The rows of one pair (index into `pairs`): `start..end` into `row_out` and `coef` (stride
-/// `stride`).
-#[derive(Debug, Clone, Copy)]
-struct Group {
-    pair: usize,
-    start: usize,
-    end: usize,
-}
-
 #[derive(Debug)]
 pub struct QuadraticCoupling {
     rho: f64,
@@ -70,18 +60,13 @@ pub struct QuadraticCoupling {
     orders: Vec<f64>,
     /// (first, second, exponents of SYMBOLS) per table term
     kinds: Vec<(usize, usize, [i32; 7])>,
-    entries: Vec<Entry>,
     slots: Vec<Slot>,
     /// per slot, where its two factors are in [a_l, ȧ_l, ä_l, a_m, ȧ_m, ä_m]
     gather: Vec<(usize, usize)>,
-    /// slots rounded up to a multiple of 4
-    stride: usize,
-    /// the unordered pairs l ≤ m that have a row
-    pairs: Vec<(usize, usize)>,
-    groups: Vec<Group>,
-    /// output of each row (0 radial, 1 + i mode index i)
-    row_out: Vec<usize>,
-    coef: Vec<f64>,
+    /// per slot, which of (a, ȧ, ä) of mode l and of mode m it multiplies (3: padding, a zero)
+    sides: [(usize, usize); MAX_SLOTS],
+    /// the (output, pair) rows: output 0 radial, 1 + i mode index i
+    rows: PairRows,
     /// the radial-only terms (j = 0, l = m), scalar
     radial_only: Vec<Entry>,
 }
@@ -103,17 +88,13 @@ impl QuadraticCoupling {
         assert!(kinds.len() <= MAX_SLOTS, "the quadratic table has more terms than MAX_SLOTS");
         let ks: Vec<usize> = orders.iter().map(|&k| k as usize).collect();
         let nm = ks.len();
-        // outputs: 0 = radial (j = 0), 1 + i = mode index i
-        let outs: Vec<usize> = std::iter::once(0).chain(ks.iter().copied()).collect();
-        let mut entries = Vec::new();
-        for (term, t) in FREE_BUBBLE.iter().enumerate() {
+        let mut radial_only = Vec::new();
+        for (term, t) in FREE_BUBBLE.iter().enumerate().filter(|(_, t)| t.radial_only) {
             for (l, &kl) in ks.iter().enumerate() {
                 for (m, &km) in ks.iter().enumerate() {
-                    for (out, &kj) in outs.iter().enumerate() {
-                        let v = t.value(kj, kl, km);
-                        if v != 0.0 {
-                            entries.push(Entry { target: out.checked_sub(1), l, m, term, value: v });
-                        }
+                    let v = t.value(0, kl, km);
+                    if v != 0.0 {
+                        radial_only.push(Entry { l, m, term, value: v });
                     }
                 }
             }
@@ -126,126 +107,40 @@ impl QuadraticCoupling {
             }
         }
         assert!(slots.len() <= MAX_SLOTS, "the quadratic table has more products than MAX_SLOTS");
-        let stride = slots.len().div_ceil(4) * 4;
-        let gather = slots.iter().map(|s| if s.swap { (3 + s.first, s.second) } else { (s.first, 3 + s.second) }).collect();
-        let pairs: Vec<(usize, usize)> = (0..nm).flat_map(|l| (l..nm).map(move |m| (l, m))).collect();
-        let (mut groups, mut row_out, mut coef) = (Vec::new(), Vec::new(), Vec::new());
-        for (p, &(l, m)) in pairs.iter().enumerate() {
-            let start = row_out.len();
-            for (out, &kj) in outs.iter().enumerate() {
-                let mut c = vec![0.0; stride];
-                for (s, slot) in slots.iter().enumerate() {
-                    let t = &FREE_BUBBLE[slot.term];
-                    let (x, y) = if slot.swap { (ks[m], ks[l]) } else { (ks[l], ks[m]) };
-                    c[s] = t.value(kj, x, y);
-                    // symmetric product, l < m: the (m, l) coefficient folds in
-                    if slot.first == slot.second && l != m {
-                        c[s] += t.value(kj, ks[m], ks[l]);
-                    }
-                    // l = m: the swapped product is the same one
-                    if slot.swap && l == m {
-                        c[s] = 0.0;
-                    }
+        let gather: Vec<(usize, usize)> = slots.iter().map(|s| if s.swap { (3 + s.first, s.second) } else { (s.first, 3 + s.second) }).collect();
+        // outputs: 0 = radial (j = 0), 1 + i = mode index i
+        let outs: Vec<usize> = std::iter::once(0).chain(ks.iter().copied()).collect();
+        let rows = PairRows::new(nm, outs.len(), slots.len(), |o, l, m, c| {
+            let (kj, kl, km) = (outs[o], ks[l], ks[m]);
+            if kj < kl.abs_diff(km) || kj > kl + km {
+                return false;
+            }
+            for (cs, slot) in c.iter_mut().zip(&slots) {
+                let t = &FREE_BUBBLE[slot.term];
+                // l = m: the swapped product is the same one
+                if slot.swap && l == m {
+                    continue;
                 }
-                if c.iter().any(|&x| x != 0.0) {
-                    row_out.push(out);
-                    coef.extend(c);
+                let (x, y) = if slot.swap { (km, kl) } else { (kl, km) };
+                *cs = t.value(kj, x, y);
+                // symmetric product, l < m: the (m, l) coefficient folds in
+                if slot.first == slot.second && l != m {
+                    *cs += t.value(kj, km, kl);
                 }
             }
-            if row_out.len() > start {
-                groups.push(Group { pair: p, start, end: row_out.len() });
-            }
+            true
+        });
+        let mut sides = [(3, 3); MAX_SLOTS];
+        for (sd, &(x, y)) in sides.iter_mut().zip(&gather) {
+            // one factor of each mode: (l side, m side)
+            *sd = if x < 3 { (x, y - 3) } else { (y, x - 3) };
         }
-        let radial_only = entries.iter().filter(|e| FREE_BUBBLE[e.term].radial_only).copied().collect();
-        Self {
-            rho,
-            gamma,
-            kappa: three_kappa / 3.0,
-            pg0,
-            r0,
-            orders: orders.to_vec(),
-            kinds,
-            entries,
-            slots,
-            gather,
-            stride,
-            pairs,
-            groups,
-            row_out,
-            coef,
-            radial_only,
-        }
-    }
-
-    /// Number of nonzero coefficients (l, m → j), ordered pairs, all table terms.
-    pub fn entries(&self) -> usize {
-        self.entries.len()
+        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, slots, gather, sides, rows, radial_only }
     }
 
     /// Number of (unordered pair, target) rows the rhs evaluates.
     pub fn sparse_rows(&self) -> usize {
-        self.row_out.len()
-    }
-
-    /// [`kernel`](Self::kernel) for this table's stride; with AVX where the processor has it
-    /// (the same four partial sums in the same order: bit for bit the SSE2 result).
-    fn kernel_dispatch(&self, amp: &[[f64; 3]; MAX_MODES], pre: &[f64; MAX_SLOTS], out: &mut [f64; MAX_MODES + 1]) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above).
-            unsafe { self.kernel_avx(amp, pre, out) };
-            return;
-        }
-        self.kernel_any(amp, pre, out)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn kernel_avx(&self, amp: &[[f64; 3]; MAX_MODES], pre: &[f64; MAX_SLOTS], out: &mut [f64; MAX_MODES + 1]) {
-        self.kernel_any(amp, pre, out)
-    }
-
-    #[inline(always)]
-    fn kernel_any(&self, amp: &[[f64; 3]; MAX_MODES], pre: &[f64; MAX_SLOTS], out: &mut [f64; MAX_MODES + 1]) {
-        match self.stride {
-            4 => self.kernel::<4>(amp, pre, out),
-            8 => self.kernel::<8>(amp, pre, out),
-            12 => self.kernel::<12>(amp, pre, out),
-            _ => self.kernel::<MAX_SLOTS>(amp, pre, out), // 16: more slots are refused in `new`
-        }
-    }
-
-    /// The sparse bilinear sums (module doc) with the stride `S` known at compile time.
-    #[inline(always)]
-    fn kernel<const S: usize>(&self, amp: &[[f64; 3]; MAX_MODES], pre: &[f64; MAX_SLOTS], out: &mut [f64; MAX_MODES + 1]) {
-        debug_assert_eq!(S, self.stride);
-        let (mut gx, mut gy, mut ps) = ([0usize; S], [0usize; S], [0.0; S]);
-        for (s, &(x, y)) in self.gather.iter().enumerate() {
-            (gx[s], gy[s], ps[s]) = (x, y, pre[s]);
-        }
-        // four partial sums per output (0 radial, 1 + i mode index i)
-        let mut acc = [[0.0f64; 4]; MAX_MODES + 1];
-        for g in &self.groups {
-            let (l, m) = self.pairs[g.pair];
-            let (al, am) = (&amp[l], &amp[m]);
-            let lm = [al[0], al[1], al[2], am[0], am[1], am[2]];
-            let mut w = [0.0; S];
-            for s in 0..S {
-                w[s] = ps[s] * lm[gx[s]] * lm[gy[s]];
-            }
-            let coef = &self.coef[g.start * S..g.end * S];
-            for (c, &o) in coef.chunks_exact(S).zip(&self.row_out[g.start..g.end]) {
-                let a = &mut acc[o];
-                let mut v = *a;
-                for s in 0..S {
-                    v[s % 4] += c[s] * w[s];
-                }
-                *a = v;
-            }
-        }
-        for (o, a) in out.iter_mut().zip(&acc) {
-            *o += (a[0] + a[1]) + (a[2] + a[3]);
-        }
+        self.rows.len()
     }
 
     /// Symbol values (SYMBOLS order).
@@ -268,6 +163,20 @@ impl QuadraticCoupling {
         }
         num / den
     }
+
+    /// The amplitudes [a, ȧ, ä⁽¹⁾] per mode index and the prefactor of each table term.
+    fn state(&self, at: &At<'_>, first: &FirstOrder<'_>) -> ([[f64; 3]; MAX_MODES], [f64; MAX_SLOTS], [f64; 7]) {
+        let mut amp = [[0.0; 3]; MAX_MODES];
+        for (i, a) in amp.iter_mut().enumerate().take(self.orders.len()) {
+            *a = [at.a(i), at.adot(i), first.add[i]];
+        }
+        let s = self.symbols(at.r(), at.rdot(), first.rdd);
+        let mut tp = [0.0; MAX_SLOTS];
+        for (p, (_, _, e)) in tp.iter_mut().zip(&self.kinds) {
+            *p = Self::prefactor(e, &s);
+        }
+        (amp, tp, s)
+    }
 }
 
 impl SecondOrderTerm for QuadraticCoupling {
@@ -282,15 +191,7 @@ impl SecondOrderTerm for QuadraticCoupling {
     }
     fn add(&self, at: &At<'_>, first: &FirstOrder<'_>, loads: &mut Loads<'_>) {
         let n = self.orders.len();
-        let mut amp = [[0.0; 3]; MAX_MODES];
-        for (i, a) in amp.iter_mut().enumerate().take(n) {
-            *a = [at.a(i), at.adot(i), first.add[i]];
-        }
-        let s = self.symbols(at.r(), at.rdot(), first.rdd);
-        let mut tp = [0.0; MAX_SLOTS];
-        for (p, (_, _, e)) in tp.iter_mut().zip(&self.kinds) {
-            *p = Self::prefactor(e, &s);
-        }
+        let (amp, tp, _) = self.state(at, first);
         let mut pre = [0.0; MAX_SLOTS];
         for (p, slot) in pre.iter_mut().zip(&self.slots) {
             *p = tp[slot.term];
@@ -300,7 +201,15 @@ impl SecondOrderTerm for QuadraticCoupling {
             let (f, g, _) = self.kinds[e.term];
             out[0] += e.value * tp[e.term] * amp[e.l][f] * amp[e.m][g];
         }
-        self.kernel_dispatch(&amp, &pre, &mut out);
+        self.rows.eval(&mut out[..=n], |left, right| {
+            let st = left.len() / n.max(1);
+            for ((lv, rv), a) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).zip(&amp) {
+                let a4 = [a[0], a[1], a[2], 0.0];
+                for (((x, y), &(f, g)), p) in lv.iter_mut().zip(rv.iter_mut()).zip(&self.sides).zip(&pre) {
+                    (*x, *y) = (p * a4[f & 3], a4[g & 3]);
+                }
+            }
+        });
         loads.pressure += out[0];
         for (g, q) in loads.gn.iter_mut().zip(&out[1..=n]) {
             *g += q;
@@ -309,51 +218,62 @@ impl SecondOrderTerm for QuadraticCoupling {
     fn add_jacobian(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
         let nm = self.orders.len();
         let n = jac.n;
-        let (r, rd, rdd) = (at.r(), at.rdot(), first.rdd);
-        let g_rdd = grad.drdd;
-        let amp: Vec<[f64; 3]> = (0..nm).map(|i| [at.a(i), at.adot(i), first.add[i]]).collect();
-        let g_add = |i: usize| &grad.dadd[i * n..(i + 1) * n];
-        // prefactors and their gradients (through R, Ṙ explicitly, R̈⁽¹⁾ and p_g(R))
-        let s = self.symbols(r, rd, rdd);
-        let mut pre = Vec::new();
-        let mut g_pre = Vec::new();
-        for (_, _, e) in &self.kinds {
-            let p = Self::prefactor(e, &s);
-            let mut g = vec![0.0; n];
-            // ∂/∂symbol = power · prefactor with that power lowered by one
+        let r = at.r();
+        let (amp, tp, s) = self.state(at, first);
+        // ∂prefactor/∂(R, Ṙ, R̈⁽¹⁾) per table term (R through p_g(R) too); ∂/∂symbol = power ·
+        // the prefactor with that power lowered by one
+        let mut dpre = [[0.0; 3]; MAX_SLOTS];
+        for (d, (_, _, e)) in dpre.iter_mut().zip(&self.kinds) {
             let dsym = |i: usize| if e[i] == 0 { 0.0 } else { e[i] as f64 * Self::prefactor(&{ let mut f = *e; f[i] -= 1; f }, &s) };
-            g[0] += dsym(2) + dsym(5) * (-3.0 * self.kappa * s[5] / r);
-            g[1] += dsym(3);
-            let dr = dsym(4);
-            if dr != 0.0 {
-                for j in 0..n {
-                    g[j] += dr * g_rdd[j];
+            *d = [dsym(2) + dsym(5) * (-3.0 * self.kappa * s[5] / r), dsym(3), dsym(4)];
+        }
+        let g_add = |i: usize| &grad.dadd[i * n..(i + 1) * n];
+        for o in 0..=nm {
+            // Σ value · first · second per table term (no prefactor), and ∂Q_o/∂(a, ȧ, ä⁽¹⁾)_i
+            let mut bare = [0.0; MAX_SLOTS];
+            let mut d = [[0.0; 3]; MAX_MODES];
+            let mut put = |term: usize, c: f64, (i, f): (usize, usize), (k, g): (usize, usize)| {
+                let (x, y) = (amp[i][f], amp[k][g]);
+                bare[term] += c * x * y;
+                let cp = c * tp[term];
+                d[i][f] += cp * y;
+                d[k][g] += cp * x;
+            };
+            if o == 0 {
+                for e in &self.radial_only {
+                    let (f, g, _) = self.kinds[e.term];
+                    put(e.term, e.value, (e.l, f), (e.m, g));
                 }
             }
-            pre.push(p);
-            g_pre.push(g);
-        }
-        let unit = |i: usize, o: usize| a_index(i) + o;
-        for e in &self.entries {
-            let (f, g, _) = self.kinds[e.term];
-            let (x, y) = (amp[e.l][f], amp[e.m][g]);
-            let row: &mut [f64] = match e.target {
-                None => &mut jac.pressure[..],
-                Some(j) => &mut jac.gn[j * n..(j + 1) * n],
-            };
-            let c = e.value;
-            for j in 0..n {
-                row[j] += c * g_pre[e.term][j] * x * y;
-            }
-            let p = c * pre[e.term];
-            // ∂x, ∂y
-            for (amp_i, ord, other) in [(e.l, f, y), (e.m, g, x)] {
-                if ord == 2 {
-                    for (rj, gj) in row.iter_mut().zip(g_add(amp_i)) {
-                        *rj += p * other * gj;
+            for ((l, m), c) in self.rows.rows(o) {
+                for ((slot, &(x, y)), &cs) in self.slots.iter().zip(&self.gather).zip(c) {
+                    if cs != 0.0 {
+                        let at = |v: usize| if v < 3 { (l, v) } else { (m, v - 3) };
+                        put(slot.term, cs, at(x), at(y));
                     }
-                } else {
-                    row[unit(amp_i, ord)] += p * other;
+                }
+            }
+            let row: &mut [f64] = if o == 0 { &mut jac.pressure[..] } else { &mut jac.gn[(o - 1) * n..o * n] };
+            let mut via = [0.0; 3];
+            for (b, dp) in bare.iter().zip(&dpre) {
+                for (v, x) in via.iter_mut().zip(dp) {
+                    *v += b * x;
+                }
+            }
+            row[0] += via[0];
+            row[1] += via[1];
+            if via[2] != 0.0 {
+                for (rj, gj) in row.iter_mut().zip(grad.drdd) {
+                    *rj += via[2] * gj;
+                }
+            }
+            for (i, di) in d.iter().enumerate().take(nm) {
+                row[a_index(i)] += di[0];
+                row[a_index(i) + 1] += di[1];
+                if di[2] != 0.0 {
+                    for (rj, gj) in row.iter_mut().zip(g_add(i)) {
+                        *rj += di[2] * gj;
+                    }
                 }
             }
         }
@@ -377,7 +297,7 @@ mod tests {
             }
         }
         assert_eq!(q.sparse_rows(), expected);
-        assert_eq!(q.pairs.len(), 36);
-        assert_eq!(q.stride, 8);
+        assert_eq!(q.rows.pairs().len(), 36);
+        assert_eq!(q.rows.stride(), 8);
     }
 }

@@ -10,7 +10,13 @@
 //! Signs as the linear membrane term (effects/membrane.rs): the normal load on P_0 is subtracted
 //! from the radial balance P (as Ŝ0), on P_j (j ≥ 2) added to G_n,j (as Ŝ1 a + Ŝ2 b); the
 //! tangential load on P¹_j is added to G_t,j (as Ŝ11 a + Ŝ12 b). The Jacobian is exact.
+//!
+//! Cost (issue 12, docs/performance.md): only the (load, pair l ≤ m) rows the selection rules
+//! allow are stored ([`super::pair_rows`]); a pair's slots are the four products a_l a_m,
+//! a_l b_m, a_m b_l, b_l b_m (symmetric ones folded) times each distinct prefactor, formed once
+//! per rhs. The Jacobian walks the same rows.
 
+use super::pair_rows::PairRows;
 use super::{a_index, At, LoadJacobian, Loads, Term};
 use crate::coefficients::quadratic_lookup::ppp;
 use crate::coefficients::quadratic_membrane::{Ab, Form, Law, LAWS};
@@ -19,47 +25,43 @@ use crate::coefficients::Load;
 /// Largest number of distinct prefactor monomials of one law and form.
 pub const MAXP: usize = 8;
 
-/// Where an entry lands.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-enum Row {
-    /// −P (the normal load on P_0)
-    Pressure,
-    Normal(usize),
-    Tangential(usize),
-}
-
-#[derive(Debug, Clone)]
-struct Entry {
-    row: Row,
-    /// state index of the first amplitude (mode l) and of the second (mode m)
-    x: usize,
-    y: usize,
-    /// coefficient of each prefactor monomial (index into `monos`)
-    coef: Vec<f64>,
-}
+/// The products of a pair l ≤ m, in slot order (slot = prefactor · 4 + product).
+const PRODUCTS: usize = 4;
 
 #[derive(Debug)]
 pub struct QuadraticMembrane {
     law: &'static str,
     /// Exponents of (R, R0, symbol 1, symbol 2) of each distinct prefactor.
     monos: Vec<[i32; 4]>,
-    /// Values of (R0, symbol 1, symbol 2).
-    consts: [f64; 3],
-    entries: Vec<Entry>,
-    /// The same coefficients dense, for the rhs (the tables are nearly dense in (slot, l, m)):
-    /// index (i · slots + slot) · cols + col, i the prefactor, slot 0 = −P, 1 + j = G_n,j,
-    /// 1 + M + j = G_t,j, col = T·M² + l·M + m with T = 0 (a_l a_m), 1 (a_l b_m), 2 (b_l b_m).
-    dense: Vec<f64>,
+    /// The constant part (R0 and the law's symbols) of each prefactor.
+    constant: [f64; MAXP],
+    /// outputs: 0 = −P, 1 + j = G_n,j, 1 + M + j = G_t,j
+    rows: PairRows,
     modes: usize,
 }
 
-/// C(j, l, m) N(L_l, L_m, L_j)/D of one table term.
-fn value(t: &crate::coefficients::quadratic_membrane::Term, j: usize, l: usize, m: usize) -> f64 {
-    if t.load == Load::Tangential && j == 0 {
-        return 0.0;
+/// Product slot (0 a_l a_m, 1 a_l b_m, 2 a_m b_l, 3 b_l b_m) of first(x)·second(y), the ordered
+/// pair (x, y) being (l, m) when `forward`, else (m, l).
+fn product(first: Ab, second: Ab, forward: bool) -> usize {
+    match (first, second) {
+        (Ab::A, Ab::A) => 0,
+        (Ab::B, Ab::B) => 3,
+        // a_x b_y
+        (Ab::A, Ab::B) => if forward { 1 } else { 2 },
+        // b_x a_y = a_y b_x
+        (Ab::B, Ab::A) => if forward { 2 } else { 1 },
     }
-    let c = ppp(l, m, j) * (2.0 * j as f64 + 1.0) / 2.0;
-    if c == 0.0 {
+}
+
+/// C(j, l, m) = (2j + 1)/2 ∫ P_l P_m P_j: the coefficient of P_j in P_l P_m (0 outside the
+/// selection rules).
+fn projection(j: usize, l: usize, m: usize) -> f64 {
+    ppp(l, m, j) * (2.0 * j as f64 + 1.0) / 2.0
+}
+
+/// C(j, l, m) N(L_l, L_m, L_j)/D of one table term, `c` = C(j, l, m) ≠ 0.
+fn value(t: &crate::coefficients::quadratic_membrane::Term, c: f64, j: usize, l: usize, m: usize) -> f64 {
+    if t.load == Load::Tangential && j == 0 {
         return 0.0;
     }
     let big = |n: usize| (n * (n + 1)) as f64;
@@ -102,89 +104,60 @@ impl QuadraticMembrane {
             }
             kinds.push((t, i));
         }
-        let ks: Vec<usize> = orders.iter().map(|&k| k as usize).collect();
-        let n = ks.len();
-        let mut entries: Vec<Entry> = Vec::new();
-        let mut at: std::collections::HashMap<(Row, usize, usize), usize> = std::collections::HashMap::new();
-        let idx = |i: usize, a: Ab| a_index(i) + if a == Ab::A { 0 } else { 2 };
-        for (t, mono) in &kinds {
-            for (l, &kl) in ks.iter().enumerate() {
-                for (m, &km) in ks.iter().enumerate() {
-                    let targets = std::iter::once((Row::Pressure, 0usize)).chain(ks.iter().enumerate().map(|(j, &kj)| (if t.load == Load::Normal { Row::Normal(j) } else { Row::Tangential(j) }, kj)));
-                    for (row, kj) in targets {
-                        if row == Row::Pressure && t.load == Load::Tangential {
-                            continue;
-                        }
-                        let v = value(t, kj, kl, km);
-                        if v == 0.0 {
-                            continue;
-                        }
-                        let (x, y) = (idx(l, t.first), idx(m, t.second));
-                        let i = *at.entry((row, x, y)).or_insert_with(|| {
-                            entries.push(Entry { row, x, y, coef: vec![0.0; MAXP] });
-                            entries.len() - 1
-                        });
-                        entries[i].coef[*mono] += v;
-                    }
-                }
-            }
-        }
         if monos.len() > MAXP {
             return None;
         }
-        for e in &mut entries {
-            e.coef.truncate(monos.len());
-        }
-        let (slots, cols) = (1 + 2 * n, 3 * n * n);
-        let mut dense = vec![0.0; monos.len() * slots * cols];
-        for e in &entries {
-            let slot = match e.row {
-                Row::Pressure => 0,
-                Row::Normal(j) => 1 + j,
-                Row::Tangential(j) => 1 + n + j,
+        let ks: Vec<usize> = orders.iter().map(|&k| k as usize).collect();
+        let n = ks.len();
+        let np = monos.len();
+        let rows = PairRows::new(n, 1 + 2 * n, PRODUCTS * np, |o, l, m, c| {
+            let (load, kj) = match o {
+                0 => (Load::Normal, 0),
+                o if o <= n => (Load::Normal, ks[o - 1]),
+                o => (Load::Tangential, ks[o - 1 - n]),
             };
-            let ((l, ol), (m, om)) = (((e.x - 2) / 3, (e.x - 2) % 3), ((e.y - 2) / 3, (e.y - 2) % 3));
-            let t = match (ol, om) {
-                (0, 0) => 0,
-                (0, 2) => 1,
-                _ => 2,
-            };
-            for (i, c) in e.coef.iter().enumerate() {
-                dense[(i * slots + slot) * cols + t * n * n + l * n + m] += c;
+            let (kl, km) = (ks[l], ks[m]);
+            if kj < kl.abs_diff(km) || kj > kl + km {
+                return false;
             }
+            // C(j, l, m) is symmetric in (l, m)
+            let cj = projection(kj, kl, km);
+            if cj == 0.0 {
+                return false;
+            }
+            for (t, mono) in kinds.iter().filter(|(t, _)| t.load == load) {
+                c[mono * PRODUCTS + product(t.first, t.second, true)] += value(t, cj, kj, kl, km);
+                if l != m {
+                    // the ordered pair (m, l): a symmetric product folds in, an asymmetric one
+                    // is the other slot
+                    c[mono * PRODUCTS + product(t.first, t.second, false)] += value(t, cj, kj, km, kl);
+                }
+            }
+            true
+        });
+        let consts = [r0, args.0, args.1];
+        let mut constant = [0.0; MAXP];
+        for (c, e) in constant.iter_mut().zip(&monos) {
+            *c = consts.iter().zip(&e[1..]).fold(1.0, |acc, (v, k)| if *k == 0 { acc } else { acc * v.powi(*k) });
         }
-        Some(Self { law: law.name, monos, consts: [r0, args.0, args.1], entries, dense, modes: n })
+        Some(Self { law: law.name, monos, constant, rows, modes: n })
     }
 
-    /// Number of nonzero (row, l, m) entries.
-    pub fn entries(&self) -> usize {
-        self.entries.len()
+    /// Number of stored (load, pair) rows.
+    pub fn sparse_rows(&self) -> usize {
+        self.rows.len()
     }
 
     /// Prefactor values and their R-derivatives at R.
     fn prefactors(&self, r: f64) -> ([f64; MAXP], [f64; MAXP]) {
         let (mut p, mut d) = ([0.0; MAXP], [0.0; MAXP]);
-        for (i, e) in self.monos.iter().enumerate() {
-            let c = self.consts.iter().zip(&e[1..]).fold(1.0, |acc, (v, k)| if *k == 0 { acc } else { acc * v.powi(*k) });
-            p[i] = c * r.powi(e[0]);
-            d[i] = c * e[0] as f64 * r.powi(e[0] - 1);
+        for (i, (e, c)) in self.monos.iter().zip(&self.constant).enumerate() {
+            let below = r.powi(e[0] - 1);
+            p[i] = c * (below * r);
+            d[i] = c * e[0] as f64 * below;
         }
         (p, d)
     }
-}
-
-/// Σ a_i b_i with four partial sums (vectorizes).
-#[inline]
-fn dot4(a: &[f64], b: &[f64]) -> f64 {
-    let mut acc = [0.0; 4];
-    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
-    for (x, y) in ca.zip(cb) {
-        for i in 0..4 {
-            acc[i] += x[i] * y[i];
-        }
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 impl Term for QuadraticMembrane {
@@ -200,27 +173,19 @@ impl Term for QuadraticMembrane {
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
         let (p, _) = self.prefactors(at.r());
         let n = self.modes;
-        let (slots, nn) = (1 + 2 * n, n * n);
-        let cols = 3 * nn;
-        // w[T·M² + l·M + m] = first_T(l) · second_T(m)
-        let mut w = [0.0; 3 * super::MAX_MODES * super::MAX_MODES];
-        for l in 0..n {
-            let (al, bl) = (at.a(l), at.b(l));
-            for m in 0..n {
-                let (am, bm) = (at.a(m), at.b(m));
-                w[l * n + m] = al * am;
-                w[nn + l * n + m] = al * bm;
-                w[2 * nn + l * n + m] = bl * bm;
-            }
-        }
-        let w = &w[..cols];
+        let np = self.monos.len();
         let mut out = [0.0; 1 + 2 * super::MAX_MODES];
-        for (i, pi) in p.iter().enumerate().take(self.monos.len()) {
-            for (slot, o) in out.iter_mut().enumerate().take(slots) {
-                let k = (i * slots + slot) * cols;
-                *o += pi * dot4(&self.dense[k..k + cols], w);
+        // slot i·4 + t: p_i (a_l, a_l, b_l, b_l)_t · (a_m, b_m, a_m, b_m)_t
+        self.rows.eval(&mut out[..1 + 2 * n], |left, right| {
+            let st = PRODUCTS * np;
+            for (k, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate() {
+                let (a, b) = (at.a(k), at.b(k));
+                for ((lc, rc), pi) in lv.chunks_exact_mut(PRODUCTS).zip(rv.chunks_exact_mut(PRODUCTS)).zip(&p[..np]) {
+                    lc.copy_from_slice(&[pi * a, pi * a, pi * b, pi * b]);
+                    rc.copy_from_slice(&[a, b, a, b]);
+                }
             }
-        }
+        });
         loads.pressure -= out[0];
         for (j, g) in loads.gn.iter_mut().enumerate().take(n) {
             *g += out[1 + j];
@@ -233,18 +198,38 @@ impl Term for QuadraticMembrane {
         let (p, d) = self.prefactors(at.r());
         let np = self.monos.len();
         let n = jac.n;
-        for e in &self.entries {
-            let c: f64 = e.coef.iter().zip(&p[..np]).map(|(a, b)| a * b).sum();
-            let cr: f64 = e.coef.iter().zip(&d[..np]).map(|(a, b)| a * b).sum();
-            let (x, y) = (at.z[e.x], at.z[e.y]);
-            let (row, sign): (&mut [f64], f64) = match e.row {
-                Row::Pressure => (&mut jac.pressure[..], -1.0),
-                Row::Normal(j) => (&mut jac.gn[j * n..(j + 1) * n], 1.0),
-                Row::Tangential(j) => (&mut jac.gt[j * n..(j + 1) * n], 1.0),
+        let nm = self.modes;
+        for o in 0..1 + 2 * nm {
+            let (row, sign): (&mut [f64], f64) = match o {
+                0 => (&mut jac.pressure[..], -1.0),
+                o if o <= nm => (&mut jac.gn[(o - 1) * n..o * n], 1.0),
+                o => (&mut jac.gt[(o - 1 - nm) * n..(o - nm) * n], 1.0),
             };
-            row[0] += sign * cr * x * y;
-            row[e.x] += sign * c * y;
-            row[e.y] += sign * c * x;
+            // ∂/∂R and ∂/∂z_x of the output, summed locally (no chain through memory)
+            let (mut dr, mut dz) = (0.0, [0.0; 2 + 3 * super::MAX_MODES]);
+            for ((l, m), c) in self.rows.rows(o) {
+                let (ia, ib, ja, jb) = (a_index(l), a_index(l) + 2, a_index(m), a_index(m) + 2);
+                // (x, y) state indices of each product
+                let idx = [(ia, ja), (ia, jb), (ja, ib), (ib, jb)];
+                // the prefactors summed per product: value and ∂/∂R
+                let (mut cp, mut cd) = ([0.0; PRODUCTS], [0.0; PRODUCTS]);
+                for (ci, (pi, di)) in c.chunks_exact(PRODUCTS).zip(p[..np].iter().zip(&d[..np])) {
+                    for t in 0..PRODUCTS {
+                        cp[t] += ci[t] * pi;
+                        cd[t] += ci[t] * di;
+                    }
+                }
+                for ((&(x, y), cp), cd) in idx.iter().zip(cp).zip(cd) {
+                    let (vx, vy) = (at.z[x], at.z[y]);
+                    dr += cd * vx * vy;
+                    dz[x] += cp * vy;
+                    dz[y] += cp * vx;
+                }
+            }
+            row[0] += sign * dr;
+            for (rj, dj) in row.iter_mut().zip(&dz).skip(2) {
+                *rj += sign * dj;
+            }
         }
     }
 }
