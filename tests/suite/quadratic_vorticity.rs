@@ -12,7 +12,7 @@ use magbubble::model::vorticity::equations::reduced_jacobian;
 use magbubble::model::vorticity::monolithic::Monolithic;
 use magbubble::model::vorticity::scene::FullModel;
 use magbubble::model::vorticity::structured::StructuredJacobian;
-use magbubble::model::{simulate, Model};
+use magbubble::model::{simulate, RunStatus};
 use magbubble::scene::{load, Scene};
 use nalgebra::DMatrix;
 
@@ -130,4 +130,100 @@ fn structured_solve_matches_dense_solve_with_quadratic_coupling() {
     let err = x.iter().zip(xd.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     eprintln!("structured vs dense (central-difference J): {err:.2e} (scale {:.2e})", xd.amax());
     assert!(err < 1e-7 * xd.amax(), "structured and dense solves differ by {err}");
+}
+
+/// The undriven free bubble of `quadratic_runtime` (R0 = 5 µm, γ = 0.072 N/m) in water
+/// (η = 10⁻³ Pa s: the closures differ), a_2(0) = ε R0, k ≤ 4, 4 µs, the vorticity closure with
+/// `scheme` (`compare` runs both closures).
+fn free(eps: f64, coupling: &str, scheme: &str) -> Scene {
+    let a2 = format!("bubble.initial.a={{2 = {:e}}}", eps * R0);
+    let c = format!("modes.coupling=\"{coupling}\"");
+    let v = format!("vorticity.scheme=\"{scheme}\"");
+    load(
+        "scenes/free_bubble.toml",
+        &[
+            "shell.surface_tension=0.072",
+            "drive.amplitude=0.0",
+            "modes.max_order=4",
+            "liquid.viscosity=1e-3",
+            "modes.viscous=\"vorticity\"",
+            "run.duration=4e-6",
+            "run.sample_interval=2e-8",
+            "run.integrator.rtol=1e-10",
+            "run.integrator.atol=1e-15",
+            "run.integrator.dt=2.5e-10",
+            &a2,
+            &c,
+            &v,
+        ],
+    )
+    .expect("scene")
+}
+
+const R0: f64 = 5e-6;
+const COLUMNS: [(usize, &str); 4] = [(0, "R"), (1, "a2"), (2, "b2"), (3, "a4")];
+
+/// max over the samples of |x − y| per column, in units of R0.
+fn max_diff(x: &[Vec<f64>], y: &[Vec<f64>]) -> Vec<f64> {
+    assert_eq!(x.len(), y.len());
+    (0..x[0].len()).map(|c| x.iter().zip(y).map(|(u, v)| (u[c] - v[c]).abs()).fold(0.0, f64::max) / R0).collect()
+}
+
+#[test]
+fn compare_accepts_quadratic_scenes_and_the_closures_agree_as_in_the_linear_model() {
+    let runs = |eps: f64, coupling: &str| run_both(&free(eps, coupling, "monolithic")).expect("compare runs");
+    let (l1, q1, l2, q2) = (runs(2e-3, "linear"), runs(2e-3, "quadratic"), runs(1e-3, "linear"), runs(1e-3, "quadratic"));
+    for r in [&l1, &q1, &l2, &q2] {
+        assert!(r.report_bl.status == RunStatus::Completed && r.report_full.status == RunStatus::Completed);
+        assert_eq!(r.t.len(), 201);
+    }
+    assert!(q1.report_full.active_effects.iter().any(|e| e.contains("quadratic")), "{:?}", q1.report_full.active_effects);
+    // boundary layer vs vorticity: the same relative difference of the linearly excited columns
+    // as in the linear model (the quadratic terms change them by O(ε) relatively)
+    for c in [1, 2] {
+        let (dl, dq) = (&l1.diffs[c], &q1.diffs[c]);
+        eprintln!("{}: closures differ by {:.4e} (linear), {:.4e} (quadratic) of max|x|", dl.name, dl.max_rel_diff, dq.max_rel_diff);
+        assert!(dl.max_rel_diff > 1e-2, "{}: the closures should differ", dl.name);
+        assert!((dq.max_rel_diff / dl.max_rel_diff - 1.0).abs() < 0.02, "{}: quadratic {} vs linear {}", dl.name, dq.max_rel_diff, dl.max_rel_diff);
+    }
+    // quadratic − linear, per closure, at ε and ε/2: O(ε²) under both, and of the same size
+    let (bl1, bl2) = (max_diff(&q1.bl, &l1.bl), max_diff(&q2.bl, &l2.bl));
+    let (fu1, fu2) = (max_diff(&q1.full, &l1.full), max_diff(&q2.full, &l2.full));
+    for (c, name) in COLUMNS {
+        let (rb, rf) = (bl1[c] / bl2[c], fu1[c] / fu2[c]);
+        eprintln!(
+            "{name}: max|q − l|/R0 boundary layer {:.3e} → {:.3e} (ratio {rb:.4}), vorticity {:.3e} → {:.3e} (ratio {rf:.4}); vorticity/boundary layer {:.3}",
+            bl1[c], bl2[c], fu1[c], fu2[c], fu1[c] / bl1[c]
+        );
+        assert!(fu2[c] > 0.0, "{name}: no quadratic effect under the vorticity closure");
+        assert!((rf - 4.0).abs() < 0.2, "{name}: vorticity closure, halving ε divides quadratic − linear by {rf}, not 4");
+    }
+}
+
+#[test]
+fn staggered_scheme_quadratic_minus_linear_scales_as_eps_squared() {
+    let full = |eps: f64, coupling: &str, dt: &str| {
+        let mut v = Vec::new();
+        let mut s = free(eps, coupling, "staggered");
+        s.run.integrator.dt = dt.parse().unwrap();
+        let rep = simulate(&s, &mut |_, row| v.push(row.to_vec())).expect("runs");
+        assert_eq!(rep.status, RunStatus::Completed);
+        v
+    };
+    let d1 = max_diff(&full(2e-3, "quadratic", "2.5e-10"), &full(2e-3, "linear", "2.5e-10"));
+    let d2 = max_diff(&full(1e-3, "quadratic", "2.5e-10"), &full(1e-3, "linear", "2.5e-10"));
+    // and the staggered runs against the monolithic ones (the scheme's own error, first order in Δt)
+    let mono_q = run_both(&free(2e-3, "quadratic", "monolithic")).unwrap().full;
+    let mono_l = run_both(&free(2e-3, "linear", "monolithic")).unwrap().full;
+    let (eq1, eq2) = (max_diff(&full(2e-3, "quadratic", "2.5e-10"), &mono_q), max_diff(&full(2e-3, "quadratic", "1.25e-10"), &mono_q));
+    let (el1, el2) = (max_diff(&full(2e-3, "linear", "2.5e-10"), &mono_l), max_diff(&full(2e-3, "linear", "1.25e-10"), &mono_l));
+    for (c, name) in COLUMNS {
+        let ratio = d1[c] / d2[c];
+        eprintln!("{name}: staggered max|q − l|/R0 {:.3e} → {:.3e} (ratio {ratio:.4}); staggered − monolithic: quadratic {:.2e} → {:.2e} (dt/2), linear {:.2e} → {:.2e}", d1[c], d2[c], eq1[c], eq2[c], el1[c], el2[c]);
+        assert!(d2[c] > 0.0, "{name}: no quadratic effect");
+        assert!((ratio - 4.0).abs() < 0.2, "{name}: staggered, halving ε divides quadratic − linear by {ratio}, not 4");
+        // first order in Δt, as the linear scheme (the lagged integrals, FORMULATION audit 12)
+        assert!((eq1[c] / eq2[c] - 2.0).abs() < 0.2, "{name}: staggered − monolithic {} → {} on halving Δt", eq1[c], eq2[c]);
+        assert!(eq1[c] < 0.1 * d1[c].max(el1[c]), "{name}: the scheme's error {} is not small", eq1[c]);
+    }
 }
