@@ -224,6 +224,7 @@ fn staggered_scheme_quadratic_minus_linear_scales_as_eps_squared() {
         assert!((ratio - 4.0).abs() < 0.2, "{name}: staggered, halving ε divides quadratic − linear by {ratio}, not 4");
         // first order in Δt, as the linear scheme (the lagged integrals, FORMULATION audit 12)
         assert!((eq1[c] / eq2[c] - 2.0).abs() < 0.2, "{name}: staggered − monolithic {} → {} on halving Δt", eq1[c], eq2[c]);
-        assert!(eq1[c] < 0.1 * d1[c].max(el1[c]), "{name}: the scheme's error {} is not small", eq1[c]);
+        // and no larger than the linear scheme's error plus a small part of the quadratic effect
+        assert!(eq1[c] <= el1[c] + 0.1 * d1[c], "{name}: the scheme's error {} (linear {}, q − l {})", eq1[c], el1[c], d1[c]);
     }
 }
