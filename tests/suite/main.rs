@@ -51,6 +51,7 @@ mod quadratic_membrane;
 mod quadratic_oracle;
 mod quadratic_runtime;
 mod quadratic_shell;
+mod quadratic_virial;
 mod quadratic_vorticity;
 mod plot;
 mod plot_figures;
