@@ -397,7 +397,8 @@ pub fn prepare_on<'a>(
             let v = &scene.vorticity;
             let grid = crate::model::vorticity::Grid::new(v.y_max, v.points, v.stretching)
                 .map_err(|e| StabilityError::Scene(format!("vorticity grid: {e}")))?;
-            let coupling = SceneCoupling::of(model).ok_or(StabilityError::NoShapeModes)?;
+            // linear (issue 12): Floquet linearises about a = 0 without the second-pass terms
+            let coupling = SceneCoupling::of(model).ok_or(StabilityError::NoShapeModes)?.linear();
             Some(FullShape { coupling, grid, coupled: bl.jacobian_pattern().band > 0 })
         }
     };

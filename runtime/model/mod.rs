@@ -358,9 +358,8 @@ fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
     if scene.liquid.sound_speed.is_some() {
         return refuse("the quadratic terms are derived for an incompressible liquid (remove liquid.sound_speed)");
     }
-    if scene.modes.viscous == Viscous::Vorticity {
-        return refuse("the quadratic terms are assembled with the boundary-layer closure only (modes.viscous = \"boundary-layer\")");
-    }
+    // Either viscous closure: the vorticity model (model::vorticity) adds the same second-pass
+    // terms to its mode equations (model::vorticity::equations::coupled_mode_rates).
     Ok(())
 }
 

@@ -333,6 +333,13 @@ pub fn summary(s: &Scene) -> String {
         spelled(&m.viscous),
         spelled(&m.boundary_layer_frequency)
     );
+    if m.coupling == super::Coupling::Quadratic {
+        let _ = writeln!(
+            o,
+            "coupling:  quadratic (second-order mode coupling, viscous terms linear with this closure), stops out of the credible range at |a_k|/R0 > {}",
+            fmt_num(m.credible_amplitude)
+        );
+    }
     if m.viscous == Viscous::Vorticity {
         let v = &s.vorticity;
         let _ = writeln!(

@@ -307,8 +307,9 @@ pub static SCHEMA: &[Param] = &[
        when driven, omega_k otherwise; `natural` = omega_k always (FORMULATION audit 13)."),
     p("modes.coupling", K::Choice(&["linear", "quadratic"]), "", D::Str("linear"), Rg::None,
       "issue 12", "Order of the shape-mode equations: `linear` (the paper's) or `quadratic` (plus the \
-       second-order mode coupling of a free bubble, docs/model.md \"Quadratic mode coupling\"; free bubble \
-       with surface tension only, boundary-layer closure, incompressible liquid, no field)."),
+       second-order mode coupling of the potential flow and the second-order loads of the membrane, bending \
+       and shell viscosity, docs/model.md \"Quadratic mode coupling\"; either viscous closure (the liquid's \
+       viscous terms stay linear); incompressible liquid)."),
     p("modes.credible_amplitude", K::Float, "", D::Float(0.1), Rg::Positive, "issue 12",
       "With `modes.coupling = \"quadratic\"`: the run stops as `out_of_credible_range` (with the mode and \
        the time) when max_k |a_k|/R0 exceeds this, the range where second order is credible (docs/model.md \

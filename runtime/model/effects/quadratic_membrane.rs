@@ -50,6 +50,9 @@ fn product(first: Ab, second: Ab, forward: bool) -> usize {
         (Ab::A, Ab::B) => if forward { 1 } else { 2 },
         // b_x a_y = a_y b_x
         (Ab::B, Ab::A) => if forward { 2 } else { 1 },
+        // Rate amplitudes belong to the viscous shell's table (effects/quadratic_shell_viscosity.rs);
+        // `new` refuses a law that has them, so no row is built for them.
+        (Ab::Ad | Ab::Bd, _) | (_, Ab::Ad | Ab::Bd) => unreachable!("QuadraticMembrane::new refuses laws with rate amplitudes"),
     }
 }
 
@@ -80,9 +83,13 @@ impl QuadraticMembrane {
     }
 
     /// `orders`: k of each mode index; `args`: the law's two symbols (ε-scaled, nondimensional),
-    /// as the linear membrane term takes them. None if the table has more than [`MAXP`] distinct
+    /// as the linear membrane term takes them. None if the law has rate amplitudes (ȧ, ḃ, Ṙ: the viscous shell) or the table has more than [`MAXP`] distinct
     /// prefactors for this form (the rhs keeps them on the stack).
     pub fn new(law: &'static Law, form: Form, r0: f64, args: (f64, f64), orders: &[f64]) -> Option<Self> {
+        let rate = |a: Ab| matches!(a, Ab::Ad | Ab::Bd);
+        if law.terms.iter().any(|t| rate(t.first) || rate(t.second) || t.prefactor.iter().any(|(s, _)| *s == "Rd")) {
+            return None;
+        }
         let mut monos: Vec<[i32; 4]> = Vec::new();
         let mut kinds = Vec::new();
         for t in law.terms.iter().filter(|t| t.form == form) {

@@ -20,8 +20,11 @@ pub struct FirstOrder<'a> {
     pub bd: &'a [f64],
 }
 
-/// Their exact gradients over z (n = z.len()): `drdd[j] = ∂R̈⁽¹⁾/∂z_j`,
-/// `dadd[m * n + j] = ∂ä_m⁽¹⁾/∂z_j`, `dbd[m * n + j] = ∂ḃ_m⁽¹⁾/∂z_j`.
+/// Their exact gradients over the n = `jac.n` columns of the Jacobian they are used for:
+/// `drdd[j] = ∂R̈⁽¹⁾/∂x_j`, `dadd[m * n + j] = ∂ä_m⁽¹⁾/∂x_j`, `dbd[m * n + j] = ∂ḃ_m⁽¹⁾/∂x_j`,
+/// x = z (n = z.len()) for the boundary-layer system; the full vorticity model appends its
+/// vorticity functionals, on which ä⁽¹⁾ depends, as further columns (n > z.len(),
+/// model/vorticity/equations.rs).
 #[derive(Debug, Clone, Copy)]
 pub struct FirstOrderGradient<'a> {
     pub drdd: &'a [f64],
@@ -43,6 +46,7 @@ pub trait SecondOrderTerm: std::fmt::Debug {
     fn band(&self) -> usize;
     fn add(&self, at: &At<'_>, first: &FirstOrder<'_>, loads: &mut Loads<'_>);
     /// Adds ∂/∂z of the loads, the first-order accelerations' dependence on z included through
-    /// `grad`.
+    /// `grad`, into the jac.n ≥ z.len() columns of `jac`: the explicit z-derivatives in the
+    /// first z.len(), the chain rule through `grad` in all of them ([`FirstOrderGradient`]).
     fn add_jacobian(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian);
 }

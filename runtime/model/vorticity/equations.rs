@@ -10,6 +10,7 @@
 //!        + kρṘJ/R − 2ηk(k+1)Ĩ/R + G_n]                                              (N, 2.64 × (k+1)/(ρR), audit 5)
 
 use super::ModeCoupling;
+use crate::model::effects::MAX_MODES;
 use nalgebra::DMatrix;
 
 /// Everything the mode equations need at one instant, for all M modes (index m ↔ k = orders[m]).
@@ -93,16 +94,59 @@ pub fn mode_rates(orders: &[usize], rho: f64, eta: f64, x: &ModeInputs<'_>, out:
     }
 }
 
+/// [`mode_rates`] with the coupling's second pass (issue 12; [`ModeCoupling::has_second_order`]):
+/// the first pass with the ordinary loads (`x.gn`, `x.gt`, `x.rddot` = R̈⁽¹⁾) gives ä⁽¹⁾, the
+/// coupling adds the second-pass loads given R̈⁽¹⁾, ä⁽¹⁾, and (TS), (NS), (N) are evaluated again
+/// with the completed loads and R̈ — the two passes of the boundary-layer system
+/// (model/boundary_layer.rs) with this closure's wall terms. Returns R̈ (x.rddot, and exactly
+/// [`mode_rates`], without second-pass loads).
+pub fn coupled_mode_rates(c: &dyn ModeCoupling, t: f64, x: &ModeInputs<'_>, out: ModeRates<'_>) -> f64 {
+    let (orders, rho, eta) = (c.orders(), c.density(), c.viscosity());
+    let ModeRates { add, bdot, tw } = out;
+    mode_rates(orders, rho, eta, x, ModeRates { add: &mut *add, bdot: &mut *bdot, tw: &mut *tw });
+    if !c.has_second_order() {
+        return x.rddot;
+    }
+    let m = orders.len();
+    let (mut add1, mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES], [0.0; MAX_MODES]);
+    add1[..m].copy_from_slice(add);
+    gn[..m].copy_from_slice(x.gn);
+    gt[..m].copy_from_slice(x.gt);
+    let rdd = c.second_order(t, x.r, x.rdot, x.a, x.adot, x.b, x.rddot, &add1[..m], &mut gn[..m], &mut gt[..m]);
+    let x2 = ModeInputs { rddot: rdd, gn: &gn[..m], gt: &gt[..m], ..*x };
+    mode_rates(orders, rho, eta, &x2, ModeRates { add, bdot, tw });
+    rdd
+}
+
+/// The loads at a state completed by the coupling's second pass, the first-order ä⁽¹⁾ from the
+/// closure at the vorticity integrals given (`x.gn`, `x.gt`, `x.rddot` are not read): writes
+/// G_n, G_t into `gn`, `gt` and returns R̈. Without second-pass loads: the ordinary loads.
+pub fn completed_loads(c: &dyn ModeCoupling, t: f64, x: &ModeInputs<'_>, gn: &mut [f64], gt: &mut [f64]) -> f64 {
+    let rdd = c.loads(t, x.r, x.rdot, x.a, x.adot, x.b, gn, gt);
+    if !c.has_second_order() {
+        return rdd;
+    }
+    let m = c.orders().len();
+    let (mut add, mut bdot, mut tw) = ([0.0; MAX_MODES], [0.0; MAX_MODES], [0.0; MAX_MODES]);
+    let x1 = ModeInputs { rddot: rdd, gn, gt, ..*x };
+    mode_rates(c.orders(), c.density(), c.viscosity(), &x1, ModeRates { add: &mut add[..m], bdot: &mut bdot[..m], tw: &mut tw[..m] });
+    c.second_order(t, x.r, x.rdot, x.a, x.adot, x.b, rdd, &add[..m], gn, gt)
+}
+
 /// The exact ∂(f_z, T_w)/∂z ((nz + M) × nz) and ∂(f_z, T_w)/∂p ((nz + M) × 2M) of the reduced
 /// function of the monolithic system ([`super::monolithic::Monolithic::reduced`]): z = [R, Ṙ,
 /// (a, ȧ, b)_k], p = [Ĩ_int,k (M), ∫(y⁻³−1)y^{−k}T dy (M)], rows f_z then T_w,k. From the
 /// coupling's load gradients, the closure's partials and [`crate::model::equations::mode_partials`].
+///
+/// With second-pass loads (issue 12) the rows of the first pass give ∂ä⁽¹⁾/∂(z, p), the
+/// coupling's [`ModeCoupling::second_order_jacobian`] the completed R̈ and loads over (z, p) (ä⁽¹⁾
+/// depends on p, so R̈ and G_n do too: row 1 and the mode rows gain p columns), and the rows are
+/// assembled again from those — the Jacobian of the two-pass rhs, exactly. The quadratic loads
+/// couple every pair of modes, which fills gz and gp; both are dense already (the structured
+/// solve's small dense system, [`super::structured`]), so the structure is unchanged.
 pub fn reduced_jacobian(c: &dyn ModeCoupling, t: f64, z: &[f64], p: &[f64], w0: f64, gz: &mut DMatrix<f64>, gp: &mut DMatrix<f64>) {
-    use eqs::var::*;
-    let orders = c.orders();
-    let m = orders.len();
+    let m = c.orders().len();
     let nz = 2 + 3 * m;
-    let (rho, eta) = (c.density(), c.viscosity());
     let (r, rd) = (z[0], z[1]);
     let pick = |o: usize| (0..m).map(|i| z[2 + 3 * i + o]).collect::<Vec<f64>>();
     let (a, ad, b) = (pick(0), pick(1), pick(2));
@@ -111,33 +155,102 @@ pub fn reduced_jacobian(c: &dyn ModeCoupling, t: f64, z: &[f64], p: &[f64], w0: 
     let mut lj = crate::model::effects::LoadJacobian::new(m);
     let mut drdd = vec![0.0; nz];
     c.linearize(t, z, &mut drdd, &mut lj);
+    let first = Pass { rdd, drdd: &drdd, gn: &ls.gn, gt: &ls.gt, lj: &lj };
+    fill_rows(c, z, p, w0, &first, gz, gp);
+    if !c.has_second_order() {
+        return;
+    }
+    // ä⁽¹⁾ and its rows over (z, p), from the first pass
+    let ne = nz + 2 * m;
+    let (mut add, mut bdot, mut tw) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+    let x = ModeInputs { r, rdot: rd, rddot: rdd, a: &a, adot: &ad, b: &b, gn: &ls.gn, gt: &ls.gt, i_int: &p[..m], j_over_r: &p[m..], w0, tw_fixed: None };
+    mode_rates(c.orders(), c.density(), c.viscosity(), &x, ModeRates { add: &mut add, bdot: &mut bdot, tw: &mut tw });
+    let mut grad_rdd = vec![0.0; ne];
+    grad_rdd[..nz].copy_from_slice(&drdd);
+    let mut dadd = vec![0.0; m * ne];
+    for mi in 0..m {
+        let row = &mut dadd[mi * ne..(mi + 1) * ne];
+        for j in 0..nz {
+            row[j] = gz[(3 + 3 * mi, j)];
+        }
+        for q in 0..2 * m {
+            row[nz + q] = gp[(3 + 3 * mi, q)];
+        }
+    }
+    let (mut gn, mut gt) = (ls.gn.clone(), ls.gt.clone());
+    let rdd2 = c.second_order(t, r, rd, &a, &ad, &b, rdd, &add, &mut gn, &mut gt);
+    let mut sj = crate::model::effects::LoadJacobian { n: ne, pressure: vec![0.0; ne], gn: vec![0.0; m * ne], gt: vec![0.0; m * ne] };
+    let mut drdd2 = vec![0.0; ne];
+    // ∂ḃ⁽¹⁾: no second-pass term of the vorticity closure reads ḃ⁽¹⁾ (scene/validate.rs refuses the
+    // shell viscosities with it), so its gradient is zero.
+    let dbd = vec![0.0; m * ne];
+    let grad = crate::model::effects::second_order::FirstOrderGradient { drdd: &grad_rdd, dadd: &dadd, dbd: &dbd };
+    c.second_order_jacobian(t, z, rdd, &add, &grad, &mut sj, &mut drdd2);
+    // the completed load rows: the ordinary terms' (z columns) plus the second pass's
+    for mi in 0..m {
+        for j in 0..nz {
+            sj.gn[mi * ne + j] += lj.gn[mi * nz + j];
+            sj.gt[mi * ne + j] += lj.gt[mi * nz + j];
+        }
+    }
+    let second = Pass { rdd: rdd2, drdd: &drdd2, gn: &gn, gt: &gt, lj: &sj };
+    fill_rows(c, z, p, w0, &second, gz, gp);
+}
+
+/// R̈, the loads and their gradients one pass of the mode equations sees: `drdd` and the rows
+/// of `lj` over z and, past z.len(), over p.
+struct Pass<'a> {
+    rdd: f64,
+    drdd: &'a [f64],
+    gn: &'a [f64],
+    gt: &'a [f64],
+    lj: &'a crate::model::effects::LoadJacobian,
+}
+
+/// The rows of [`reduced_jacobian`] for the mode equations evaluated with `x`'s R̈ and loads
+/// (gz, gp overwritten).
+fn fill_rows(c: &dyn ModeCoupling, z: &[f64], p: &[f64], w0: f64, x: &Pass<'_>, gz: &mut DMatrix<f64>, gp: &mut DMatrix<f64>) {
+    use eqs::var::*;
+    let orders = c.orders();
+    let m = orders.len();
+    let nz = 2 + 3 * m;
+    let extra = x.lj.n - nz;
+    let (rho, eta) = (c.density(), c.viscosity());
+    let (r, rd) = (z[0], z[1]);
     gz.fill(0.0);
     gp.fill(0.0);
     gz[(0, 1)] = 1.0;
     for j in 0..nz {
-        gz[(1, j)] = drdd[j];
+        gz[(1, j)] = x.drdd[j];
+    }
+    for q in 0..extra {
+        gp[(1, q)] = x.drdd[nz + q];
     }
     for (mi, &k) in orders.iter().enumerate() {
         let kf = k as f64;
         let i = 2 + 3 * mi;
+        let (a, ad, b) = (z[i], z[i + 1], z[i + 2]);
         gz[(i, i + 1)] = 1.0;
-        let (gn, gt) = (ls.gn[mi], ls.gt[mi]);
-        let src = wall_source(kf, eta, r, rd, a[mi], ad[mi], gt);
-        let d_src = eqs::wall_source_partials(kf, eta, r, rd, a[mi], gt);
+        let (gn, gt) = (x.gn[mi], x.gt[mi]);
+        let src = wall_source(kf, eta, r, rd, a, ad, gt);
+        let d_src = eqs::wall_source_partials(kf, eta, r, rd, a, gt);
         let w = wall_linear(r, src, &d_src, p[mi], p[m + mi], w0);
-        let (da, db) = eqs::mode_partials(kf, rho, eta, r, rd, rdd, a[mi], ad[mi], b[mi], gn, &w);
-        let (gn_row, gt_row) = (lj.gn_row(mi), lj.gt_row(mi));
+        let (da, db) = eqs::mode_partials(kf, rho, eta, r, rd, x.rdd, a, ad, b, gn, &w);
+        let (gn_row, gt_row) = (x.lj.gn_row(mi), x.lj.gt_row(mi));
         for (row, d) in [(i + 1, &da), (i + 2, &db), (nz + mi, &w.d_tw)] {
             for j in 0..nz {
-                gz[(row, j)] = d[RDD] * drdd[j] + d[GN] * gn_row[j] + d[GT] * gt_row[j];
+                gz[(row, j)] = d[RDD] * x.drdd[j] + d[GN] * gn_row[j] + d[GT] * gt_row[j];
             }
             gz[(row, 0)] += d[R];
             gz[(row, 1)] += d[RD];
             gz[(row, i)] += d[A];
             gz[(row, i + 1)] += d[AD];
             gz[(row, i + 2)] += d[B];
-            gp[(row, mi)] = d[IINT];
-            gp[(row, m + mi)] = d[JR];
+            for q in 0..extra {
+                gp[(row, q)] = d[RDD] * x.drdd[nz + q] + d[GN] * gn_row[nz + q] + d[GT] * gt_row[nz + q];
+            }
+            gp[(row, mi)] += d[IINT];
+            gp[(row, m + mi)] += d[JR];
         }
     }
 }

@@ -59,6 +59,38 @@ pub trait ModeCoupling {
         self.shape_loads(t, r, rdot, a, adot, b, gn, gt);
         self.radial_acceleration(t, r, rdot, a, adot, b)
     }
+    /// Whether the coupling has second-pass loads (the quadratic mode coupling, issue 12;
+    /// [`crate::model::effects::second_order`]): loads that need the first-order R̈⁽¹⁾, ä⁽¹⁾.
+    /// The closure then evaluates its mode equations twice ([`equations::coupled_mode_rates`]).
+    fn has_second_order(&self) -> bool {
+        false
+    }
+    /// The second pass at (t, R, Ṙ, a, ȧ, b): given the first-order R̈⁽¹⁾ = `rdd` (of
+    /// [`loads`](Self::loads)) and ä⁽¹⁾ = `add` (the closure's (N) with those loads), adds the
+    /// second-pass shares ΔG_n, ΔG_t to `gn`, `gt` (the ordinary loads on entry) and returns R̈
+    /// of the completed radial balance. Default: none (returns `rdd`).
+    #[allow(clippy::too_many_arguments)]
+    fn second_order(&self, _t: f64, _r: f64, _rdot: f64, _a: &[f64], _adot: &[f64], _b: &[f64], rdd: f64, _add: &[f64], _gn: &mut [f64], _gt: &mut [f64]) -> f64 {
+        rdd
+    }
+    /// Exact derivatives of [`second_order`](Self::second_order) at z = [R, Ṙ, (a, ȧ, b)_k] over
+    /// the columns of `jac`: jac.n ≥ z.len(), z first, then any further variables the first-order
+    /// accelerations depend on (the monolithic system's vorticity functionals p). `grad` holds
+    /// ∂R̈⁽¹⁾ and ∂ä⁽¹⁾ over the same columns. Overwrites `jac` with ∂ΔP, ∂ΔG_n, ∂ΔG_t and `drdd`
+    /// (length jac.n) with ∂R̈/∂(columns) of the completed R̈. Default: none (ΔG = 0, R̈ = R̈⁽¹⁾).
+    fn second_order_jacobian(
+        &self,
+        _t: f64,
+        _z: &[f64],
+        _rdd: f64,
+        _add: &[f64],
+        grad: &crate::model::effects::second_order::FirstOrderGradient<'_>,
+        jac: &mut crate::model::effects::LoadJacobian,
+        drdd: &mut [f64],
+    ) {
+        jac.clear();
+        drdd.copy_from_slice(grad.drdd);
+    }
 }
 
 /// A failure of a full-model run, with where and when.

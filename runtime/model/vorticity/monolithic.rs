@@ -11,7 +11,7 @@
 //! therefore not banded (see docs/vorticity.md for the structured solve the implicit integrator
 //! needs); [`OdeSystem::bandwidth`] reports `None`.
 
-use super::equations::{mode_rates, LoadScratch, ModeInputs, ModeRates};
+use super::equations::{coupled_mode_rates, LoadScratch, ModeInputs, ModeRates};
 use super::operator::ModeOperator;
 use super::{FullState, Grid, ModeCoupling};
 use crate::integrate::OdeSystem;
@@ -142,13 +142,8 @@ impl Monolithic<'_> {
             w0: self.ops.first().map_or(0.0, |o| o.w0()),
             tw_fixed: None,
         };
-        mode_rates(
-            self.coupling.orders(),
-            self.coupling.density(),
-            self.coupling.viscosity(),
-            &inputs,
-            ModeRates { add: &mut sc.add, bdot: &mut sc.bdot, tw },
-        );
+        // with second-pass loads (issue 12) R̈ of the completed radial balance
+        fz[1] = coupled_mode_rates(self.coupling, t, &inputs, ModeRates { add: &mut sc.add, bdot: &mut sc.bdot, tw });
         for mi in 0..m {
             fz[2 + 3 * mi] = sc.adot[mi];
             fz[3 + 3 * mi] = sc.add[mi];

@@ -9,6 +9,8 @@ use super::staggered::{Staggered, StaggeredStepper};
 use super::{FullState, Grid, GridError, ModeCoupling, VorticityError};
 use crate::integrate::{drive, stepper, Control, IntegrateError, Method, OdeSystem, Output, Stats, Stepper};
 use crate::model::executor::{execute, Plan};
+use crate::model::effects::second_order::{FirstOrder, FirstOrderGradient};
+use crate::model::effects::{LoadJacobian, Loads, MAX_MODES};
 use crate::model::{method_of, BoundaryLayerSystem, Model, ModelError, RunReport};
 use crate::scene::{Run, Scene, Viscous, VorticityScheme};
 use serde::Serialize;
@@ -31,6 +33,8 @@ pub struct SceneCoupling<'m> {
     bl: &'m BoundaryLayerSystem,
     orders: &'m [usize],
     y: RefCell<Vec<f64>>,
+    /// The model's second-pass terms are part of the coupling (issue 12; [`Self::linear`] drops them).
+    second: bool,
 }
 
 impl<'m> SceneCoupling<'m> {
@@ -39,7 +43,25 @@ impl<'m> SceneCoupling<'m> {
     pub fn of(model: &'m Model) -> Option<Self> {
         let bl = model.boundary_layer()?;
         let orders = model.orders();
-        Some(SceneCoupling { bl, orders, y: RefCell::new(vec![0.0; 2 + 3 * orders.len()]) })
+        Some(SceneCoupling { bl, orders, y: RefCell::new(vec![0.0; 2 + 3 * orders.len()]), second: bl.equations().has_second_order() })
+    }
+
+    /// The same coupling without the second-pass terms (the quadratic coupling, issue 12): the
+    /// linear model, for the analyses that linearise about a = 0 (Floquet, FORMULATION §4.6).
+    pub fn linear(mut self) -> Self {
+        self.second = false;
+        self
+    }
+
+    /// R̈ of P + ΔP minus R̈ of P, and its (∂/∂R, ∂/∂Ṙ, ∂/∂ΔP): exact because both radial forms
+    /// without the pressure's rate are affine in P (model/radial.rs); the quadratic coupling with
+    /// Keller–Miksis, whose R̈ needs dP/dt, is refused (model::check_quadratic).
+    fn radial_shift(&self, r: f64, rd: f64, dp: f64) -> [f64; 4] {
+        let (form, rho) = (self.bl.equations().form(), self.bl.params().rho);
+        debug_assert!(!form.needs_rate(), "second-pass terms with a radial form that needs dP/dt");
+        let (r0, rd0, _) = form.partials(rho, r, rd, 0.0);
+        let (r1, rd1, p1) = form.partials(rho, r, rd, dp);
+        [form.acceleration(rho, r, rd, dp) - form.acceleration(rho, r, rd, 0.0), r1 - r0, rd1 - rd0, p1]
     }
 
     /// Fills the boundary-layer state layout z = [R, Ṙ, (a, ȧ, b)_k] the terms read.
@@ -101,6 +123,46 @@ impl ModeCoupling for SceneCoupling<'_> {
         let p = eq.loads(t, &y, gn, gt);
         eq.acceleration_at(t, &y, p)
     }
+    fn has_second_order(&self) -> bool {
+        self.second
+    }
+    /// The model's second-pass terms ([`crate::model::Equations::add_second_order`]) given the
+    /// closure's first-order accelerations, as the boundary-layer system adds them.
+    fn second_order(&self, t: f64, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64], rdd: f64, add: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        if !self.second {
+            return rdd;
+        }
+        let y = self.fill(r, rdot, a, adot, b);
+        let mut l = Loads { pressure: 0.0, gn, gt };
+        // ḃ⁽¹⁾: read only by the shell-viscous second-order term, which the scene validator refuses
+        // with the vorticity closure (scene/validate.rs), so zeros stand for it here.
+        let bd = [0.0; MAX_MODES];
+        self.bl.equations().add_second_order(t, &y, &FirstOrder { rdd, add, bd: &bd[..add.len()] }, &mut l);
+        rdd + self.radial_shift(r, rdot, l.pressure)[0]
+    }
+    fn second_order_jacobian(&self, t: f64, z: &[f64], rdd: f64, add: &[f64], grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, drdd: &mut [f64]) {
+        jac.clear();
+        drdd.copy_from_slice(grad.drdd);
+        if !self.second {
+            return;
+        }
+        let eq = self.bl.equations();
+        let m = self.orders.len();
+        // ḃ⁽¹⁾: read only by the shell-viscous second-order term, which the scene validator refuses
+        // with the vorticity closure (scene/validate.rs), so zeros stand for it here.
+        let bd = [0.0; MAX_MODES];
+        let first = FirstOrder { rdd, add, bd: &bd[..add.len()] };
+        let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+        let mut l = Loads { pressure: 0.0, gn: &mut gn[..m], gt: &mut gt[..m] };
+        eq.add_second_order(t, z, &first, &mut l);
+        let [_, s_r, s_rd, s_p] = self.radial_shift(z[0], z[1], l.pressure);
+        eq.add_second_order_jacobian(t, z, &first, grad, jac);
+        for (d, x) in drdd.iter_mut().zip(&jac.pressure) {
+            *d += s_p * x;
+        }
+        drdd[0] += s_r;
+        drdd[1] += s_rd;
+    }
 }
 
 /// How to integrate the full model (times in units of t*).
@@ -130,14 +192,6 @@ impl FullModel {
     pub fn from_scene(scene: &Scene) -> Result<Self, FullModelError> {
         if scene.modes.max_order == 0 {
             return Err(FullModelError::NoModes);
-        }
-        if scene.modes.coupling == crate::scene::Coupling::Quadratic {
-            return Err(super::super::ModelError::Unsupported {
-                key: "modes.coupling",
-                value: "quadratic".into(),
-                reason: "the quadratic terms are assembled with the boundary-layer closure only (modes.viscous = \"boundary-layer\")",
-            }
-            .into());
         }
         let mut bl_scene = scene.clone();
         bl_scene.modes.viscous = Viscous::BoundaryLayer;

@@ -11,7 +11,7 @@
 //! The lag makes the b_k ↔ T_w feedback explicit, which is only conditionally stable
 //! (FORMULATION audit 12; measured limits in docs/vorticity.md).
 
-use super::equations::{mode_rates, wall_source, LoadScratch, ModeInputs, ModeRates};
+use super::equations::{completed_loads, coupled_mode_rates, wall_source, LoadScratch, ModeInputs, ModeRates};
 use super::operator::{backward_euler_pair, ModeOperator, Rows};
 use super::{FullState, Grid, ModeCoupling, VorticityError};
 use crate::integrate::{rk4_step, IntegrateError, OdeSystem, Rk4Workspace, Stats, Stepper};
@@ -61,7 +61,8 @@ impl OdeSystem for LaggedOde<'_> {
             tw_fixed: self.tw_fixed,
         };
         let mut tw = self.tw.borrow_mut();
-        mode_rates(self.coupling.orders(), self.coupling.density(), self.coupling.viscosity(), &inputs, ModeRates { add, bdot, tw: &mut tw[..] });
+        // with second-pass loads (issue 12) R̈ of the completed radial balance
+        du[1] = coupled_mode_rates(self.coupling, t, &inputs, ModeRates { add, bdot, tw: &mut tw[..] });
     }
 }
 
@@ -197,7 +198,30 @@ impl<'c> Staggered<'c> {
         // step 2: backward Euler for T with the new R, Ṙ, a, ȧ, b
         let eta = self.coupling.viscosity();
         let nu = eta / self.coupling.density();
-        self.coupling.shape_loads(s.t, s.r, s.rdot, &s.a, &s.adot, &s.b, &mut self.loads.gn, &mut self.loads.gt);
+        if self.coupling.has_second_order() {
+            // (TS) with the loads completed by the second pass (issue 12), its first-order ä at
+            // the integrals lagged at T^n as in step 1
+            let x = ModeInputs {
+                r: s.r,
+                rdot: s.rdot,
+                rddot: 0.0,
+                a: &s.a,
+                adot: &s.adot,
+                b: &s.b,
+                gn: &[],
+                gt: &[],
+                i_int: &self.i_int,
+                j_over_r: &self.j_over_r,
+                w0: self.ops.first().map_or(0.0, |o| o.w0()),
+                tw_fixed: match self.wall {
+                    WallCoupling::InRhs => None,
+                    WallCoupling::Lagged => Some(&self.tw_lagged),
+                },
+            };
+            completed_loads(self.coupling, s.t, &x, &mut self.loads.gn, &mut self.loads.gt);
+        } else {
+            self.coupling.shape_loads(s.t, s.r, s.rdot, &s.a, &s.adot, &s.b, &mut self.loads.gn, &mut self.loads.gt);
+        }
         for mi in 0..m {
             let op = &self.ops[mi];
             let kf = op.k as f64;
