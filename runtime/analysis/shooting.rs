@@ -219,9 +219,42 @@ fn minimal_period(flow: &RkFlow, f: Found, opts: &ShootingOptions) -> Result<Fou
     Ok(f)
 }
 
+/// Newton on G(y) = P_m(y) − y (see [`newton_on`]); without deflation it first converges on
+/// the map of a quarter of the RK4 steps (each iteration a quarter of the cost) to
+/// [`COARSE_TOL`], whose fixed point lies within the RK4 error of the fine one, so the fine
+/// Newton needs one or two iterations from there (issue 16). The result is the fine map's fixed
+/// point to `opts.tol` either way; where either phase fails, the fine Newton runs from the
+/// original start. With
+/// known orbits deflated the coarse phase is skipped: the coarse image of a deflated orbit is
+/// not itself deflated.
+fn newton(
+    flow: &RkFlow,
+    t0: f64,
+    y_start: &[f64],
+    m: usize,
+    opts: &ShootingOptions,
+    deflate: &[Vec<f64>],
+) -> Result<Found, PeriodicError> {
+    let coarse_steps = flow.steps_per_period / 4;
+    if !deflate.is_empty() || coarse_steps < COARSE_MIN_STEPS {
+        return newton_on(flow, t0, y_start, m, opts, deflate);
+    }
+    let coarse = RkFlow { sys: flow.sys, period: flow.period, steps_per_period: coarse_steps };
+    let coarse_opts = ShootingOptions { tol: opts.tol.max(COARSE_TOL), ..opts.clone() };
+    match newton_on(&coarse, t0, y_start, m, &coarse_opts, deflate) {
+        Ok(f) => newton_on(flow, t0, &f.orbit.y0, m, opts, deflate).or_else(|_| newton_on(flow, t0, y_start, m, opts, deflate)),
+        Err(_) => newton_on(flow, t0, y_start, m, opts, deflate),
+    }
+}
+
+/// Residual tolerance of the coarse phase of [`newton`] (relative, as `ShootingOptions::tol`).
+const COARSE_TOL: f64 = 1e-7;
+/// The coarse phase needs at least this many RK4 steps per drive period.
+const COARSE_MIN_STEPS: usize = 50;
+
 /// Newton on G(y) = P_m(y) − y with the exact DP_m, the known fixed points `deflate` deflated,
 /// and step halving on the (deflated) residual.
-fn newton(
+fn newton_on(
     flow: &RkFlow,
     t0: f64,
     y_start: &[f64],
