@@ -3,11 +3,12 @@
 //! or the time-series criterion. Definitions in docs/stability.md.
 //!
 //! **Cost** (issue 16, rows 3–5). A Floquet evaluation first finds the radial orbit once
-//! ([`prepare`]); the monodromy is then computed on a ladder of n/16, n/8, n/4 and n/2 Magnus
-//! steps per drive period (n = `magnus_steps`, 400: 25, 50, 100, 200). The fourth-order
-//! scheme's error at a rung is ≈ d/15, d = |μ(rung) − μ(previous rung)|; the first rung where
-//! |max|μ| − 1| exceeds 8d (≈ 120 × that error) and d is below 1e-3 relative decides the
-//! verdict, and the Richardson value μ(rung) + (μ(rung) − μ(previous))/15 is kept. A point no
+//! ([`prepare`]); the monodromy is then computed on a ladder of n/32 (when ≥ 12), n/16, n/8, n/4
+//! and n/2 Magnus steps per drive period (n = `magnus_steps`, 400: 12, 25, 50, 100, 200). The
+//! fourth-order scheme's error at a rung m is ≈ d·r, d = |μ(m) − μ(previous rung m')|,
+//! r = 1/((m/m')⁴ − 1) (1/15 for doubled rungs); the first rung where |max|μ| − 1| exceeds 8d
+//! (≈ 120 × that error) and d is below 1e-3 relative decides the verdict, and the Richardson
+//! value μ(m) + (μ(m) − μ(m'))·r is kept. A point no
 //! rung decides (|max|μ| − 1| within ~1e-6 of the threshold, or a multiplier so large that the
 //! rungs still differ) takes the Richardson value of n/4 and n/2, whose distance to the n-step
 //! value is ≈ d/240 (from the O(h⁴) error; measured at 0.5 MHz near ε_c: 2e-8 with the coil at k ≤ 16, 2.2e-7 without a field at k ≤ 32).
