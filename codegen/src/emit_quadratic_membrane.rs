@@ -48,6 +48,8 @@ fn ab(a: Ab) -> TokenStream {
     match a {
         Ab::A => quote!(Ab::A),
         Ab::B => quote!(Ab::B),
+        Ab::Ad => quote!(Ab::Ad),
+        Ab::Bd => quote!(Ab::Bd),
     }
 }
 
@@ -103,9 +105,9 @@ pub fn rust(d: &Derived) -> TokenStream {
             /// The membrane form (`shell.form`).
             #[derive(Clone, Copy, Debug, PartialEq, Eq)]
             pub enum Form { Paper, Tension }
-            /// Which amplitude: a_k or b_k.
+            /// Which amplitude: a_k or b_k, or their rates ȧ_k, ḃ_k (a viscous law).
             #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-            pub enum Ab { A, B }
+            pub enum Ab { A, B, Ad, Bd }
             #[derive(Debug)]
             pub struct Term {
                 pub name: &'static str,
@@ -113,7 +115,7 @@ pub fn rust(d: &Derived) -> TokenStream {
                 pub load: super::Load,
                 pub first: Ab,
                 pub second: Ab,
-                /// Symbols: R, R0 and the law's symbols (ε-scaled, as the linear tables).
+                /// Symbols: R, R0, Rd (Ṙ, a viscous law) and the law's symbols (ε-scaled, as the linear tables).
                 pub prefactor: &'static [(&'static str, i32)],
                 /// N = Σ coeff · L_l^a L_m^b L_j^c, entries ([a, b, c], coeff).
                 pub numerator: &'static [([u32; 3], f64)],

@@ -181,14 +181,19 @@ pub fn derive(cfg: &Config) -> Result<Derived, CodegenError> {
     };
     let mut membrane_quadratic = Vec::new();
     if quadratic.is_some() {
-        let (hyper, mech) = (read_spec(cfg, "hyperelastic.rs")?, read_spec(cfg, "membrane.rs")?);
-        for file in law_files(&cfg.derivations)? {
-            let law = read_spec(cfg, &file)?;
-            if law.get("W").is_none() {
-                continue;
-            }
+        let (hyper, membrane, shape) = (read_spec(cfg, "hyperelastic.rs")?, read_spec(cfg, "membrane.rs")?, read_spec(cfg, "shape.rs")?);
+        let specs = derive::quadratic_membrane::Mechanics { hyper: &hyper, membrane: &membrane, shape: &shape };
+        // every law: a strain energy W, a shape energy w_area (bending) or stresses (viscous);
+        // the W laws first, in file order, then the others (the tables of the W laws unchanged)
+        let files = law_files(&cfg.derivations)?;
+        let mut laws = Vec::new();
+        for file in &files {
+            laws.push((file, read_spec(cfg, file)?));
+        }
+        laws.sort_by_key(|(_, law)| law.get("W").is_none());
+        for (file, law) in laws {
             let name = file.trim_start_matches(&format!("{LAWS_DIR}/")).trim_end_matches(".rs");
-            let q = derive::quadratic_membrane::derive_membrane_quadratic(name, &law, &hyper, &kin_spec, &mech)
+            let q = derive::quadratic_membrane::derive_membrane_quadratic(name, &law, specs, &kin_spec)
                 .map_err(|m| CodegenError::Structure { spec: law.path.clone(), message: format!("second-order membrane loads: {m}") })?;
             membrane_quadratic.push(q);
         }

@@ -234,15 +234,72 @@ impl MagneticLoads {
         })
     }
 
+    /// The offsets d ∈ [lo, hi) (index into the row's band, d = offset + W) whose source mode
+    /// row + d − W exists, and the index in y of the first one's a: the same sources as
+    /// [`band_sources`](Self::band_sources), as a contiguous range (no per-source test).
+    #[inline]
+    fn source_range(&self, row: usize) -> (usize, usize, usize) {
+        let w = self.width;
+        let lo = (w + 1).saturating_sub(row);
+        let hi = (2 * w + 1).min((self.modes + w + 1).saturating_sub(row));
+        let at = if hi > lo { 2 + 3 * (row + lo - w - 1) } else { 0 };
+        (lo, hi.max(lo), at)
+    }
+
+    /// One load row: Σ_c K_c [R^m zero_c(row) + R^(m−1) Σ_sources band · (a, b)] (module doc).
+    /// The sources are summed in the order of [`band_sources`](Self::band_sources), so the value
+    /// is the same to the bit; the loop runs over pre-cut slices (issue 16: this was 14 % of
+    /// the boundary-layer run through the filtered iterator).
     #[inline]
     fn row(&self, f: &Factors, row: usize, y: &[f64], normal: bool) -> f64 {
+        let (lo, hi, at0) = self.source_range(row);
+        let base = row * 2 * (2 * self.width + 1);
+        let ys = if hi > lo { &y[at0..at0 + 3 * (hi - lo - 1) + 3] } else { &y[..0] };
         let mut total = 0.0;
         for (i, c) in self.comps.iter().enumerate() {
             let (zero, band) = if normal { (&c.zero_n, &c.band_n) } else { (&c.zero_t, &c.band_t) };
-            let s: f64 = self.band_sources(row).map(|(j, at)| band[j] * y[at] + band[j + 1] * y[at + 2]).sum();
+            let coeffs = &band[base + 2 * lo..base + 2 * hi];
+            let mut s = -0.0;
+            for (ab, yk) in coeffs.chunks_exact(2).zip(ys.chunks(3)) {
+                s += ab[0] * yk[0] + ab[1] * yk[2];
+            }
             total += f.zero[i] * zero[row] + f.coupling[i] * s;
         }
         total
+    }
+
+    /// The magnetic terms of the balances at once: `pressure` += M0, `gn[m]` −= M_n,k and
+    /// `gt[m]` −= M_t,k for every mode index m < `gn.len()` (what [`radial`](Self::radial),
+    /// [`normal`](Self::normal) and [`tangential`](Self::tangential) give, to the bit: the same
+    /// sums in the same order), with the normal and tangential rows of a mode in one pass over
+    /// its sources (issue 16: the separate row calls were 14 % of the boundary-layer run).
+    pub fn add_to_balances(&self, f: &Factors, y: &[f64], pressure: &mut f64, gn: &mut [f64], gt: &mut [f64]) {
+        let stride = 2 * (2 * self.width + 1);
+        let rows = (gn.len().min(gt.len()) + 1).min(self.modes + 1);
+        for row in 0..rows {
+            let (lo, hi, at0) = self.source_range(row);
+            let base = row * stride;
+            let (mut tn, mut tt) = (0.0, 0.0);
+            for (i, c) in self.comps.iter().enumerate() {
+                let (mut sn, mut st) = (-0.0, -0.0);
+                let mut at = at0;
+                for d in lo..hi {
+                    let j = base + 2 * d;
+                    let (ya, yb) = (y[at], y[at + 2]);
+                    sn += c.band_n[j] * ya + c.band_n[j + 1] * yb;
+                    st += c.band_t[j] * ya + c.band_t[j + 1] * yb;
+                    at += 3;
+                }
+                tn += f.zero[i] * c.zero_n[row] + f.coupling[i] * sn;
+                tt += f.zero[i] * c.zero_t[row] + f.coupling[i] * st;
+            }
+            if row == 0 {
+                *pressure += tn;
+            } else {
+                gn[row - 1] -= tn;
+                gt[row - 1] -= tt;
+            }
+        }
     }
 
     /// Adds `scale` × the exact gradient of row `row` (0: M0; m + 1: M_n or M_t of mode index m)
@@ -389,6 +446,48 @@ mod tests {
             }
         }
         assert!(nonzero >= 3 * modes, "the couplings are there: {nonzero}");
+    }
+
+    /// The sliced row loop sums the same sources in the same order as the per-source iterator
+    /// (the gradient's), bit for bit, for the H2² coil (W = 1) and with H4 (W = 2), at every row.
+    #[test]
+    fn rows_match_the_source_iterator() {
+        for include_h4 in [false, true] {
+            let shell = Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper);
+            let coil = Coil {
+                turns: 1000.0,
+                distance: 0.1,
+                angle: 0.9,
+                current: Current::Static { value: 1e5 },
+                distance_oscillation: None,
+                include_h4,
+            };
+            let src = FieldSource::from_scene(&Field::Coil(coil), &shell, 10e-6).unwrap();
+            for modes in [1, 2, 3, 8] {
+                let l = MagneticLoads::new(&src, modes, 10e-6, 2e4, 2.236e-6).unwrap();
+                let y: Vec<f64> = (0..2 + 3 * modes).map(|i| 1.0 + 0.37 * (i as f64 * 1.7).sin()).collect();
+                let f = l.factors(0.0, y[0]);
+                for row in 0..=modes {
+                    for normal in [true, false] {
+                        let mut want = 0.0;
+                        for (i, c) in l.comps.iter().enumerate() {
+                            let (zero, band) = if normal { (&c.zero_n, &c.band_n) } else { (&c.zero_t, &c.band_t) };
+                            let s: f64 = l.band_sources(row).map(|(j, at)| band[j] * y[at] + band[j + 1] * y[at + 2]).sum();
+                            want += f.zero[i] * zero[row] + f.coupling[i] * s;
+                        }
+                        let got = l.row(&f, row, &y, normal);
+                        assert_eq!(got.to_bits(), want.to_bits(), "h4 {include_h4}, modes {modes}, row {row}, normal {normal}");
+                    }
+                }
+                let (mut p, mut gn, mut gt) = (0.25, vec![0.5; modes], vec![-0.5; modes]);
+                l.add_to_balances(&f, &y, &mut p, &mut gn, &mut gt);
+                assert_eq!(p.to_bits(), (0.25 + l.radial(&f, &y)).to_bits());
+                for m in 0..modes {
+                    assert_eq!(gn[m].to_bits(), (0.5 - l.normal(&f, m, &y)).to_bits(), "gn {m}");
+                    assert_eq!(gt[m].to_bits(), (-0.5 - l.tangential(&f, m, &y)).to_bits(), "gt {m}");
+                }
+            }
+        }
     }
 
     #[test]

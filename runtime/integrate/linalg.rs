@@ -42,8 +42,12 @@ pub(crate) struct ShiftedLu<T: Scalar> {
     band: Option<(usize, usize)>,
     /// Dense: row-major n×n. Band: row i holds columns i−ml ..= i+ml+mu (width 2ml+mu+1).
     a: Vec<T>,
-    /// Band: multipliers, ml per column.
+    /// Band: multipliers, ml per column. Dense: the columns of L below the diagonal and of U
+    /// above it, each contiguous (`l[k * n + i]` = L_ik for i > k, = U_ik for i < k), so that
+    /// both substitutions of [`solve`](Self::solve) are contiguous column sweeps.
     l: Vec<T>,
+    /// Dense: 1 / U_kk.
+    inv_diag: Vec<T>,
     piv: Vec<usize>,
 }
 
@@ -55,8 +59,9 @@ impl<T: Scalar> ShiftedLu<T> {
             None => n * n,
             Some((ml, mu)) => n * (2 * ml + mu + 1),
         };
-        let lsize = band.map_or(0, |(ml, _)| n * ml);
-        ShiftedLu { n, band, a: vec![T::ZERO; size], l: vec![T::ZERO; lsize], piv: vec![0; n] }
+        let lsize = band.map_or(n * n, |(ml, _)| n * ml);
+        let dsize = if band.is_some() { 0 } else { n };
+        ShiftedLu { n, band, a: vec![T::ZERO; size], l: vec![T::ZERO; lsize], inv_diag: vec![T::ZERO; dsize], piv: vec![0; n] }
     }
 
     /// Factors shift·I − J. Returns `Err(k)` when the matrix is singular at column k.
@@ -141,6 +146,16 @@ impl<T: Scalar> ShiftedLu<T> {
                 }
             }
         }
+        // the column copies of the substitutions (the doc of `l`)
+        let one = T::from_real(1.0);
+        for k in 0..n {
+            self.inv_diag[k] = one / a[k * n + k];
+            for i in 0..n {
+                if i != k {
+                    self.l[k * n + i] = a[i * n + k];
+                }
+            }
+        }
         Ok(())
     }
 
@@ -196,21 +211,25 @@ impl<T: Scalar> ShiftedLu<T> {
         let n = self.n;
         match self.band {
             None => {
-                let a = &self.a;
+                // forward: b[k+1..] −= L[k+1.., k] b_k; backward: b_k /= U_kk, b[..k] −= U[..k, k] b_k
+                // (column sweeps over the contiguous copies in `l`: axpys, no strided access)
+                let b = &mut b[..n];
+                let (l, piv, inv_diag) = (&self.l[..n * n], &self.piv[..n], &self.inv_diag[..n]);
                 for k in 0..n {
-                    b.swap(k, self.piv[k]);
-                    let bk = b[k];
-                    let col = a.get((k + 1) * n + k..).unwrap_or(&[]).iter().step_by(n);
-                    for (x, &l) in b[k + 1..].iter_mut().zip(col) {
-                        *x = *x - l * bk;
+                    b.swap(k, piv[k]);
+                    let (head, tail) = b.split_at_mut(k + 1);
+                    let bk = head[k];
+                    for (x, &m) in tail.iter_mut().zip(&l[k * n + k + 1..(k + 1) * n]) {
+                        *x = *x - m * bk;
                     }
                 }
                 for k in (0..n).rev() {
-                    let mut s = b[k];
-                    for (&u, &x) in a[k * n + k + 1..(k + 1) * n].iter().zip(&b[k + 1..]) {
-                        s = s - u * x;
+                    let (head, tail) = b.split_at_mut(k);
+                    let bk = tail[0] * inv_diag[k];
+                    tail[0] = bk;
+                    for (x, &u) in head.iter_mut().zip(&l[k * n..k * n + k]) {
+                        *x = *x - u * bk;
                     }
-                    b[k] = s / a[k * n + k];
                 }
             }
             Some((ml, mu)) => {

@@ -142,19 +142,41 @@ impl BoundaryLayerSystem {
         let (mut cn, mut ct, mut cnr, mut ctr) = ([0.0; MAX_MODES], [0.0; MAX_MODES], [0.0; MAX_MODES], [0.0; MAX_MODES]);
         let mut c = BdotLoads { cn: &mut cn[..m], ct: &mut ct[..m], cn_r: &mut cnr[..m], ct_r: &mut ctr[..m] };
         self.eq.bdot_loads(t, y, &mut c);
-        let (r, rd, eta) = (y[0], y[1], self.eq.params.eta);
-        for (j, mc) in self.modes.iter().enumerate() {
-            let (k, i) = (mc.k, 2 + 3 * j);
-            let (a, ad, b) = (y[i], y[i + 1], y[i + 2]);
-            let e = rd * b / r - ad / (k + 1.0) - 2.0 * rd * a / ((k + 1.0) * r);
-            let delta = mc.delta(r);
-            let cw = delta / (r + 2.0 * delta);
-            let bd = (e + cw * wall_source(k, eta, r, rd, a, ad, gt[j])) / (1.0 + cw * r * ct[j] / eta);
+        for j in 0..m {
+            let bd = self.solve_bdot(y, j, gt[j], ct[j]);
             gn[j] += cn[j] * bd;
             gt[j] += ct[j] * bd;
             out[j] = [cn[j], ct[j], cnr[j], ctr[j], bd];
         }
         true
+    }
+
+    /// ḃ of mode index j from (NS) with the ḃ load ct·ḃ on G_t, `gt` the rest of G_t
+    /// ([`apply_bdot_loads`](Self::apply_bdot_loads)).
+    #[inline]
+    fn solve_bdot(&self, y: &[f64], j: usize, gt: f64, ct: f64) -> f64 {
+        let (r, rd, eta) = (y[0], y[1], self.eq.params.eta);
+        let mc = &self.modes[j];
+        let (k, i) = (mc.k, 2 + 3 * j);
+        let (a, ad, b) = (y[i], y[i + 1], y[i + 2]);
+        let e = rd * b / r - ad / (k + 1.0) - 2.0 * rd * a / ((k + 1.0) * r);
+        let delta = mc.delta(r);
+        let cw = delta / (r + 2.0 * delta);
+        (e + cw * wall_source(k, eta, r, rd, a, ad, gt)) / (1.0 + cw * r * ct / eta)
+    }
+
+    /// After a second pass changed G_n, G_t (which hold c·ḃ of `modes` on entry): ḃ solved
+    /// again with the completed G_t, the ḃ loads replaced, `modes[j][4]` updated (issue 12: the
+    /// change of ḃ is second order, and the linear ḃ load times it is a second-order load).
+    pub(crate) fn resolve_bdot(&self, y: &[f64], gn: &mut [f64], gt: &mut [f64], modes: &mut [BdotMode]) {
+        for (j, c) in modes.iter_mut().enumerate() {
+            let (cn, ct, old) = (c[0], c[1], c[4]);
+            let rest = gt[j] - ct * old;
+            let bd = self.solve_bdot(y, j, rest, ct);
+            gn[j] += cn * (bd - old);
+            gt[j] = rest + ct * bd;
+            c[4] = bd;
+        }
     }
 
     /// R̈ at state y (M0 included), nondimensional, with the shape frozen (ḃ = 0 in dP/dt for
@@ -175,8 +197,9 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         let m = self.modes.len();
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
+        let mut bmodes = [[0.0; 5]; MAX_MODES];
         if self.bdot_loads {
-            self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut [[0.0; 5]; MAX_MODES]);
+            self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut bmodes);
         }
         let rdd = if self.bdot_radial {
             self.mode_rates(r, rd, 0.0, &gn[..m], &gt[..m], y, dy);
@@ -194,15 +217,17 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         if self.eq.has_second_order() {
             // issue 12: the second pass with the first-order R̈, ä just computed; R̈ from the
             // completed P, and ä shifted exactly by ΔR̈, ΔG_n ((N) is affine in both,
-            // [`mode_shift`]) — or the mode rates again if a tangential load changed (ḃ loads and
-            // the rate are refused with second-pass terms)
-            let mut add = [0.0; MAX_MODES];
-            for (j, x) in add[..m].iter_mut().enumerate() {
-                *x = dy[3 + 3 * j];
+            // [`mode_shift`]) — or the mode rates again if a tangential load changed (with ḃ loads,
+            // ḃ solved again with the completed G_t: [`resolve_bdot`](Self::resolve_bdot); the
+            // rate, Keller–Miksis, is refused with second-pass terms)
+            let (mut add, mut bd) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+            for j in 0..m {
+                add[j] = dy[3 + 3 * j];
+                bd[j] = dy[4 + 3 * j];
             }
             let (mut dgn, mut dgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
             let mut l = Loads { pressure: 0.0, gn: &mut dgn[..m], gt: &mut dgt[..m] };
-            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m] }, &mut l);
+            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m], bd: &bd[..m] }, &mut l);
             let rdd2 = self.eq.acceleration_at(t, y, p + l.pressure);
             dy[1] = rdd2;
             if dgt[..m].iter().all(|&x| x == 0.0) {
@@ -215,6 +240,9 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
                 for j in 0..m {
                     gn[j] += dgn[j];
                     gt[j] += dgt[j];
+                }
+                if self.bdot_loads {
+                    self.resolve_bdot(y, &mut gn[..m], &mut gt[..m], &mut bmodes[..m]);
                 }
                 self.mode_rates(r, rd, rdd2, &gn[..m], &gt[..m], y, dy);
             }

@@ -117,16 +117,23 @@ impl BoundaryLayerSystem {
         let mut dy = vec![0.0; n];
         self.mode_rates(y[0], y[1], l.rdd, &l.gn[..m], &l.gt[..m], y, &mut dy);
         let add: Vec<f64> = (0..m).map(|j| dy[3 + 3 * j]).collect();
-        let (mut dadd, mut scratch) = (vec![0.0; m * n], vec![0.0; n]);
+        let bd: Vec<f64> = (0..m).map(|j| dy[4 + 3 * j]).collect();
+        let (mut dadd, mut dbd) = (vec![0.0; m * n], vec![0.0; m * n]);
         for j in 0..m {
-            self.mode_rows(y, &l, j, &mut dadd[j * n..(j + 1) * n], &mut scratch);
+            let (ra, rb) = (&mut dadd[j * n..(j + 1) * n], &mut dbd[j * n..(j + 1) * n]);
+            self.mode_rows(y, &l, j, ra, rb);
         }
-        let first = FirstOrder { rdd: l.rdd, add: &add };
+        let first = FirstOrder { rdd: l.rdd, add: &add, bd: &bd };
         let mut lj = l.lj.clone();
-        self.eq.add_second_order_jacobian(t, y, &first, &FirstOrderGradient { drdd: &l.drdd, dadd: &dadd }, &mut lj);
+        self.eq.add_second_order_jacobian(t, y, &first, &FirstOrderGradient { drdd: &l.drdd, dadd: &dadd, dbd: &dbd }, &mut lj);
         let mut loads = Loads { pressure: p, gn: &mut l.gn[..m], gt: &mut l.gt[..m] };
         self.eq.add_second_order(t, y, &first, &mut loads);
         let p = loads.pressure;
+        // ḃ loads: ḃ solved again with the completed G_t (as the rhs), the rows below then
+        // differentiate that solution by the implicit-function rule
+        if let Some(b) = l.bdot.as_mut() {
+            self.resolve_bdot(y, &mut l.gn[..m], &mut l.gt[..m], b);
+        }
         l.lj = lj;
         self.eq.acceleration_gradient_at(t, y, p, &l.lj.pressure, &mut l.drdd);
         l.rdd = self.eq.acceleration_at(t, y, p);

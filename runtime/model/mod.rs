@@ -130,6 +130,7 @@ impl Model {
                 // the membrane's second-order loads need no accelerations: an ordinary term
                 terms.push(Box::new(quadratic_membrane_term(scene, &params, &kf)?));
             }
+            quadratic_shell_terms(scene, &scales, params.r0, &kf, &mut terms, &mut second)?;
         }
         let form: Box<dyn RadialForm> = match params.sound_speed {
             None => Box::new(radial::Incompressible),
@@ -349,9 +350,8 @@ fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
     if !sh.is_free() && effects::quadratic_membrane::QuadraticMembrane::law(law_name(&sh.law)).is_none() {
         return refuse("the second-order membrane loads of this shell.law are not derived (derivations/shell/ laws with a strain energy W are)");
     }
-    if sh.bending_modulus != 0.0 || sh.shear_viscosity != 0.0 || sh.dilatational_viscosity != 0.0 {
-        return refuse("the second-order terms of bending and of the shell viscosities are not derived yet (shell.bending_modulus, shell.*_viscosity must be 0)");
-    }
+    // bending and the shell viscosities: their second-order loads are derived (derivations/
+    // shell/bending.rs by `vary`, viscous.rs by `rate`; quadratic_shell_terms)
     // A field is allowed: its loads stay linear. Their second-order part, measured by quadrature
     // (tests/suite/quadratic_magnetic.rs), is ≤ 1.7e-3 of the membrane's at the paper's
     // strongest fields (docs/model.md, "Quadratic mode coupling").
@@ -360,6 +360,34 @@ fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
     }
     if scene.modes.viscous == Viscous::Vorticity {
         return refuse("the quadratic terms are assembled with the boundary-layer closure only (modes.viscous = \"boundary-layer\")");
+    }
+    Ok(())
+}
+
+/// The second-order loads of bending (an ordinary term) and of the shell viscosities (a
+/// second-pass term: they hold the first-order ḃ), when the scene switches them on (issue 12).
+fn quadratic_shell_terms(
+    scene: &Scene,
+    sc: &Scales,
+    r0: f64,
+    kf: &[f64],
+    terms: &mut Vec<Box<dyn Term>>,
+    second: &mut Vec<Box<dyn effects::second_order::SecondOrderTerm>>,
+) -> Result<(), ModelError> {
+    let refuse = |key: &'static str, value: f64, reason: &'static str| ModelError::Unsupported { key, value: value.to_string(), reason };
+    let sh = &scene.shell;
+    if sh.bending_modulus != 0.0 {
+        let kb = sh.bending_modulus / (sc.pressure * sc.length.powi(3));
+        let t = effects::quadratic_bending::QuadraticBending::new(kb, r0, kf)
+            .ok_or_else(|| refuse("shell.bending_modulus", sh.bending_modulus, "modes.coupling = quadratic: the generated tables have no second-order bending loads"))?;
+        terms.push(Box::new(t));
+    }
+    if sh.shear_viscosity != 0.0 || sh.dilatational_viscosity != 0.0 {
+        let unit = sc.pressure * sc.length * sc.time;
+        let t = effects::quadratic_shell_viscosity::QuadraticShellViscosity::new(sh.shear_viscosity / unit, sh.dilatational_viscosity / unit, r0, kf).ok_or_else(|| {
+            refuse("shell.shear_viscosity", sh.shear_viscosity, "modes.coupling = quadratic: the generated tables have no second-order shell-viscous loads")
+        })?;
+        second.push(Box::new(t));
     }
     Ok(())
 }

@@ -31,9 +31,49 @@ pub struct CsvWriter {
 /// shortest digits of `zmij` (Schubfach), several times faster than `fmt`. The value reads back
 /// exactly; when 17 digits are needed, the last digit may differ from std's choice.
 pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
+    if v.is_finite() {
+        let mut buf = zmij::Buffer::new();
+        let s = buf.format_finite(v).as_bytes();
+        if let Some((head, exp)) = normalised_exponent_form(s) {
+            out.extend_from_slice(head);
+            out.extend_from_slice(exp);
+            return;
+        }
+    }
     let mut o = [0u8; 32];
     let n = exp_bytes(v, &mut o);
     out.extend_from_slice(&o[..n]);
+}
+
+/// zmij's output `[-]d[.dd…d]e[±]x` with a normalised mantissa (leading digit not 0, no
+/// trailing 0 after the point) is `{:e}` already, but for a `+` of the exponent: the text up to
+/// and including the `e`, and the exponent without the `+` (zmij writes no leading zeros in the
+/// exponent). `None` for any other shape (plain decimals: the general path of [`exp_bytes`]).
+/// This is the common case of a run's series (lengths in m, times in s), copied without
+/// re-parsing (issue 16: the CSV was 17 % of the boundary-layer run).
+#[inline]
+fn normalised_exponent_form(s: &[u8]) -> Option<(&[u8], &[u8])> {
+    // the exponent is at most "e-324": its 'e' is one of the last 5 bytes
+    let n = s.len();
+    let p = (n.saturating_sub(5)..n).rev().find(|&i| s[i] == b'e')?;
+    let mant = match s.first()? {
+        b'-' => &s[1..p],
+        _ => &s[..p],
+    };
+    let normalised = match mant {
+        [d] => *d != b'0',
+        [d, b'.', .., last] => *d != b'0' && *last != b'0',
+        _ => false,
+    };
+    if !normalised {
+        return None;
+    }
+    let exp = &s[p + 1..];
+    let exp = match exp.first() {
+        Some(b'+') => &exp[1..],
+        _ => exp,
+    };
+    Some((&s[..=p], exp))
 }
 
 /// [`push_exp`] into a stack buffer (at most 24 bytes: `-d.dddddddddddddddde-324`); returns the
@@ -212,7 +252,7 @@ impl CsvWriter {
 
 #[cfg(test)]
 mod tests {
-    use super::push_exp;
+    use super::{exp_bytes, push_exp};
 
     #[test]
     fn fast_exponent_format_is_the_std_one() {
@@ -230,6 +270,10 @@ mod tests {
         for v in values.into_iter().filter(|v| v.is_finite()) {
             out.clear();
             push_exp(&mut out, v);
+            // the direct copy of zmij's exponent form writes what the general path writes
+            let mut o = [0u8; 32];
+            let n = exp_bytes(v, &mut o);
+            assert_eq!(&out[..], &o[..n], "{v:e}");
             // the `{:e}` shape with shortest round-trip digits (when 17 digits are needed the last
             // one may differ from std's choice; both read back as v)
             let (ours, std) = (std::str::from_utf8(&out).unwrap(), format!("{v:e}"));

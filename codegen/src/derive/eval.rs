@@ -239,32 +239,39 @@ impl Env {
     /// `target` depends on, in evaluation order: what `diff` and `vary` re-evaluate, so that a
     /// derivative goes through intermediate definitions (W of I1(λ1, λ2), …).
     fn chain(&self, var: &str, target: &str) -> Vec<String> {
-        let (Some(iv), Some(it)) = (self.order.iter().position(|n| n == var), self.order.iter().position(|n| n == target)) else {
-            return Vec::new();
-        };
-        if it <= iv {
-            return Vec::new();
-        }
-        let span = &self.order[iv + 1..=it];
-        let uses = |n: &String| {
-            let mut r = BTreeSet::new();
-            refs(&self.asts[n], &mut r);
-            r
-        };
-        let mut affected: BTreeSet<String> = BTreeSet::from([var.to_string()]);
-        for n in span {
-            if uses(n).iter().any(|r| affected.contains(r)) {
-                affected.insert(n.clone());
-            }
-        }
-        let mut needed: BTreeSet<String> = BTreeSet::from([target.to_string()]);
-        for n in span.iter().rev() {
-            if needed.contains(n) {
-                needed.extend(uses(n));
-            }
-        }
-        span.iter().filter(|n| affected.contains(*n) && needed.contains(*n) && !matches!(self.asts[*n].kind, ExprKind::List(_))).cloned().collect()
+        chain(&self.order, &self.asts, var, target)
     }
+}
+
+/// [`Env::chain`] over explicit bindings (also used by the second-order engine,
+/// [`super::jet2`]): the `let`s of `order` after `var` up to `target` that depend on `var` and
+/// that `target` depends on.
+pub fn chain(order: &[String], asts: &BTreeMap<String, Expr>, var: &str, target: &str) -> Vec<String> {
+    let (Some(iv), Some(it)) = (order.iter().position(|n| n == var), order.iter().position(|n| n == target)) else {
+        return Vec::new();
+    };
+    if it <= iv {
+        return Vec::new();
+    }
+    let span = &order[iv + 1..=it];
+    let uses = |n: &String| {
+        let mut r = BTreeSet::new();
+        refs(&asts[n], &mut r);
+        r
+    };
+    let mut affected: BTreeSet<String> = BTreeSet::from([var.to_string()]);
+    for n in span {
+        if uses(n).iter().any(|r| affected.contains(r)) {
+            affected.insert(n.clone());
+        }
+    }
+    let mut needed: BTreeSet<String> = BTreeSet::from([target.to_string()]);
+    for n in span.iter().rev() {
+        if needed.contains(n) {
+            needed.extend(uses(n));
+        }
+    }
+    span.iter().filter(|n| affected.contains(*n) && needed.contains(*n) && !matches!(asts[*n].kind, ExprKind::List(_))).cloned().collect()
 }
 
 /// `vary(L, q)`: the Euler–Lagrange expression ∂L/∂q − d/dΘ ∂L/∂q' + d²/dΘ² ∂L/∂q'' − … of the

@@ -14,24 +14,32 @@
 //!
 //! A shell law's stresses are taken from its strain energy W(λ1, λ2) by evaluating the law and
 //! `hyperelastic.rs` with λ1, λ2 as plain symbols (`diff` is then an exact partial derivative)
-//! and substituting the expanded stretches. Laws that state stresses by `rate` (viscous) or a
-//! shape energy by `vary` (bending) are not supported here: an error says so.
+//! and substituting the expanded stretches.
+//!
+//! `rate(e)` (a viscous law) is the time derivative at a fixed material point: R → Ṙ (`Rd`),
+//! a_n → ȧ_n (`adl`, `adm`), b_n → ḃ_n (`bdl`, `bdm`); a rate symbol counts in its mode's degree,
+//! so the bilinear order is kept exactly (d/dt(a_l a_m f(R)) = ȧ_l a_m f + a_l ȧ_m f + a_l a_m Ṙ f′).
+//! `vary(L, q)` (a shape energy) varies the earlier definition q → q + #v·η(Θ) and re-evaluates
+//! the definitions between q and L, as the first-order engine does ([`super::eval`]); the
+//! virtual `#v` is a third direction of degree ≤ 1 (Poly drops #v²), so 1/p and √p expand to the
+//! third power of their relative part (the product of the three directions).
 
-use crate::algebra::dual::Dual;
+use crate::algebra::dual::{Dual, RATE_R};
 use crate::algebra::legendre::legendre_poly;
+use crate::algebra::poly::VIRTUAL;
 use crate::algebra::{rat, Mono, Poly, Rat};
 use crate::spec::ast::{BinOp, Expr, ExprKind, Spec};
 use crate::spec::validate::int_literal;
 use num_traits::Zero;
 use std::collections::BTreeMap;
 
-/// Amplitude symbols of the two modes.
-pub const L_SYMS: [&str; 2] = ["al", "bl"];
-pub const M_SYMS: [&str; 2] = ["am", "bm"];
+/// Amplitude symbols of the two modes: a, b and their rates ȧ, ḃ (viscous laws).
+pub const L_SYMS: [&str; 4] = ["al", "bl", "adl", "bdl"];
+pub const M_SYMS: [&str; 4] = ["am", "bm", "adm", "bdm"];
 
 /// Degrees of a monomial in the mode-l and mode-m amplitudes.
 fn degrees(m: &Mono) -> (i32, i32) {
-    let d = |syms: [&str; 2]| syms.iter().map(|s| m.power(s)).sum::<i32>();
+    let d = |syms: [&str; 4]| syms.iter().map(|s| m.power(s)).sum::<i32>();
     (d(L_SYMS), d(M_SYMS))
 }
 
@@ -57,9 +65,10 @@ pub fn mul(a: &Poly, b: &Poly) -> Poly {
     out
 }
 
-/// (z0, u) with p = z0 (1 + u), z0 the single-monomial zero-order part.
+/// (z0, u) with p = z0 (1 + u), z0 the single-monomial zero-order part (no amplitude, no #v).
 fn split(p: &Poly, what: &str) -> Result<(Mono, Rat, Poly), String> {
     let z0 = part(p, 0, 0);
+    let z0 = Poly { terms: z0.terms.into_iter().filter(|(m, _)| m.power(VIRTUAL) == 0).collect() };
     let Some((m, c)) = z0.single() else {
         return Err(format!("cannot {what}: the zero-order part `{}` is not a single monomial", z0.terms.keys().map(|m| m.text()).collect::<Vec<_>>().join(" + ")));
     };
@@ -69,11 +78,16 @@ fn split(p: &Poly, what: &str) -> Result<(Mono, Rat, Poly), String> {
     Ok((m, c, u))
 }
 
-/// 1/p = (1/z0)(1 − u + u²).
+/// 1/p = (1/z0)(1 − u + u² − u³) (u³ vanishes unless #v is present).
 pub fn inv(p: &Poly) -> Result<Poly, String> {
     let (m, c, u) = split(p, "divide by it")?;
     let inv0 = Poly::term(m.pow(-1), num_traits::Inv::inv(c));
-    Ok(mul(&inv0, &Poly::constant(rat(1)).sub(&u).add(&mul(&u, &u))))
+    let u2 = mul(&u, &u);
+    let mut series = Poly::constant(rat(1)).sub(&u).add(&u2);
+    if u.has(VIRTUAL) {
+        series = series.sub(&mul(&u2, &u));
+    }
+    Ok(mul(&inv0, &series))
 }
 
 /// p^n for any integer n.
@@ -94,7 +108,11 @@ pub fn sqrt(p: &Poly) -> Result<Poly, String> {
         return Err(format!("cannot take the square root of `{}`: not an exact square", m.text()));
     }
     let root0 = Poly::term(Mono(m.0.iter().map(|(s, e)| (s.clone(), e / 2)).collect()), Rat::new(n, d));
-    let series = Poly::constant(rat(1)).add(&u.scale(&crate::algebra::ratio(1, 2))).sub(&mul(&u, &u).scale(&crate::algebra::ratio(1, 8)));
+    let u2 = mul(&u, &u);
+    let mut series = Poly::constant(rat(1)).add(&u.scale(&crate::algebra::ratio(1, 2))).sub(&u2.scale(&crate::algebra::ratio(1, 8)));
+    if u.has(VIRTUAL) {
+        series = series.add(&mul(&u2, &u).scale(&crate::algebra::ratio(1, 16)));
+    }
     Ok(mul(&root0, &series))
 }
 
@@ -133,6 +151,9 @@ pub enum V {
 pub struct Env2 {
     pub values: BTreeMap<String, V>,
     modes: Option<(usize, usize)>,
+    /// The `let`s evaluated so far (across specs) and their expressions: what `vary` re-evaluates.
+    asts: BTreeMap<String, Expr>,
+    order: Vec<String>,
 }
 
 impl Env2 {
@@ -145,14 +166,14 @@ impl Env2 {
         values.insert("a_k".to_string(), V::S(Poly::var("#a")));
         values.insert("b_k".to_string(), V::S(Poly::var("#b")));
         values.insert("k".to_string(), V::Mode);
-        Env2 { values, modes: Some((l, m)) }
+        Env2 { values, modes: Some((l, m)), asts: BTreeMap::new(), order: Vec::new() }
     }
     /// λ1, λ2 as the plain symbols L1, L2 (the stresses of a strain energy).
     pub fn symbolic_stretches() -> Env2 {
         let mut values = BTreeMap::new();
         values.insert("lambda1".to_string(), V::S(Poly::var("L1")));
         values.insert("lambda2".to_string(), V::S(Poly::var("L2")));
-        Env2 { values, modes: None }
+        Env2 { values, modes: None, asts: BTreeMap::new(), order: Vec::new() }
     }
     pub fn scalar(&self, name: &str) -> Result<Poly, String> {
         match self.values.get(name) {
@@ -211,18 +232,82 @@ pub fn eval_spec(spec: &Spec, env: &mut Env2) -> Result<(), String> {
             }
             _ => eval(env, &l.value).map_err(|m| format!("{}:{}:{}: {m}", spec.path, l.value.pos.line, l.value.pos.column))?,
         };
-        let v = match v {
-            V::S(p) => V::S(env.expand_modes(p)?),
-            V::Angle(p) => V::Angle(env.expand_modes(p)?),
-            other => other,
-        };
+        let v = env.expanded(v)?;
+        env.asts.insert(l.name.clone(), l.value.clone());
+        env.order.retain(|n| n != &l.name);
+        env.order.push(l.name.clone());
         env.values.insert(l.name.clone(), v);
     }
     Ok(())
 }
 
+impl Env2 {
+    /// A `let`'s value with the mode shapes expanded ([`Env2::expand_modes`]).
+    fn expanded(&self, v: V) -> Result<V, String> {
+        Ok(match v {
+            V::S(p) => V::S(self.expand_modes(p)?),
+            V::Angle(p) => V::Angle(self.expand_modes(p)?),
+            other => other,
+        })
+    }
+}
+
+/// `rate(p)`: the time derivative at a fixed material point (module doc).
+fn rate(p: &Poly) -> Result<Poly, String> {
+    let rates = [("R", RATE_R), ("al", "adl"), ("bl", "bdl"), ("am", "adm"), ("bm", "bdm")];
+    if rates.iter().any(|(_, r)| p.has(r)) {
+        return Err("`rate` of a rate is not supported".into());
+    }
+    let mut out = Poly::zero();
+    for (s, r) in rates {
+        if p.has(s) {
+            out = out.add(&mul(&p.diff(s), &Poly::var(r)));
+        }
+    }
+    Ok(out)
+}
+
+/// `vary(L, q)`: the Euler–Lagrange expression of the density L under q → q + #v·η(Θ) (as the
+/// first-order engine's, [`super::eval`]): the `let`s between q and L that depend on q are
+/// re-evaluated, the part linear in #v is Σ_i c_i η^(i), and the result is Σ_i (−d/dΘ)^i c_i.
+fn vary(env: &Env2, f: &Expr, q: &Expr) -> Result<V, String> {
+    let (ExprKind::Name(fname), ExprKind::Name(qname)) = (&f.kind, &q.kind) else {
+        return Err("expected `vary(density, variable)` with two defined names".into());
+    };
+    let base = env.scalar(qname)?;
+    if base.has(VIRTUAL) {
+        return Err("nested `vary` is not supported".into());
+    }
+    let mut local = env.clone();
+    local.values.insert(qname.clone(), V::S(base.add(&Poly::var(VIRTUAL).mul(&Poly::var(&crate::algebra::dual::jet(0))))));
+    for name in super::eval::chain(&env.order, &env.asts, qname, fname) {
+        let v = eval(&local, &env.asts[&name])?;
+        let v = local.expanded(v)?;
+        local.values.insert(name, v);
+    }
+    let first = local.scalar(fname)?.diff(VIRTUAL);
+    let mut orders: Vec<u32> = first.terms.keys().flat_map(|m| m.0.iter().filter_map(|(n, _)| crate::algebra::dual::jet_order(n)).collect::<Vec<_>>()).collect();
+    orders.sort();
+    orders.dedup();
+    let mut out = Poly::zero();
+    for i in orders {
+        let mut c = first.diff(&crate::algebra::dual::jet(i));
+        if c.terms.keys().any(|m| m.0.iter().any(|(n, _)| crate::algebra::dual::jet_order(n).is_some() || n == VIRTUAL)) {
+            return Err(format!("`vary({fname}, {qname})`: the density is not linear in the variation"));
+        }
+        for _ in 0..i {
+            c = d_theta(&c);
+        }
+        out = if i % 2 == 0 { out.add(&c) } else { out.sub(&c) };
+    }
+    Ok(V::S(out))
+}
+
 fn trig(f: &str, v: V) -> Result<V, String> {
     let V::Angle(beta) = v else { return Err(format!("`{f}` applies to an angle")) };
+    if beta.has(VIRTUAL) {
+        return Err(format!("`{f}` of an angle that a `vary` varies is not supported"));
+    }
     let (x, s) = (Poly::var("#x"), Poly::var("#s"));
     let cos_b = Poly::constant(rat(1)).sub(&mul(&beta, &beta).scale(&crate::algebra::ratio(1, 2)));
     Ok(V::S(match f {
@@ -286,8 +371,8 @@ pub fn eval(env: &Env2, e: &Expr) -> Result<V, String> {
                     Err("`diff` by a compound quantity".into())
                 }
             }
-            "rate" => Err("`rate` (a viscous law): its second-order terms are not derived".into()),
-            "vary" => Err("`vary` (a shape energy): its second-order terms are not derived".into()),
+            "rate" => Ok(V::S(rate(&scalar(eval(env, &args[0])?)?)?)),
+            "vary" => vary(env, &args[0], &args[1]),
             _ => Err(format!("unsupported function `{f}`")),
         },
     }

@@ -1,8 +1,10 @@
-//! Second-order (bilinear) membrane loads of a hyperelastic shell law (issue 12, scope 1: the
-//! membrane), derived from the same specs as the linear tables: `kinematics.rs` (the exact
-//! stretches, normal and curvatures of r = R + Σ a_n P_n(cos Θ), θ = Θ + Σ b_n P¹_n/R), the
-//! law's W through `hyperelastic.rs` (σ_i = λ_i ∂W/∂λ_i) and `membrane.rs` (F_n, F_t in both
-//! forms), expanded to the bilinear order for pairs of modes (l, m) by [`super::jet2`] and
+//! Second-order (bilinear) membrane loads of a shell law (issue 12, scope 1: the membrane),
+//! derived from the same specs as the linear tables: `kinematics.rs` (the exact stretches, normal
+//! and curvatures of r = R + Σ a_n P_n(cos Θ), θ = Θ + Σ b_n P¹_n/R), and the law: a W through
+//! `hyperelastic.rs` (σ_i = λ_i ∂W/∂λ_i) and `membrane.rs` (F_n, F_t in both forms), stresses
+//! σ1, σ2 (a viscous law, by `rate`: terms then hold ȧ, ḃ or Ṙ) through `membrane.rs`, or a shape
+//! energy w_area (bending, by `vary`) through `shape.rs` — expanded to the bilinear order for
+//! pairs of modes (l, m) by [`super::jet2`] and
 //! projected exactly on P_j (normal, weight (2j+1)/2) and P¹_j (tangential, weight
 //! (2j+1)/(2j(j+1))) at the material angle, as the linear loads S1, S2, S11, S12 are.
 //!
@@ -33,11 +35,13 @@ pub const CHECK_MODES: usize = 10;
 /// Largest total degree of N_T in (L_l, L_m, L_j).
 const MAX_DEGREE: u32 = 5;
 
-/// Which amplitude: a (normal) or b (tangential).
+/// Which amplitude: a (normal) or b (tangential), or their rates ȧ, ḃ (a viscous law).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Ab {
     A,
     B,
+    Ad,
+    Bd,
 }
 
 impl Ab {
@@ -45,8 +49,29 @@ impl Ab {
         match self {
             Ab::A => "a",
             Ab::B => "b",
+            Ab::Ad => "ad",
+            Ab::Bd => "bd",
         }
     }
+    /// The kind of an amplitude symbol of [`jet2::L_SYMS`] / [`jet2::M_SYMS`].
+    fn of(symbol: &str) -> Ab {
+        match symbol {
+            "al" | "am" => Ab::A,
+            "bl" | "bm" => Ab::B,
+            "adl" | "adm" => Ab::Ad,
+            _ => Ab::Bd,
+        }
+    }
+}
+
+/// The mechanics specs a law's loads go through: `hyperelastic.rs` and `membrane.rs` for a
+/// strain energy W, `membrane.rs` for stresses σ1, σ2 (a viscous law, by `rate`), `shape.rs`
+/// for a shape energy w_area (bending, by `vary`).
+#[derive(Clone, Copy, Debug)]
+pub struct Mechanics<'a> {
+    pub hyper: &'a Spec,
+    pub membrane: &'a Spec,
+    pub shape: &'a Spec,
 }
 
 /// One bilinear load term of one form (`paper` / `tension`) and load (normal / tangential).
@@ -93,20 +118,23 @@ pub struct MembraneQuadratic {
 type Key = (&'static str, Load, Mono, Ab, Ab);
 
 /// The projected bilinear loads of one pair (l ≤ m): (form, load, projected (rest mono → series)).
-pub fn pair_loads(law: &Spec, hyper: &Spec, kin: &Spec, mech: &Spec, l: usize, m: usize) -> Result<Vec<(&'static str, Load, Poly)>, String> {
-    let mut st = Env2::symbolic_stretches();
-    jet2::eval_spec(law, &mut st)?;
-    if law.get("W").is_none() {
-        return Err("only a law with a strain energy W has derived second-order loads".into());
-    }
-    jet2::eval_spec(hyper, &mut st)?;
-    let (s1, s2) = (st.scalar("sigma1")?, st.scalar("sigma2")?);
+pub fn pair_loads(law: &Spec, specs: Mechanics<'_>, kin: &Spec, l: usize, m: usize) -> Result<Vec<(&'static str, Load, Poly)>, String> {
     let mut env = Env2::kinematic(l, m);
     jet2::eval_spec(kin, &mut env)?;
-    let (l1, l2) = (env.scalar("lambda1")?, env.scalar("lambda2")?);
-    env.values.insert("sigma1".into(), jet2::V::S(jet2::substitute_stretches(&s1, &l1, &l2)?));
-    env.values.insert("sigma2".into(), jet2::V::S(jet2::substitute_stretches(&s2, &l1, &l2)?));
-    jet2::eval_spec(mech, &mut env)?;
+    if law.get("W").is_some() {
+        let mut st = Env2::symbolic_stretches();
+        jet2::eval_spec(law, &mut st)?;
+        jet2::eval_spec(specs.hyper, &mut st)?;
+        let (s1, s2) = (st.scalar("sigma1")?, st.scalar("sigma2")?);
+        let (l1, l2) = (env.scalar("lambda1")?, env.scalar("lambda2")?);
+        env.values.insert("sigma1".into(), jet2::V::S(jet2::substitute_stretches(&s1, &l1, &l2)?));
+        env.values.insert("sigma2".into(), jet2::V::S(jet2::substitute_stretches(&s2, &l1, &l2)?));
+        jet2::eval_spec(specs.membrane, &mut env)?;
+    } else {
+        // stresses (by `rate`) or a shape energy (by `vary`): the law on the kinematics
+        jet2::eval_spec(law, &mut env)?;
+        jet2::eval_spec(if law.get("w_area").is_some() { specs.shape } else { specs.membrane }, &mut env)?;
+    }
     let mut out = Vec::new();
     for form in ["paper", "tension"] {
         for (load, suffix) in [(Load::Normal, "n"), (Load::Tangential, "t")] {
@@ -120,11 +148,10 @@ pub fn pair_loads(law: &Spec, hyper: &Spec, kin: &Spec, mech: &Spec, l: usize, m
 fn bilinear(form: &'static str, load: Load, p: &Poly, l: usize, m: usize, basis: &mut Basis) -> Result<Vec<(Key, usize, usize, usize, Rat)>, String> {
     let mut out = Vec::new();
     for ((_, mono), series) in project(p, load, 0, basis)? {
-        let kind = |s: &str| if s.starts_with('a') { Ab::A } else { Ab::B };
         let fl = jet2::L_SYMS.iter().find(|s| mono.power(s) == 1).ok_or("bilinear term without a mode-l amplitude")?;
         let fm = jet2::M_SYMS.iter().find(|s| mono.power(s) == 1).ok_or("bilinear term without a mode-m amplitude")?;
         let pre = mono.filter(|s| !jet2::L_SYMS.contains(&s) && !jet2::M_SYMS.contains(&s));
-        let (a, b) = (kind(fl), kind(fm));
+        let (a, b) = (Ab::of(fl), Ab::of(fm));
         for (j, c) in series.iter().enumerate() {
             if c.is_zero() {
                 continue;
@@ -146,7 +173,7 @@ fn bilinear(form: &'static str, load: Load, p: &Poly, l: usize, m: usize, basis:
 
 /// Derive the second-order tables of a law (exact expansions for every pair of even modes up to
 /// CHECK_MODES; closed forms fitted on modes ≤ FIT_MODES, verified exactly on the rest).
-pub fn derive_membrane_quadratic(name: &str, law: &Spec, hyper: &Spec, kin: &Spec, mech: &Spec) -> Result<MembraneQuadratic, String> {
+pub fn derive_membrane_quadratic(name: &str, law: &Spec, specs: Mechanics<'_>, kin: &Spec) -> Result<MembraneQuadratic, String> {
     let triple = Triple::new(2 * CHECK_MODES + 2);
     let mut basis = Basis::default();
     let mut data: BTreeMap<Key, BTreeMap<[i64; 3], Rat>> = BTreeMap::new();
@@ -156,7 +183,7 @@ pub fn derive_membrane_quadratic(name: &str, law: &Spec, hyper: &Spec, kin: &Spe
     let list = &pairs;
     let expanded: Vec<Result<Vec<(&'static str, Load, Poly)>, String>> = std::thread::scope(|sc| {
         let handles: Vec<_> = (0..workers)
-            .map(|w| sc.spawn(move || list.iter().enumerate().filter(|(i, _)| i % workers == w).map(|(i, &(l, m))| (i, pair_loads(law, hyper, kin, mech, l, m))).collect::<Vec<_>>()))
+            .map(|w| sc.spawn(move || list.iter().enumerate().filter(|(i, _)| i % workers == w).map(|(i, &(l, m))| (i, pair_loads(law, specs, kin, l, m))).collect::<Vec<_>>()))
             .collect();
         let mut all: Vec<(usize, Result<Vec<(&'static str, Load, Poly)>, String>)> =
             handles.into_iter().flat_map(|h| h.join().unwrap_or_else(|_| vec![(usize::MAX, Err("a derivation thread panicked".into()))])).collect();
@@ -230,7 +257,8 @@ mod tests {
     /// independently, in Eulerian form, by derive/quadratic.rs), on every target.
     #[test]
     fn surface_tension_law_matches_the_free_bubble_laplace_term() {
-        let q = derive_membrane_quadratic("surface_tension", &spec("shell/surface_tension.rs"), &spec("hyperelastic.rs"), &spec("kinematics.rs"), &spec("membrane.rs")).unwrap();
+        let (hyper, membrane, shape) = (spec("hyperelastic.rs"), spec("membrane.rs"), spec("shape.rs"));
+        let q = derive_membrane_quadratic("surface_tension", &spec("shell/surface_tension.rs"), Mechanics { hyper: &hyper, membrane: &membrane, shape: &shape }, &spec("kinematics.rs")).unwrap();
         let free = crate::derive::quadratic::derive_cached("x").unwrap();
         let gamma_free = free.terms.iter().find(|t| t.name() == "gamma/R^3 * a_l * a_m").expect("the free bubble's Laplace term");
         let aa: Vec<&MembraneTerm2> = q.terms.iter().filter(|t| t.load == Load::Normal && t.form == "paper" && t.first == Ab::A && t.second == Ab::A).collect();

@@ -25,11 +25,7 @@ impl Term for MagneticTerm {
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
         let l = &self.loads;
         let f = l.factors(at.t, at.r());
-        loads.pressure += l.radial(&f, at.z);
-        for m in 0..loads.gn.len() {
-            loads.gn[m] -= l.normal(&f, m, at.z);
-            loads.gt[m] -= l.tangential(&f, m, at.z);
-        }
+        l.add_to_balances(&f, at.z, &mut loads.pressure, loads.gn, loads.gt);
     }
     fn band(&self) -> usize {
         self.loads.width()

@@ -11,19 +11,22 @@
 use super::{At, LoadJacobian, Loads};
 
 /// The first-order accelerations at the state: R̈⁽¹⁾ = form(P of the ordinary terms) and
-/// ä_k⁽¹⁾ of (N) with those loads, one per mode index.
+/// ä_k⁽¹⁾ of (N) with those loads, one per mode index; and the first-order ḃ_k⁽¹⁾ of (NS) and its
+/// closure (not a state variable: the shell-viscous loads hold it, effects/quadratic_shell_viscosity.rs).
 #[derive(Debug, Clone, Copy)]
 pub struct FirstOrder<'a> {
     pub rdd: f64,
     pub add: &'a [f64],
+    pub bd: &'a [f64],
 }
 
 /// Their exact gradients over z (n = z.len()): `drdd[j] = ∂R̈⁽¹⁾/∂z_j`,
-/// `dadd[m * n + j] = ∂ä_m⁽¹⁾/∂z_j`.
+/// `dadd[m * n + j] = ∂ä_m⁽¹⁾/∂z_j`, `dbd[m * n + j] = ∂ḃ_m⁽¹⁾/∂z_j`.
 #[derive(Debug, Clone, Copy)]
 pub struct FirstOrderGradient<'a> {
     pub drdd: &'a [f64],
     pub dadd: &'a [f64],
+    pub dbd: &'a [f64],
 }
 
 /// A load evaluated after the first-order accelerations are known (module doc). Same contract

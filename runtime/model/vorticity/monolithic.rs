@@ -166,8 +166,7 @@ impl Monolithic<'_> {
             let o = 2 + mi * nb;
             z[2 + 3 * mi..5 + 3 * mi].copy_from_slice(&y[o..o + 3]);
             let tn = &y[o + 3..o + nb];
-            p[mi] = op.i_interior(tn);
-            p[m + mi] = op.j_over_r(tn);
+            (p[mi], p[m + mi]) = op.functionals(tn);
         }
     }
 

@@ -18,7 +18,7 @@ use super::monolithic::Monolithic;
 use super::operator::Rows;
 use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
-use nalgebra::{Complex, ComplexField, DMatrix, DVector};
+use nalgebra::{Complex, ComplexField, DMatrix};
 use std::rc::Rc;
 
 /// J at one (t, y), in structured form.
@@ -129,13 +129,101 @@ impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
     }
 }
 
+/// Mode k's entries of a node-major vector (entry i at `i * m + k`).
+#[inline]
+fn node_major_column<T: Copy>(v: &[T], k: usize, m: usize) -> impl Iterator<Item = T> + '_ {
+    v[k..].iter().step_by(m).copied()
+}
+
+/// LU with partial pivoting (largest |re| + |im| in the column, whole rows swapped) of the
+/// small dense (z, π) system, row-major: own code instead of nalgebra's `LU` (issue 16: its
+/// factorisation and solve were 12 % of the monolithic run at 42 × 42), no allocation per solve.
+struct DenseLu<T> {
+    n: usize,
+    /// U on and above the diagonal, the multipliers of L below it (unit diagonal implied).
+    a: Vec<T>,
+    /// 1 / U_ii
+    inv_diag: Vec<T>,
+    /// At step k, row k was swapped with row `piv[k]` ≥ k.
+    piv: Vec<usize>,
+}
+
+impl<T: ComplexField<RealField = f64> + Copy> DenseLu<T> {
+    /// Factors the row-major n × n `a`; `None` when a pivot is zero or not finite.
+    fn new(n: usize, mut a: Vec<T>) -> Option<Self> {
+        let mut piv = vec![0; n];
+        let mut inv_diag = vec![T::zero(); n];
+        for k in 0..n {
+            let (mut p, mut best) = (k, a[k * n + k].norm1());
+            for i in k + 1..n {
+                let v = a[i * n + k].norm1();
+                if v > best {
+                    best = v;
+                    p = i;
+                }
+            }
+            if !(best > 0.0 && best.is_finite()) {
+                return None;
+            }
+            piv[k] = p;
+            if p != k {
+                for j in 0..n {
+                    a.swap(k * n + j, p * n + j);
+                }
+            }
+            let (top, bottom) = a.split_at_mut((k + 1) * n);
+            let rk = &top[k * n + k..(k + 1) * n];
+            let inv = T::one() / rk[0];
+            inv_diag[k] = inv;
+            for row in bottom.chunks_exact_mut(n) {
+                let l = row[k] * inv;
+                row[k] = l;
+                if l != T::zero() {
+                    for (x, &u) in row[k + 1..].iter_mut().zip(&rk[1..]) {
+                        *x -= l * u;
+                    }
+                }
+            }
+        }
+        Some(Self { n, a, inv_diag, piv })
+    }
+
+    /// x ← A⁻¹ x.
+    fn solve(&self, x: &mut [T]) {
+        let n = self.n;
+        let x = &mut x[..n];
+        for (k, &p) in self.piv.iter().enumerate() {
+            x.swap(k, p);
+        }
+        for i in 1..n {
+            let (done, rest) = x.split_at_mut(i);
+            let mut s = rest[0];
+            for (&l, &xj) in self.a[i * n..i * n + i].iter().zip(done.iter()) {
+                s -= l * xj;
+            }
+            rest[0] = s;
+        }
+        for i in (0..n).rev() {
+            let (head, tail) = x.split_at_mut(i + 1);
+            let mut s = head[i];
+            for (&u, &xj) in self.a[i * n + i + 1..(i + 1) * n].iter().zip(tail.iter()) {
+                s -= u * xj;
+            }
+            head[i] = s * self.inv_diag[i];
+        }
+    }
+}
+
 /// The factorisation of σI − J (shares the Jacobian it was built from).
 pub struct StructuredLu<T: ComplexField<RealField = f64> + Copy> {
     jac: Rc<StructuredJacobian>,
     tri: TriBatch<T>,
     /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k, node-major like [`TriBatch`]
     u: [Vec<T>; 3],
-    small: nalgebra::LU<T, nalgebra::Dyn, nalgebra::Dyn>,
+    small: DenseLu<T>,
+    /// The T_w,k rows of J in (z, π), row-major M × (nz + 2M): ∂T_w,k/∂z then ∂T_w,k/∂p
+    /// (contiguous copies of the gz / gp rows, for s_k = δT_w,k in [`StructuredLu::solve`]).
+    tw_rows: Vec<f64>,
     /// Scratch of [`StructuredLu::solve`] (no allocation per solve).
     scratch: std::cell::RefCell<Scratch<T>>,
 }
@@ -144,7 +232,7 @@ struct Scratch<T: ComplexField<RealField = f64> + Copy> {
     /// node-major T part
     xt: Vec<T>,
     /// right-hand side and solution of the small dense system
-    rhs: DVector<T>,
+    rhs: Vec<T>,
     /// the 2M functionals P·xt (π ordering), and per mode s_k = δT_w,k
     d: Vec<T>,
     s: Vec<T>,
@@ -232,14 +320,15 @@ impl StructuredJacobian {
     pub fn factor<T: ComplexField<RealField = f64> + Copy>(self: &Rc<Self>, sigma: T) -> Option<StructuredLu<T>> {
         let (m, nz, ni) = (self.m, self.nz, self.ni);
         let ns = nz + 2 * m;
-        let mut s = DMatrix::<T>::zeros(ns, ns);
+        // row-major ns × ns (the own dense LU below)
+        let mut s = vec![T::zero(); ns * ns];
         for i in 0..nz {
             for j in 0..nz {
-                s[(i, j)] = -T::from_real(self.gz[(i, j)]);
+                s[i * ns + j] = -T::from_real(self.gz[(i, j)]);
             }
-            s[(i, i)] += sigma;
+            s[i * ns + i] += sigma;
             for q in 0..2 * m {
-                s[(i, nz + q)] = -T::from_real(self.gp[(i, q)]);
+                s[i * ns + nz + q] = -T::from_real(self.gp[(i, q)]);
             }
         }
         let tri = TriBatch::new(sigma, &self.rows, ni)?;
@@ -269,22 +358,28 @@ impl StructuredJacobian {
                 let row = nz + q;
                 let tw_row = nz + k; // row of T_w,k in gz/gp
                 for j in 0..nz {
-                    s[(row, j)] = -pu.scale(self.gz[(tw_row, j)]);
+                    s[row * ns + j] = -pu.scale(self.gz[(tw_row, j)]);
                 }
-                s[(row, 0)] -= pr;
-                s[(row, 1)] -= prd;
+                s[row * ns] -= pr;
+                s[row * ns + 1] -= prd;
                 for q2 in 0..2 * m {
-                    s[(row, nz + q2)] = -pu.scale(self.gp[(tw_row, q2)]);
+                    s[row * ns + nz + q2] = -pu.scale(self.gp[(tw_row, q2)]);
                 }
-                s[(row, row)] += T::one();
+                s[row * ns + row] += T::one();
             }
         }
-        let small = s.lu();
-        if !small.is_invertible() {
-            return None;
+        let small = DenseLu::new(ns, s)?;
+        let mut tw_rows = vec![0.0; m * ns];
+        for (k, r) in tw_rows.chunks_exact_mut(ns.max(1)).enumerate() {
+            for j in 0..nz {
+                r[j] = self.gz[(nz + k, j)];
+            }
+            for q in 0..2 * m {
+                r[nz + q] = self.gp[(nz + k, q)];
+            }
         }
-        let scratch = std::cell::RefCell::new(Scratch { xt: vec![T::zero(); ni * m], rhs: DVector::zeros(ns), d: vec![T::zero(); 2 * m], s: vec![T::zero(); m] });
-        Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, scratch })
+        let scratch = std::cell::RefCell::new(Scratch { xt: vec![T::zero(); ni * m], rhs: vec![T::zero(); ns], d: vec![T::zero(); 2 * m], s: vec![T::zero(); m] });
+        Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, tw_rows, scratch })
     }
 }
 
@@ -298,8 +393,8 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
         // D_k⁻¹ b_T,k, all modes at once on the node-major copy
         for k in 0..m {
             let o = 2 + k * nb + 3;
-            for (i, &v) in b[o..o + ni].iter().enumerate() {
-                xt[i * m + k] = v;
+            for (x, &v) in xt[k..].iter_mut().step_by(m).zip(&b[o..o + ni]) {
+                *x = v;
             }
         }
         self.tri.solve(xt);
@@ -315,34 +410,33 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
         for (q, &dq) in d.iter().enumerate() {
             rhs[nz + q] = dq;
         }
-        if !self.small.solve_mut(rhs) {
-            b.iter_mut().for_each(|v| *v = T::from_real(f64::NAN));
-            return;
-        }
-        let x = &*rhs;
+        self.small.solve(rhs);
+        let x = &rhs[..];
         b[0] = x[0];
         b[1] = x[1];
-        for (k, sk) in s.iter_mut().enumerate() {
+        let ns = x.len();
+        for (k, (sk, row)) in s.iter_mut().zip(self.tw_rows.chunks_exact(ns.max(1))).enumerate() {
             for c in 0..3 {
                 b[2 + k * nb + c] = x[2 + 3 * k + c];
             }
-            // s_k = δT_w,k
-            let tw_row = nz + k;
+            // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
             *sk = T::zero();
-            for jj in 0..nz {
-                *sk += x[jj].scale(j.gz[(tw_row, jj)]);
-            }
-            for q in 0..2 * m {
-                *sk += x[nz + q].scale(j.gp[(tw_row, q)]);
+            for (&xj, &g) in x.iter().zip(row) {
+                *sk += xj.scale(g);
             }
         }
         let [uc, ur, urd] = &self.u;
         let (x0, x1) = (x[0], x[1]);
-        for i in 0..ni {
-            let at = i * m;
-            for k in 0..m {
-                let a = at + k;
-                b[2 + k * nb + 3 + i] = xt[a] + (uc[a] * s[k] + ur[a] * x0 + urd[a] * x1);
+        // mode after mode: contiguous stores into b, strided loads of the node-major vectors
+        // (the same products and sums as node after node)
+        for (k, &sk) in s.iter().enumerate() {
+            let o = 2 + k * nb + 3;
+            let terms = node_major_column(xt, k, m)
+                .zip(node_major_column(uc, k, m))
+                .zip(node_major_column(ur, k, m))
+                .zip(node_major_column(urd, k, m));
+            for (out, (((xv, c), r), rd)) in b[o..o + ni].iter_mut().zip(terms) {
+                *out = xv + (c * sk + r * x0 + rd * x1);
             }
         }
     }
@@ -390,4 +484,34 @@ pub fn dense_jacobian(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> DMatrix<f64> {
         }
     }
     jac
+}
+
+#[cfg(test)]
+mod tests {
+    use super::DenseLu;
+    use nalgebra::Complex;
+
+    /// The small dense LU solves A x = b for a complex matrix that needs pivoting (zero diagonal),
+    /// and reports a singular one.
+    #[test]
+    fn dense_lu_solves_with_pivoting() {
+        let n = 7;
+        let a: Vec<Complex<f64>> = (0..n * n)
+            .map(|i| {
+                let (r, c) = (i / n, i % n);
+                if r == c { Complex::new(0.0, 0.0) } else { Complex::new(((r * 7 + c * 13) % 11) as f64 - 5.0, (r + 2 * c) as f64 * 0.1) }
+            })
+            .collect();
+        let b: Vec<Complex<f64>> = (0..n).map(|i| Complex::new((i as f64).sin(), 1.0)).collect();
+        let lu = DenseLu::new(n, a.clone()).expect("invertible");
+        let mut x = b.clone();
+        lu.solve(&mut x);
+        for r in 0..n {
+            let ax: Complex<f64> = (0..n).map(|c| a[r * n + c] * x[c]).sum();
+            assert!((ax - b[r]).norm() < 1e-12, "row {r}: {ax} vs {}", b[r]);
+        }
+        let mut sing = vec![1.0f64; 9];
+        sing[8] = 1.0;
+        assert!(DenseLu::new(3, sing).is_none(), "rank 1");
+    }
 }

@@ -7,3 +7,4 @@ pub mod potential_flow;
 pub mod rk4_ref;
 pub mod dopri_ref;
 pub mod membrane_loads;
+pub mod surface_jets;

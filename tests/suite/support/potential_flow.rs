@@ -204,3 +204,46 @@ impl Oracle {
         ke + flow.gamma * area + pg * vol / (flow.kappa - 1.0) + flow.p_inf * vol
     }
 }
+
+/// The terms of the virial identity of a free bubble at one state (quadratic_virial.rs).
+#[derive(Clone, Copy, Debug)]
+pub struct Virial {
+    /// G = −ρ∮ φ x·n dS = −2πρ∫ φ f³ dx (n out of the bubble): Σ p·x over the surface markers
+    pub g: f64,
+    /// kinetic energy of the liquid, −πρ∫ φ f² ∂f/∂t dx
+    pub kinetic: f64,
+    pub area: f64,
+    pub volume: f64,
+    /// p_g = p_g0 (V0/V)^κ at the exact volume
+    pub pgas: f64,
+}
+
+impl Oracle {
+    /// G, T, A, V, p_g at the state (R, Ṙ, modes (a, ȧ)) on the exact surface, with the same
+    /// multipole solve as `energy`. For the exact dynamics dG/dt = 5T + 3(p_g − p∞)V − 2γA.
+    pub fn virial(&self, flow: &Flow, pg0: f64, r_ref: f64, modes: &[Mode]) -> Virial {
+        let c = self.multipoles(flow, modes, 0.0);
+        let (r0, rd) = (flow.radial[0], flow.radial[1]);
+        let pi = std::f64::consts::PI;
+        let (mut g_sum, mut ke, mut area, mut vol) = (0.0, 0.0, 0.0, 0.0);
+        for (&(x, w), pk) in self.nodes.iter().zip(&self.basis) {
+            let (mut f, mut g, mut ft) = (r0, 0.0, rd);
+            for m in modes {
+                let (p, d, _) = pk[m.n];
+                f += m.amp[0] * p;
+                g += m.amp[0] * d;
+                ft += m.amp[1] * p;
+            }
+            let mut phi = -r0 * r0 * rd / f;
+            for (n, cn) in c.iter().enumerate() {
+                phi += cn * f.powi(-(n as i32) - 1) * pk[n].0;
+            }
+            g_sum -= 2.0 * pi * flow.rho * w * phi * f * f * f;
+            ke -= pi * flow.rho * w * phi * f * f * ft;
+            area += 2.0 * pi * w * f * (f * f + (1.0 - x * x) * g * g).sqrt();
+            vol += 2.0 * pi / 3.0 * w * f * f * f;
+        }
+        let v0 = 4.0 * pi / 3.0 * r_ref.powi(3);
+        Virial { g: g_sum, kinetic: ke, area, volume: vol, pgas: pg0 * (v0 / vol).powf(flow.kappa) }
+    }
+}
