@@ -3,11 +3,12 @@
 //! or the time-series criterion. Definitions in docs/stability.md.
 //!
 //! **Cost** (issue 16, rows 3–5). A Floquet evaluation first finds the radial orbit once
-//! ([`prepare`]); the monodromy is then computed on a ladder of n/16, n/8, n/4 and n/2 Magnus
-//! steps per drive period (n = `magnus_steps`, 400: 25, 50, 100, 200). The fourth-order
-//! scheme's error at a rung is ≈ d/15, d = |μ(rung) − μ(previous rung)|; the first rung where
-//! |max|μ| − 1| exceeds 8d (≈ 120 × that error) and d is below 1e-3 relative decides the
-//! verdict, and the Richardson value μ(rung) + (μ(rung) − μ(previous))/15 is kept. A point no
+//! ([`prepare`]); the monodromy is then computed on a ladder of n/32 (when ≥ 12), n/16, n/8, n/4
+//! and n/2 Magnus steps per drive period (n = `magnus_steps`, 400: 12, 25, 50, 100, 200). The
+//! fourth-order scheme's error at a rung m is ≈ d·r, d = |μ(m) − μ(previous rung m')|,
+//! r = 1/((m/m')⁴ − 1) (1/15 for doubled rungs); the first rung where |max|μ| − 1| exceeds 8d
+//! (≈ 120 × that error) and d is below 1e-3 relative decides the verdict, and the Richardson
+//! value μ(m) + (μ(m) − μ(m'))·r is kept. A point no
 //! rung decides (|max|μ| − 1| within ~1e-6 of the threshold, or a multiplier so large that the
 //! rungs still differ) takes the Richardson value of n/4 and n/2, whose distance to the n-step
 //! value is ≈ d/240 (from the O(h⁴) error; measured at 0.5 MHz near ε_c: 2e-8 with the coil at k ≤ 16, 2.2e-7 without a field at k ≤ 32).
@@ -96,6 +97,10 @@ impl CriticalPoint {
     }
 }
 
+/// The smallest first rung of the cheap-first ladder when it starts at n/32 (12 of 400 steps;
+/// with fewer steps, e.g. the figures' `--quick` 100, the ladder starts at n/16 as before).
+const MIN_FIRST_RUNG: usize = 12;
+
 /// One evaluated parameter value.
 struct Seen {
     p: f64,
@@ -123,24 +128,27 @@ fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, S
     let n = opts.magnus_steps.max(1);
     let mut chosen = None;
     if n >= 64 {
-        // the ladder n/16, n/8, n/4, n/2 (module doc): stop at the first decided pair
+        // the ladder (n/32,) n/16, n/8, n/4, n/2 (module doc): stop at the first decided pair
         // A cheap rung whose monodromy overflows (a coarse step on a fast-growing system) is
         // skipped, not an error: the next rungs, or the n-step computation, decide.
-        let mut coarse = prep.spectrum(n / 16).ok();
-        for m in [n / 8, n / 4, n / 2] {
+        let first = if n / 32 >= MIN_FIRST_RUNG { n / 32 } else { n / 16 };
+        let mut coarse = prep.spectrum(first).ok().map(|s| (first, s));
+        for m in [n / 16, n / 8, n / 4, n / 2].into_iter().filter(|&m| m > first) {
             let Ok(fine) = prep.spectrum(m) else {
                 coarse = None;
                 continue;
             };
-            let Some(coarse_spec) = coarse.replace(fine.clone()) else { continue };
+            let Some((mc, coarse_spec)) = coarse.replace((m, fine.clone())) else { continue };
             let d = (fine.max_modulus - coarse_spec.max_modulus).abs();
             let decided = (fine.max_modulus - 1.0).abs() > 8.0 * d && d < 1e-3 * fine.max_modulus;
             if decided || m == n / 2 {
-                let mu = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) / 15.0;
+                // Richardson for the fourth-order error: 1/((m/mc)⁴ − 1), = 1/15 for m = 2 mc
+                let r = 1.0 / ((m as f64 / mc as f64).powi(4) - 1.0);
+                let mu = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) * r;
                 // the estimated error of μ(m) bounds the kept value's distance to the n-step one
                 // (the Richardson value's own O(h⁶) error is not estimated: at 25/50 steps it
                 // reached 6e-7, far above (d/15)(m/n)⁴)
-                chosen = Some((fine, mu, d / 15.0));
+                chosen = Some((fine, mu, d * r));
                 break;
             }
         }

@@ -49,17 +49,79 @@ pub fn expm(a: &DMatrix<f64>) -> DMatrix<f64> {
 }
 
 /// [`expm`] for any nalgebra dimension: the fixed sizes (the 3 × 3 mode blocks of a Floquet
-/// step without a field) stay on the stack. The same operations in the same order as the
-/// dynamic size.
+/// step without a field) stay on the stack.
 pub fn expm_generic<D: Dim>(a: &OMatrix<f64, D, D>) -> OMatrix<f64, D, D>
 where
     DefaultAllocator: Allocator<D, D>,
 {
     let (d, _) = a.shape_generic();
+    let mut work = ExpmWork::new(d);
+    let mut out = OMatrix::<f64, D, D>::zeros_generic(d, d);
+    expm_into(a, &mut work, &mut out);
+    out
+}
+
+/// The buffers of [`expm_into`] (powers of A, the Padé numerator and denominator): a Floquet
+/// block keeps one across its Magnus steps, so a step of a dense block allocates nothing.
+pub struct ExpmWork<D: Dim>
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    a2: OMatrix<f64, D, D>,
+    a4: OMatrix<f64, D, D>,
+    a6: OMatrix<f64, D, D>,
+    t: OMatrix<f64, D, D>,
+    u: OMatrix<f64, D, D>,
+    v: OMatrix<f64, D, D>,
+}
+
+impl<D: Dim> ExpmWork<D>
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    pub fn new(d: D) -> Self {
+        let z = || OMatrix::<f64, D, D>::zeros_generic(d, d);
+        ExpmWork { a2: z(), a4: z(), a6: z(), t: z(), u: z(), v: z() }
+    }
+}
+
+/// x ← Σ x + m_i c_i over `terms`, left to right (elementwise).
+fn add_scaled<D: Dim>(x: &mut OMatrix<f64, D, D>, terms: &[(&OMatrix<f64, D, D>, f64)])
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    for (m, c) in terms {
+        x.zip_apply(*m, |a, b| *a += b * c);
+    }
+}
+
+/// x ← Σ m_i c_i over `terms`, left to right (elementwise).
+fn set_scaled<D: Dim>(x: &mut OMatrix<f64, D, D>, first: (&OMatrix<f64, D, D>, f64), rest: &[(&OMatrix<f64, D, D>, f64)])
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    x.zip_apply(first.0, |a, b| *a = b * first.1);
+    add_scaled(x, rest);
+}
+
+/// x_ii ← x_ii + c.
+fn add_diagonal<D: Dim>(x: &mut OMatrix<f64, D, D>, c: f64)
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    for i in 0..x.nrows() {
+        x[(i, i)] += c;
+    }
+}
+
+/// `out` ← exp(A) (see the module doc), with the buffers of `w`; every product is one gemm.
+pub fn expm_into<D: Dim>(a: &OMatrix<f64, D, D>, w: &mut ExpmWork<D>, out: &mut OMatrix<f64, D, D>)
+where
+    DefaultAllocator: Allocator<D, D>,
+{
     let eta = norm1(a);
-    let id = OMatrix::<f64, D, D>::identity_generic(d, d);
-    let a2 = a * a;
-    // Low degrees: U = A Σ b_{2j+1} A^{2j}, V = Σ b_{2j} A^{2j}.
+    w.a2.gemm(1.0, a, a, 0.0);
+    // Low degrees: U = A Σ b_{2j+1} A^{2j}, V = Σ b_{2j} A^{2j} (a4 holds the running power).
     for &(m, theta) in &THETA {
         if eta <= theta {
             let b: &[f64] = match m {
@@ -68,44 +130,60 @@ where
                 7 => &B7,
                 _ => &B9,
             };
-            let mut pow = id.clone();
-            let (mut u, mut v) = (&id * b[1], &id * b[0]);
+            w.a4.fill_with_identity();
+            w.t.fill(0.0);
+            w.v.fill(0.0);
+            add_diagonal(&mut w.t, b[1]);
+            add_diagonal(&mut w.v, b[0]);
             for j in 1..=m / 2 {
-                pow = &pow * &a2;
-                u += &pow * b[2 * j + 1];
-                v += &pow * b[2 * j];
+                w.a6.gemm(1.0, &w.a4, &w.a2, 0.0);
+                std::mem::swap(&mut w.a4, &mut w.a6);
+                add_scaled(&mut w.t, &[(&w.a4, b[2 * j + 1])]);
+                add_scaled(&mut w.v, &[(&w.a4, b[2 * j])]);
             }
-            return pade_solve(&(a * u), &v);
+            w.u.gemm(1.0, a, &w.t, 0.0);
+            pade_solve(&mut w.u, &mut w.v);
+            out.copy_from(&w.v);
+            return;
         }
     }
     let s = if eta > THETA_13 { (eta / THETA_13).log2().ceil() as i32 } else { 0 };
     let scale = 0.5f64.powi(s);
-    let a1 = a * scale;
-    let a2 = &a2 * (scale * scale);
-    let a4 = &a2 * &a2;
-    let a6 = &a4 * &a2;
+    // out holds the scaled A until the end
+    out.zip_apply(a, |o, x| *o = x * scale);
+    w.a2.apply(|x| *x *= scale * scale);
+    w.a4.gemm(1.0, &w.a2, &w.a2, 0.0);
+    w.a6.gemm(1.0, &w.a4, &w.a2, 0.0);
     let b = &B13;
-    let inner_u = &a6 * b[13] + &a4 * b[11] + &a2 * b[9];
-    let u = &a1 * (&a6 * inner_u + &a6 * b[7] + &a4 * b[5] + &a2 * b[3] + &id * b[1]);
-    let inner_v = &a6 * b[12] + &a4 * b[10] + &a2 * b[8];
-    let v = &a6 * inner_v + &a6 * b[6] + &a4 * b[4] + &a2 * b[2] + &id * b[0];
-    let mut r = pade_solve(&u, &v);
+    let (a2, a4, a6) = (&w.a2, &w.a4, &w.a6);
+    set_scaled(&mut w.t, (a6, b[13]), &[(a4, b[11]), (a2, b[9])]);
+    w.v.gemm(1.0, a6, &w.t, 0.0);
+    add_scaled(&mut w.v, &[(a6, b[7]), (a4, b[5]), (a2, b[3])]);
+    add_diagonal(&mut w.v, b[1]);
+    w.u.gemm(1.0, &*out, &w.v, 0.0);
+    set_scaled(&mut w.t, (a6, b[12]), &[(a4, b[10]), (a2, b[8])]);
+    w.v.gemm(1.0, a6, &w.t, 0.0);
+    add_scaled(&mut w.v, &[(a6, b[6]), (a4, b[4]), (a2, b[2])]);
+    add_diagonal(&mut w.v, b[0]);
+    pade_solve(&mut w.u, &mut w.v);
     for _ in 0..s {
-        r = &r * &r;
+        w.t.gemm(1.0, &w.v, &w.v, 0.0);
+        std::mem::swap(&mut w.t, &mut w.v);
     }
-    r
+    out.copy_from(&w.v);
 }
 
-/// (V − U)⁻¹ (V + U) by Gaussian elimination with partial pivoting, column-oriented on the
-/// column-major storage (every inner loop runs down a contiguous column).
-fn pade_solve<D: Dim>(u: &OMatrix<f64, D, D>, v: &OMatrix<f64, D, D>) -> OMatrix<f64, D, D>
+/// v ← (V − U)⁻¹ (V + U) by Gaussian elimination with partial pivoting, column-oriented on the
+/// column-major storage (every inner loop runs down a contiguous column); u is overwritten.
+fn pade_solve<D: Dim>(u: &mut OMatrix<f64, D, D>, v: &mut OMatrix<f64, D, D>)
 where
     DefaultAllocator: Allocator<D, D>,
 {
     let n = u.nrows();
-    let mut pm = v - u;
-    let mut qm = v + u;
-    let (p, q) = (pm.as_mut_slice(), qm.as_mut_slice());
+    let (p, q) = (u.as_mut_slice(), v.as_mut_slice());
+    for (pi, qi) in p.iter_mut().zip(q.iter_mut()) {
+        (*pi, *qi) = (*qi - *pi, *qi + *pi);
+    }
     for c in 0..n {
         let piv = (c..n).fold(c, |b, r| if p[c * n + r].abs() > p[c * n + b].abs() { r } else { b });
         if piv != c {
@@ -154,7 +232,6 @@ where
             }
         }
     }
-    qm
 }
 
 #[cfg(test)]

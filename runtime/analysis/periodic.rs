@@ -124,8 +124,10 @@ impl RkFlow<'_> {
                     ptmp.copy_from(phi);
                     ptmp.zip_apply(&kp[from], |a, b| *a += c * h * b);
                 }
-                self.sys.rhs(t + c * h, &tmp, &mut ky[st]);
+                // the Jacobian first: a system whose exact Jacobian computes f too may keep it
+                // for the rhs call at the same point (stability::Radial)
                 ws.jacobian(self.sys, t + c * h, &tmp);
+                self.sys.rhs(t + c * h, &tmp, &mut ky[st]);
                 kp[st].gemm(1.0, &ws.jac, &ptmp, 0.0);
             }
             for i in 0..n {

@@ -172,12 +172,21 @@ pub fn drive_frequencies(scene: &Scene) -> Vec<f64> {
 pub struct Radial<'a> {
     bl: &'a BoundaryLayerSystem,
     full: usize,
+    /// (t, R, Ṙ, R̈) of the last [`OdeSystem::jacobian`] call: the exact gradient computes R̈
+    /// too, and the variational RK4 of the orbit search asks for the Jacobian and then the rhs
+    /// at the same point ([`super::periodic::RkFlow::advance_variational`]), so the rhs reuses
+    /// it (bit-identical: the same loads and the same radial form).
+    last: std::cell::Cell<[f64; 4]>,
 }
 
 impl<'a> Radial<'a> {
     /// The radial system of a model with shape modes (`None` for a radial-only model).
     pub fn of(model: &'a Model) -> Option<Self> {
-        model.boundary_layer().map(|bl| Radial { bl, full: bl.dim() })
+        model.boundary_layer().map(|bl| Radial::new(bl, bl.dim()))
+    }
+
+    fn new(bl: &'a BoundaryLayerSystem, full: usize) -> Self {
+        Radial { bl, full, last: std::cell::Cell::new([f64::NAN; 4]) }
     }
 }
 
@@ -207,11 +216,17 @@ impl OdeSystem for Radial<'_> {
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         dy[0] = y[1];
-        dy[1] = self.at_rest_shape(y, |z| self.bl.radial_acceleration(t, z)).unwrap_or(f64::NAN);
+        let [tl, rl, rdl, rddl] = self.last.get();
+        dy[1] = if tl == t && rl == y[0] && rdl == y[1] {
+            rddl
+        } else {
+            self.at_rest_shape(y, |z| self.bl.radial_acceleration(t, z)).unwrap_or(f64::NAN)
+        };
     }
     /// Exact: [[0, 1], ∂R̈/∂(R, Ṙ)] at a_k = b_k = 0 ([`crate::model::equations::Equations::radial_gradient`]).
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
-        let Some((_, g)) = self.at_rest_shape(y, |z| self.bl.equations().radial_gradient(t, z)) else { return false };
+        let Some((rdd, g)) = self.at_rest_shape(y, |z| self.bl.equations().radial_gradient(t, z)) else { return false };
+        self.last.set([t, y[0], y[1], rdd]);
         jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
         true
     }
@@ -257,6 +272,15 @@ struct ShapeSystem<'a> {
     bl: &'a BoundaryLayerSystem,
     n: usize,
     radial: Box<dyn Fn(f64) -> (f64, f64, f64) + 'a>,
+    /// The forcing column of [`BoundaryLayerSystem::linear_modes_into`] (not used: the forcing
+    /// is inhomogeneous), kept so that A(t) is assembled without an allocation.
+    forcing: std::cell::RefCell<nalgebra::DVector<f64>>,
+}
+
+impl<'a> ShapeSystem<'a> {
+    fn new(bl: &'a BoundaryLayerSystem, n: usize, radial: Box<dyn Fn(f64) -> (f64, f64, f64) + 'a>) -> Self {
+        ShapeSystem { bl, n, radial, forcing: std::cell::RefCell::new(nalgebra::DVector::zeros(n)) }
+    }
 }
 
 impl LinearPeriodic for ShapeSystem<'_> {
@@ -267,8 +291,7 @@ impl LinearPeriodic for ShapeSystem<'_> {
     /// ([`BoundaryLayerSystem::linear_modes_into`]).
     fn matrix(&self, t: f64, a: &mut DMatrix<f64>) {
         let (r, rd, rdd) = (self.radial)(t);
-        let mut g = nalgebra::DVector::zeros(self.n);
-        self.bl.linear_modes_into(t, r, rd, rdd, a, &mut g);
+        self.bl.linear_modes_into(t, r, rd, rdd, a, &mut self.forcing.borrow_mut());
     }
     /// Without a field each block lies within one mode's (a, ȧ, b): assembled from the mode
     /// blocks directly ([`BoundaryLayerSystem::linear_mode_blocks_into`], the same entries as
@@ -404,7 +427,7 @@ pub fn prepare_on<'a>(
     };
     match opts.variant {
         Variant::Orbit => {
-            let radial = Radial { bl, full };
+            let radial = Radial::new(bl, full);
             let y0 = &model.initial_state()[..2];
             let gamma = radial_damping_rate(&radial);
             let mut shooting = opts.shooting.clone();
@@ -418,17 +441,14 @@ pub fn prepare_on<'a>(
             let sampled = SampledOrbit::new(&radial, &orbit, shooting.steps_per_period)?;
             let r_range = sampled.y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y[0]), hi.max(y[0])));
             let transient = (shooting.transient_periods as f64 * tp).max((shooting.transient_time / tp).ceil() * tp);
-            let zeros = vec![0.0; full];
             let f = move |t: f64| {
                 let (r, rd) = sampled.at(t);
-                let mut z = zeros.clone();
-                z[0] = r;
-                z[1] = rd;
-                (r, rd, bl.radial_acceleration(t, &z))
+                let rdd = radial.at_rest_shape(&[r, rd], |z| bl.radial_acceleration(t, z)).unwrap_or(f64::NAN);
+                (r, rd, rdd)
             };
             Ok(Prepared {
                 model,
-                shape: ShapeSystem { bl, n, radial: Box::new(f) },
+                shape: ShapeSystem::new(bl, n, Box::new(f)),
                 full: full_shape,
                 period: orbit.period(),
                 multiple: orbit.multiple,
@@ -449,7 +469,7 @@ pub fn prepare_on<'a>(
             };
             Ok(Prepared {
                 model,
-                shape: ShapeSystem { bl, n, radial: Box::new(f) },
+                shape: ShapeSystem::new(bl, n, Box::new(f)),
                 full: full_shape,
                 period: tp,
                 multiple: 1,
