@@ -58,12 +58,12 @@ fn product(first: Ab, second: Ab, forward: bool) -> usize {
 
 /// C(j, l, m) = (2j + 1)/2 ∫ P_l P_m P_j: the coefficient of P_j in P_l P_m (0 outside the
 /// selection rules).
-fn projection(j: usize, l: usize, m: usize) -> f64 {
+pub(super) fn projection(j: usize, l: usize, m: usize) -> f64 {
     ppp(l, m, j) * (2.0 * j as f64 + 1.0) / 2.0
 }
 
 /// C(j, l, m) N(L_l, L_m, L_j)/D of one table term, `c` = C(j, l, m) ≠ 0.
-fn value(t: &crate::coefficients::quadratic_membrane::Term, c: f64, j: usize, l: usize, m: usize) -> f64 {
+pub(super) fn value(t: &crate::coefficients::quadratic_membrane::Term, c: f64, j: usize, l: usize, m: usize) -> f64 {
     if t.load == Load::Tangential && j == 0 {
         return 0.0;
     }

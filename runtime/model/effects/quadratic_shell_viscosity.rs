@@ -18,7 +18,6 @@
 
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
 use super::{a_index, At, LoadJacobian, Loads};
-use crate::coefficients::quadratic_lookup::ppp;
 use crate::coefficients::quadratic_membrane::{Ab, Form, Law, Term as Table};
 use crate::coefficients::Load;
 
@@ -60,22 +59,14 @@ pub struct QuadraticShellViscosity {
     modes: usize,
 }
 
-/// C(j, l, m) N(L_l, L_m, L_j)/D of one table term (the generated table's closed form).
+/// C(j, l, m) N(L_l, L_m, L_j)/D of one table term (the generated table's closed form), as the
+/// membrane's second-order term evaluates it.
 fn value(t: &Table, j: usize, l: usize, m: usize) -> f64 {
-    if t.load == Load::Tangential && j == 0 {
-        return 0.0;
-    }
-    let c = ppp(l, m, j) * (2.0 * j as f64 + 1.0) / 2.0;
+    let c = super::quadratic_membrane::projection(j, l, m);
     if c == 0.0 {
         return 0.0;
     }
-    let big = |n: usize| (n * (n + 1)) as f64;
-    let x = [big(l), big(m), big(j)];
-    let n: f64 = t.numerator.iter().map(|(e, v)| v * x[0].powi(e[0] as i32) * x[1].powi(e[1] as i32) * x[2].powi(e[2] as i32)).sum();
-    match t.load {
-        Load::Normal => c * n,
-        Load::Tangential => c * n / x[2],
-    }
+    super::quadratic_membrane::value(t, c, j, l, m)
 }
 
 impl QuadraticShellViscosity {
