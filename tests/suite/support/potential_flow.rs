@@ -179,29 +179,8 @@ impl Oracle {
     /// kinematic condition), surface energy γA, gas internal energy p_g V/(κ−1) with
     /// p_g = p_g0 (V0/V)^κ, and the work p∞V against the far field (p∞ constant).
     pub fn energy(&self, flow: &Flow, pg0: f64, r_ref: f64, modes: &[Mode]) -> f64 {
-        let c = self.multipoles(flow, modes, 0.0);
-        let (r0, rd) = (flow.radial[0], flow.radial[1]);
-        let pi = std::f64::consts::PI;
-        let (mut ke, mut area, mut vol) = (0.0, 0.0, 0.0);
-        for (&(x, w), pk) in self.nodes.iter().zip(&self.basis) {
-            let (mut f, mut g, mut ft) = (r0, 0.0, rd);
-            for m in modes {
-                let (p, d, _) = pk[m.n];
-                f += m.amp[0] * p;
-                g += m.amp[0] * d;
-                ft += m.amp[1] * p;
-            }
-            let mut phi = -r0 * r0 * rd / f;
-            for (n, cn) in c.iter().enumerate() {
-                phi += cn * f.powi(-(n as i32) - 1) * pk[n].0;
-            }
-            ke -= pi * flow.rho * w * phi * f * f * ft;
-            area += 2.0 * pi * w * f * (f * f + (1.0 - x * x) * g * g).sqrt();
-            vol += 2.0 * pi / 3.0 * w * f * f * f;
-        }
-        let v0 = 4.0 * pi / 3.0 * r_ref.powi(3);
-        let pg = pg0 * (v0 / vol).powf(flow.kappa);
-        ke + flow.gamma * area + pg * vol / (flow.kappa - 1.0) + flow.p_inf * vol
+        let v = self.virial(flow, pg0, r_ref, modes);
+        v.kinetic + flow.gamma * v.area + v.pgas * v.volume / (flow.kappa - 1.0) + flow.p_inf * v.volume
     }
 }
 
