@@ -186,14 +186,15 @@ fn the_energy_goes_back_and_forth_between_shape_and_volume_mode_with_quadratic_c
     let share = |b: f64, s: f64| ((s / eps).powi(2), 60.0 * (b / eps).powi(2));
     let eq = envelopes(&q);
     let (i_min, &(t_min, _, s_min)) = eq.iter().enumerate().min_by(|x, y| x.1 .2.total_cmp(&y.1 .2)).unwrap();
-    let s_back = eq[i_min..].iter().map(|e| e.2).fold(0.0, f64::max);
+    let &(t_back, _, s_back) = eq[i_min..].iter().max_by(|x, y| x.2.total_cmp(&y.2)).unwrap();
     let (e_lo, e_hi) = eq.iter().map(|&(_, b, s)| share(b, s)).map(|(x, y)| x + y).fold((f64::MAX, f64::MIN), |(lo, hi), e| (lo.min(e), hi.max(e)));
     let sc = q.t.last().unwrap() / 1000e-6;
     eprintln!(
-        "quadratic: shape amplitude falls to {:.4} ε at {:.0} µs and returns to {:.4} ε; shape + breathing energy / initial in [{e_lo:.4}, {e_hi:.4}]",
+        "quadratic: shape amplitude falls to {:.4} ε at {:.0} µs and returns to {:.4} ε at {:.0} µs; shape + breathing energy / initial in [{e_lo:.4}, {e_hi:.4}]",
         s_min / eps,
         t_min / sc * 1e6,
-        s_back / eps
+        s_back / eps,
+        t_back / sc * 1e6
     );
     assert!(s_min < 0.2 * eps, "the shape mode does not give its energy to the volume mode (min {})", s_min / eps);
     assert!(s_back > 0.9 * eps, "the energy does not come back to the shape mode ({})", s_back / eps);
