@@ -1,27 +1,27 @@
 //! The cheap-first Magnus ladder of the critical search (analysis/critical.rs, issue 16) as an
 //! entry point of its own, for the callers that need only part of what
 //! [`super::critical::critical_point`] and [`super::stability::floquet`] compute: the paper
-//! figures (figs 5–11; issue 16 row 5).
+//! figures (figs 5–11; issue 16 row 5, docs/stability.md "Cost of the stability curves").
 //!
-//! On one prepared orbit ([`Prepared`]) the monodromy is computed with n/32 (when ≥ 12), n/16,
-//! n/8, n/4 and n/2 Magnus steps per drive period (n = `magnus_steps`, 400: 12, 25, 50, 100,
-//! 200). At a rung m after m′ the fourth-order error of μ(m) is estimated as d·r,
-//! d = |μ(m) − μ(m′)|, r = 1/((m/m′)⁴ − 1), and the Richardson value μ(m) + (μ(m) − μ(m′))·r is
-//! offered to a judge ([`climb`]), which accepts it, asks for the next rung, or asks for the
-//! n-step computation at once. Two judges:
-//! * [`verdict`]: the critical search's (the first rung where |max|μ| − 1| > 8d and
-//!   d < 1e-3 max|μ|, else the pair n/4, n/2; critical.rs `floquet_eval`, the same rungs and the
-//!   same values bit for bit);
-//! * [`max_multiplier`]: the figures' max-multiplier panel: the first Richardson value whose
+//! On one prepared orbit ([`Prepared`]) the monodromy is computed with n/64, n/32, n/16, n/8,
+//! n/4 and n/2 Magnus steps per drive period (n = `magnus_steps`, 400: 6, 12, 25, 50, 100, 200;
+//! critical.rs starts at n/32). At a rung m after m′ the fourth-order error of μ(m) is
+//! estimated as d·r, d = |μ(m) − μ(m′)|, r = 1/((m/m′)⁴ − 1) (1/15 for doubled rungs), and the
+//! Richardson value μ(m) + (μ(m) − μ(m′))·r is offered to a judge ([`climb`]), which accepts
+//! it, asks for the next rung, or asks for the n-step computation at once. Two judges:
+//! * [`verdict`]: the critical search's rule (critical.rs `floquet_eval`): the first rung where
+//!   |max|μ| − 1| > 8d (≈ 120 × the estimated error) and d < 1e-3 max|μ|, else the pair n/4,
+//!   n/2. The 6-step rung decides the points far from the threshold (the stable-throughout high
+//!   frequencies, where 6 and 12 steps agree to ~1e-8) at half the cost of the 12/25 pair;
+//! * [`converged`]: the figures' max-multiplier panel: the first Richardson value whose
 //!   estimated error d·r is ≤ [`MULTIPLIER_TOLERANCE`] relative; where the rungs up to n/2
-//!   cannot reach it (predicted from the O(h⁴) decay, d·r·(m/(n/2))⁴ still above it: the
+//!   cannot reach it (predicted from the O(h⁴) decay: d·r·(m/(n/2))⁴ still above it — the
 //!   resonant points, whose n-step value itself differs from 2n steps by up to 1.3e-5), the
 //!   n-step value as before.
 //!
 //! [`critical_outcome`] is [`super::critical::critical_point`] without the multipliers of the
-//! bracket ends (recomputed there with n steps when their estimated error exceeds 1e-7): the
-//! same scan, bracket search and verdicts, so the same outcome, critical value and first
-//! unstable mode.
+//! bracket ends (recomputed there with n steps when their estimated error exceeds 1e-7, which
+//! a figure never plots): the same scan and bracket search on these verdicts.
 
 use super::bisect::{self, Eval, Outcome, Verdict};
 use super::critical::CriticalOptions;
@@ -29,9 +29,8 @@ use super::floquet::Spectrum;
 use super::stability::{base_model, prepare, Criterion, FloquetOptions, Prepared, StabilityError};
 use crate::scene::Scene;
 
-/// The smallest first rung when the ladder starts at n/32 (as critical.rs: with fewer steps,
-/// e.g. the figures' `--quick` 100, it starts at n/16).
-const MIN_FIRST_RUNG: usize = 12;
+/// The fewest Magnus steps per drive period of a rung.
+const MIN_RUNG: usize = 6;
 
 /// Estimated relative error of μ(m) below which [`max_multiplier`] keeps the Richardson value:
 /// far below the panel's resolution (a plotted value moves by less than 1e-7 of itself).
@@ -62,13 +61,16 @@ pub enum Next {
     Full,
 }
 
-/// The ladder's rungs for `n` steps (empty below 64: then only n itself).
+/// The ladder's rungs for `n` steps: n/64, n/32, n/16, n/8, n/4, n/2, those of at least
+/// [`MIN_RUNG`] steps (6, 12, 25, 50, 100, 200 of 400; 6, 12, 25, 50 of the `--quick` 100);
+/// empty below 64 steps (then only n itself).
 pub fn rungs(n: usize) -> Vec<usize> {
     if n < 64 {
         return Vec::new();
     }
-    let first = if n / 32 >= MIN_FIRST_RUNG { n / 32 } else { n / 16 };
-    std::iter::once(first).chain([n / 16, n / 8, n / 4, n / 2].into_iter().filter(|&m| m > first)).collect()
+    let mut r: Vec<usize> = [64, 32, 16, 8, 4, 2].iter().map(|d| n / d).filter(|&m| m >= MIN_RUNG).collect();
+    r.dedup();
+    r
 }
 
 /// Climbs the ladder on `prep` until `judge` accepts a rung; the n-step spectrum (error 0) when
@@ -178,4 +180,48 @@ pub fn critical_outcome(
     };
     let mode = unstable.and_then(|u| seen.iter().rev().find(|e| e.0 == u)).map(|e| e.1.clone()).unwrap_or_default();
     Ok((outcome, mode))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Complex;
+
+    fn rung(steps: usize, previous: usize, mu: f64, difference: f64) -> Rung {
+        let r = 1.0 / ((steps as f64 / previous as f64).powi(4) - 1.0);
+        let spectrum = Spectrum { multipliers: vec![Complex::new(mu, 0.0)], max_modulus: mu, block: 0, components: vec![(0, 1.0)] };
+        Rung { steps, previous, spectrum, difference, value: mu + difference * r, error: difference * r }
+    }
+
+    #[test]
+    fn rungs_of_the_full_and_the_quick_step_counts() {
+        assert_eq!(rungs(400), vec![6, 12, 25, 50, 100, 200]);
+        assert_eq!(rungs(100), vec![6, 12, 25, 50]);
+        assert!(rungs(63).is_empty());
+    }
+
+    #[test]
+    fn verdicts_need_a_clear_margin_and_an_asymptotic_pair() {
+        let judge = verdict(400);
+        assert_eq!(judge(&rung(12, 6, 0.6, 1e-8)), Next::Accept);
+        // |μ − 1| = 1e-4 < 8d: climb
+        assert_eq!(judge(&rung(12, 6, 1.0001, 1e-4)), Next::Climb);
+        // far from 1 but the rungs still differ by more than 1e-3 of μ: climb
+        assert_eq!(judge(&rung(25, 12, 1e6, 1e4)), Next::Climb);
+        // the last rung decides whatever the margin
+        assert_eq!(judge(&rung(200, 100, 1.0001, 1e-4)), Next::Accept);
+    }
+
+    #[test]
+    fn the_panel_stops_at_its_tolerance_or_goes_to_the_full_count() {
+        let judge = converged(400, 1e-7);
+        // estimated error 1e-9/15 relative: accept
+        assert_eq!(judge(&rung(12, 6, 0.5, 1e-9)), Next::Accept);
+        // 1e-5/15 now, ≈ 9e-12 predicted at 200 steps: climb
+        assert_eq!(judge(&rung(12, 6, 1.0, 1e-5)), Next::Climb);
+        // 1e2/17.8 relative to 2e12 at 25 steps: 200 steps cannot reach 1e-7, go to 400 at once
+        assert_eq!(judge(&rung(25, 12, 2e12, 2e14)), Next::Full);
+        // not reached at n/2: the full count
+        assert_eq!(judge(&rung(200, 100, 1.0, 1e-5)), Next::Full);
+    }
 }
