@@ -1,7 +1,8 @@
 //! The model and analysis behind the figure recipes of [`crate::plot::paper`]: a [`Simulator`]
 //! on `scene::load` + `model::simulate`, and an [`Analyzer`] on
-//! `analysis::{frequencies, stability}` (critical values by bracketing + bisection of the
-//! Floquet criterion, FORMULATION §4.6; paper §4 uses eigenvalues "< 1", we use |μ| < 1).
+//! `analysis::{frequencies, ladder}` (critical values by bracketing + bisection of the
+//! Floquet criterion, FORMULATION §4.6; paper §4 uses eigenvalues "< 1", we use |μ| < 1; the
+//! max-multiplier panel to 1e-7 relative, analysis/ladder.rs).
 
 use crate::analysis::frequencies::natural_frequencies;
 use crate::analysis::ladder;
@@ -170,6 +171,17 @@ impl Analyzer for ModelAnalyzer {
                 Ok(ladder::max_multiplier(&s, &opts).unwrap_or(f64::NAN))
             })
             .collect()
+    }
+
+    fn max_multiplier_method(&self) -> String {
+        let n = self.floquet_options().magnus_steps;
+        format!(
+            "max |μ| over the orbit's period at the scene's ε_p, the Richardson value of the first rung of \
+             the Magnus ladder {:?} steps per drive period whose estimated error is ≤ {:e} of max |μ|, or the \
+             {n}-step value where no rung reaches that (analysis/ladder.rs)",
+            ladder::rungs(n),
+            ladder::MULTIPLIER_TOLERANCE
+        )
     }
 }
 
