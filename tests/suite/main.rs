@@ -25,6 +25,7 @@ mod critical_accuracy;
 mod docs_examples;
 mod figure_resume;
 mod figures;
+mod figure_ladder;
 mod floquet_cli;
 mod floquet_full;
 mod fuzz_inputs;
