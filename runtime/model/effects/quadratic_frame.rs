@@ -223,25 +223,15 @@ impl SecondOrderTerm for FrameMap {
                 *x += cn[l] * dbd(l, col);
             }
         }
-        // w[n][l] = Σ_k K b_k; fr_n = −(1/R) Σ_l w[n][l] F_l
-        let mut w = vec![0.0; (m + 1) * m];
-        let mut fr = [0.0; MAX_MODES + 1];
+        // ∂fr_n = −(K/R)(b_k ∂F_l + F_l ∂b_k) + (K F_l b_k/R²) ∂R, per entry
         let mut dfr = vec![0.0; (m + 1) * nc];
         for &(n, l, k, c) in &self.entries {
-            let f = gn0[l] + cn[l] * bd(l);
-            w[n * m + l] += c * z[a_index(k) + 2];
-            fr[n] -= c * f / r;
-            dfr[n * nc + a_index(k) + 2] -= c * f / r;
-        }
-        for n in 0..=m {
-            dfr[n * nc] -= fr[n] / r;
-            for l in 0..m {
-                let c = w[n * m + l];
-                if c != 0.0 {
-                    for (o, x) in dfr[n * nc..(n + 1) * nc].iter_mut().zip(&df[l * nc..(l + 1) * nc]) {
-                        *o -= c / r * x;
-                    }
-                }
+            let (f, bk) = (gn0[l] + cn[l] * bd(l), z[a_index(k) + 2]);
+            let row = &mut dfr[n * nc..(n + 1) * nc];
+            row[a_index(k) + 2] -= c * f / r;
+            row[0] += c * f * bk / (r * r);
+            for (o, x) in row.iter_mut().zip(&df[l * nc..(l + 1) * nc]) {
+                *o -= c * bk / r * x;
             }
         }
         for col in 0..nc {
