@@ -47,6 +47,7 @@ mod modes_damped;
 mod modes_frequencies;
 mod physics_bl;
 mod quadratic_cases;
+mod quadratic_frame;
 mod quadratic_magnetic;
 mod quadratic_membrane;
 mod quadratic_oracle;
