@@ -14,8 +14,9 @@
 //! value is ≈ d/240 (from the O(h⁴) error; measured at 0.5 MHz near ε_c: 2e-8 with the coil at k ≤ 16, 2.2e-7 without a field at k ≤ 32).
 //! The margin ln max|μ| feeds the regula-falsi bracket search. The multipliers reported at the
 //! two ends of the final bracket are recomputed with n steps (on the orbit already found) when
-//! their estimated error d/15 exceeds 1e-7, so the CSV is that of an n-step computation to
-//! ≤ 1e-6.
+//! their estimated distance to the n-step value exceeds 1e-7 (d·r, or for a value kept at n/4
+//! or n/2 steps the three-rung estimate of [`kept_error`]), so the CSV is that of an n-step
+//! computation to ≤ 1e-6.
 //!
 //! **No orbit**: where no stable periodic radial orbit exists (collapse, non-finite state, none
 //! of period m·T for the tried m), the point is [`Verdict::Undefined`]; the search reports
