@@ -14,8 +14,9 @@
 //! value is ≈ d/240 (from the O(h⁴) error; measured at 0.5 MHz near ε_c: 2e-8 with the coil at k ≤ 16, 2.2e-7 without a field at k ≤ 32).
 //! The margin ln max|μ| feeds the regula-falsi bracket search. The multipliers reported at the
 //! two ends of the final bracket are recomputed with n steps (on the orbit already found) when
-//! their estimated error d/15 exceeds 1e-7, so the CSV is that of an n-step computation to
-//! ≤ 1e-6.
+//! their estimated distance to the n-step value exceeds 1e-7 (d·r, or for a value kept at n/4
+//! or n/2 steps the three-rung estimate of [`kept_error`]), so the CSV is that of an n-step
+//! computation to ≤ 1e-6.
 //!
 //! **No orbit**: where no stable periodic radial orbit exists (collapse, non-finite state, none
 //! of period m·T for the tried m), the point is [`Verdict::Undefined`]; the search reports
@@ -101,6 +102,27 @@ impl CriticalPoint {
 /// with fewer steps, e.g. the figures' `--quick` 100, the ladder starts at n/16 as before).
 const MIN_FIRST_RUNG: usize = 12;
 
+/// The estimated distance of a kept Richardson value `mu` (rungs mc < m) to the n-step value,
+/// for the decision to recompute a bracket end's multipliers with n steps (module doc).
+/// `e4` = d·r is the estimated error of μ(m) itself. With only two rungs that is all there is
+/// (the Richardson value's own O(h⁶) error is not estimated: at 25/50 steps it reached 6e-7,
+/// far above (d/15)(m/n)⁴). With the Richardson value `previous` = (mc, R(mc)) of the pair
+/// before, the symmetric Magnus scheme's even error expansion gives R's O(h⁶) error
+/// |R(m) − R(mc)| / ((m/mc)⁶ − 1), counted twice, plus the n-step value's own O(h⁴) error
+/// e4·(m/n)⁴. The caller passes `previous` only for m ≥ n/4 (100 of 400 steps): below that
+/// the rungs are not yet asymptotic (coil, 1.63 MHz near ε_c: μ(25 → 50 → 100 → 200) moved by
+/// +4.1e-6, −2.4e-7, +1.4e-7, and R(25), R(50) agreed to 3e-6 while R(50) was 3.5e-7 from
+/// the 400-step value).
+fn kept_error(e4: f64, m: usize, n: usize, previous: Option<(usize, f64)>, mu: f64) -> f64 {
+    match previous {
+        Some((mc, rc)) => {
+            let e6 = (mu - rc).abs() / ((m as f64 / mc as f64).powi(6) - 1.0);
+            2.0 * e6 + e4 * (m as f64 / n as f64).powi(4)
+        }
+        None => e4,
+    }
+}
+
 /// One evaluated parameter value.
 struct Seen {
     p: f64,
@@ -133,24 +155,24 @@ fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, S
         // skipped, not an error: the next rungs, or the n-step computation, decide.
         let first = if n / 32 >= MIN_FIRST_RUNG { n / 32 } else { n / 16 };
         let mut coarse = prep.spectrum(first).ok().map(|s| (first, s));
+        // the Richardson value of the previous rung pair (m, R), for the O(h⁶) error estimate
+        let mut previous: Option<(usize, f64)> = None;
         for m in [n / 16, n / 8, n / 4, n / 2].into_iter().filter(|&m| m > first) {
             let Ok(fine) = prep.spectrum(m) else {
-                coarse = None;
+                (coarse, previous) = (None, None);
                 continue;
             };
             let Some((mc, coarse_spec)) = coarse.replace((m, fine.clone())) else { continue };
             let d = (fine.max_modulus - coarse_spec.max_modulus).abs();
             let decided = (fine.max_modulus - 1.0).abs() > 8.0 * d && d < 1e-3 * fine.max_modulus;
+            // Richardson for the fourth-order error: 1/((m/mc)⁴ − 1), = 1/15 for m = 2 mc
+            let r = 1.0 / ((m as f64 / mc as f64).powi(4) - 1.0);
+            let mu = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) * r;
             if decided || m == n / 2 {
-                // Richardson for the fourth-order error: 1/((m/mc)⁴ − 1), = 1/15 for m = 2 mc
-                let r = 1.0 / ((m as f64 / mc as f64).powi(4) - 1.0);
-                let mu = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) * r;
-                // the estimated error of μ(m) bounds the kept value's distance to the n-step one
-                // (the Richardson value's own O(h⁶) error is not estimated: at 25/50 steps it
-                // reached 6e-7, far above (d/15)(m/n)⁴)
-                chosen = Some((fine, mu, d * r));
+                chosen = Some((fine, mu, kept_error(d * r, m, n, previous.filter(|p| p.0 == mc && m >= n / 4), mu)));
                 break;
             }
+            previous = Some((m, mu));
         }
     }
     let (spec, mu, mu_error) = match chosen {

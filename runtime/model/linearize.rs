@@ -240,22 +240,24 @@ impl BoundaryLayerSystem {
     pub fn linear_modes_into(&self, t: f64, r: f64, rd: f64, rdd: f64, a: &mut DMatrix<f64>, g: &mut DVector<f64>) {
         let nm = 3 * self.modes.len();
         let n = 2 + nm;
-        let mut y = vec![0.0; n];
+        // stack buffers (no allocation per call: Floquet assembles A(t) twice per Magnus step)
+        let mut y = [0.0; 2 + 3 * MAX_MODES];
+        let y = &mut y[..n];
         y[0] = r;
         y[1] = rd;
-        let l = self.lin(t, &y, Some(rdd));
-        let mut dy = vec![0.0; n];
-        self.mode_rates(r, rd, rdd, &l.gn[..self.modes.len()], &l.gt[..self.modes.len()], &y, &mut dy);
-        g.copy_from_slice(&dy[2..]);
-        a.fill(0.0);
-        let (mut ra, mut rb) = (vec![0.0; n], vec![0.0; n]);
+        let l = self.lin(t, y, Some(rdd));
+        let mut dy = [0.0; 2 + 3 * MAX_MODES];
+        self.mode_rates(r, rd, rdd, &l.gn[..self.modes.len()], &l.gt[..self.modes.len()], y, &mut dy[..n]);
+        g.copy_from_slice(&dy[2..n]);
+        a.as_mut_slice().fill(0.0);
+        let (mut ra, mut rb) = ([0.0; 2 + 3 * MAX_MODES], [0.0; 2 + 3 * MAX_MODES]);
         // R̈ is prescribed, so mode k's rows see only the modes of the terms' band (module doc)
         let (mm, band) = (self.modes.len(), self.jacobian_pattern().band);
         for m in 0..mm {
             let i = 3 * m;
             a[(i, i + 1)] = 1.0;
             let cols = a_index(m.saturating_sub(band))..a_index((m + band + 1).min(mm));
-            self.mode_rows_in(&y, &l, m, cols.clone(), &mut ra, &mut rb);
+            self.mode_rows_in(y, &l, m, cols.clone(), &mut ra[..n], &mut rb[..n]);
             for j in cols {
                 a[(i + 1, j - 2)] = ra[j];
                 a[(i + 2, j - 2)] = rb[j];
