@@ -13,6 +13,8 @@ pub(crate) trait Scalar:
     /// |x|₁-like magnitude for pivoting.
     fn mag(self) -> f64;
     fn from_real(x: f64) -> Self;
+    /// self · x for a real x (2 products for a complex self, not 4: the same value).
+    fn scale(self, x: f64) -> Self;
 }
 
 impl Scalar for f64 {
@@ -23,6 +25,9 @@ impl Scalar for f64 {
     fn from_real(x: f64) -> Self {
         x
     }
+    fn scale(self, x: f64) -> Self {
+        self * x
+    }
 }
 
 impl Scalar for Complex<f64> {
@@ -32,6 +37,9 @@ impl Scalar for Complex<f64> {
     }
     fn from_real(x: f64) -> Self {
         Complex { re: x, im: 0.0 }
+    }
+    fn scale(self, x: f64) -> Self {
+        Complex { re: self.re * x, im: self.im * x }
     }
 }
 

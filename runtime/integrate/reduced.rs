@@ -88,7 +88,7 @@ impl PositionRows {
             row[r] = row[r] + sigma;
             for &(q, jp) in &p.jkp[p.start[r]..p.start[r + 1]] {
                 let v = p.pos[q].1;
-                row[v] = row[v] - T::from_real(jp) * inv_sigma;
+                row[v] = row[v] - inv_sigma.scale(jp);
             }
         }
         let lu = ShiftedLu::<T>::factor_owned(nr, a).ok()?;
@@ -114,7 +114,7 @@ impl<T: Scalar> Factorization<T> for ReducedLu<T> {
         for (a, (x, &r)) in xk.iter_mut().zip(&p.kept).enumerate() {
             let mut s = T::ZERO;
             for &(q, jp) in &p.jkp[p.start[a]..p.start[a + 1]] {
-                s = s + T::from_real(jp) * b[p.pos[q].0];
+                s = s + b[p.pos[q].0].scale(jp);
             }
             *x = b[r] + s * self.inv_sigma;
         }

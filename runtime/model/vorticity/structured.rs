@@ -79,24 +79,27 @@ fn dots2<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: [&[f64]; 2], acc0:
 
 impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
     fn new(sigma: T, rows: &[Rows], ni: usize) -> Option<Self> {
+        // built entry after entry in node-major order (no zeroed buffers: every entry is written)
         let m = rows.len();
-        let mut lower = vec![0.0; ni * m];
-        let mut inv_beta = vec![T::zero(); ni * m];
-        let mut gamma = vec![T::zero(); ni * m];
+        let (mut lower, mut inv_beta, mut gamma): (Vec<f64>, Vec<T>, Vec<T>) = (Vec::with_capacity(ni * m), Vec::with_capacity(ni * m), Vec::with_capacity(ni * m));
         for i in 0..ni {
             for (k, r) in rows.iter().enumerate() {
                 let at = i * m + k;
                 let beta = if i == 0 {
+                    lower.push(0.0);
+                    gamma.push(T::zero());
                     sigma - T::from_real(r.diag[0])
                 } else {
-                    lower[at] = -r.lower[i];
-                    gamma[at] = inv_beta[at - m].scale(-r.upper[i - 1]);
-                    sigma - T::from_real(r.diag[i]) - gamma[at].scale(lower[at])
+                    let l = -r.lower[i];
+                    let g = inv_beta[at - m].scale(-r.upper[i - 1]);
+                    lower.push(l);
+                    gamma.push(g);
+                    sigma - T::from_real(r.diag[i]) - g.scale(l)
                 };
                 if beta == T::zero() {
                     return None;
                 }
-                inv_beta[at] = T::one() / beta;
+                inv_beta.push(T::one() / beta);
             }
         }
         Some(Self { m, lower, inv_beta, gamma })
@@ -333,17 +336,12 @@ impl StructuredJacobian {
         }
         let tri = TriBatch::new(sigma, &self.rows, ni)?;
         let mut uc = vec![T::zero(); ni * m];
-        let mut ur = vec![T::zero(); ni * m];
-        let mut urd = vec![T::zero(); ni * m];
-        for k in 0..m {
-            if ni > 0 {
-                uc[k] = T::from_real(self.rows[k].lower[0]);
-            }
-            for i in 0..ni {
-                ur[i * m + k] = T::from_real(self.r_r[k][i]);
-                urd[i * m + k] = T::from_real(self.r_rd[k][i]);
-            }
+        for k in 0..m.min(uc.len()) {
+            uc[k] = T::from_real(self.rows[k].lower[0]);
         }
+        let node_major = |v: &[Vec<f64>]| -> Vec<T> { (0..ni * m).map(|at| T::from_real(v[at % m][at / m])).collect() };
+        let mut ur = node_major(&self.r_r);
+        let mut urd = node_major(&self.r_rd);
         tri.solve(&mut uc);
         tri.solve(&mut ur);
         tri.solve(&mut urd);
