@@ -132,12 +132,6 @@ impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
     }
 }
 
-/// Mode k's entries of a node-major vector (entry i at `i * m + k`).
-#[inline]
-fn node_major_column<T: Copy>(v: &[T], k: usize, m: usize) -> impl Iterator<Item = T> + '_ {
-    v[k..].iter().step_by(m).copied()
-}
-
 /// LU with partial pivoting (largest |re| + |im| in the column, whole rows swapped) of the
 /// small dense (z, π) system, row-major: own code instead of nalgebra's `LU` (issue 16: its
 /// factorisation and solve were 12 % of the monolithic run at 42 × 42), no allocation per solve.
@@ -385,14 +379,14 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
     /// Solves (σI − J) x = b in place (state layout of the monolithic system).
     pub fn solve(&self, b: &mut [T]) {
         let j = &*self.jac;
-        let (m, nz, nb, ni) = (j.m, j.nz, j.nb, j.ni);
+        let (m, nz, nb) = (j.m, j.nz, j.nb);
         let mut guard = self.scratch.borrow_mut();
         let Scratch { xt, rhs, d, s } = &mut *guard;
-        // D_k⁻¹ b_T,k, all modes at once on the node-major copy
-        for k in 0..m {
-            let o = 2 + k * nb + 3;
-            for (x, &v) in xt[k..].iter_mut().step_by(m).zip(&b[o..o + ni]) {
-                *x = v;
+        // D_k⁻¹ b_T,k, all modes at once on the node-major copy (node after node: contiguous
+        // stores, indexed loads; strided iterators cost more than the indexing)
+        for (i, xr) in xt.chunks_exact_mut(m.max(1)).enumerate() {
+            for (k, x) in xr.iter_mut().enumerate() {
+                *x = b[5 + k * nb + i];
             }
         }
         self.tri.solve(xt);
@@ -425,16 +419,12 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
         }
         let [uc, ur, urd] = &self.u;
         let (x0, x1) = (x[0], x[1]);
-        // mode after mode: contiguous stores into b, strided loads of the node-major vectors
-        // (the same products and sums as node after node)
-        for (k, &sk) in s.iter().enumerate() {
-            let o = 2 + k * nb + 3;
-            let terms = node_major_column(xt, k, m)
-                .zip(node_major_column(uc, k, m))
-                .zip(node_major_column(ur, k, m))
-                .zip(node_major_column(urd, k, m));
-            for (out, (((xv, c), r), rd)) in b[o..o + ni].iter_mut().zip(terms) {
-                *out = xv + (c * sk + r * x0 + rd * x1);
+        // node after node: contiguous loads of the node-major vectors, indexed stores into b
+        // (the same products and sums per entry as mode after mode)
+        let rows = xt.chunks_exact(m.max(1)).zip(uc.chunks_exact(m.max(1))).zip(ur.chunks_exact(m.max(1))).zip(urd.chunks_exact(m.max(1)));
+        for (i, (((xr, cr), rr), rdr)) in rows.enumerate() {
+            for (k, ((((&xv, &c), &r), &rd), &sk)) in xr.iter().zip(cr).zip(rr).zip(rdr).zip(s.iter()).enumerate() {
+                b[5 + k * nb + i] = xv + (c * sk + r * x0 + rd * x1);
             }
         }
     }
