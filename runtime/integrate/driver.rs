@@ -23,6 +23,16 @@ pub trait Stepper {
     /// Dense output: y(t) for t in [t_prev(), t()] into `out` (RK4, Dop853: cubic Hermite;
     /// Dopri5: its 4th-order continuous extension; Radau5: the collocation polynomial).
     fn interpolate(&self, t: f64, out: &mut [f64]);
+    /// Dense output of the components `idx` only: `out[j]` = y_{idx[j]}(t), the same values as
+    /// [`interpolate`](Self::interpolate) gives them (a run writes 2 + 3M of the monolithic
+    /// system's 2 + M(3 + n) components). The default interpolates all of them.
+    fn interpolate_at(&self, t: f64, idx: &[usize], out: &mut [f64]) {
+        let mut all = vec![0.0; self.y().len()];
+        self.interpolate(t, &mut all);
+        for (o, &i) in out.iter_mut().zip(idx) {
+            *o = all[i];
+        }
+    }
 }
 
 /// Builds the stepper of `method` at (t0, y0). `t_end` bounds the initial step of the adaptive

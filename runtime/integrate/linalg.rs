@@ -13,6 +13,8 @@ pub(crate) trait Scalar:
     /// |x|₁-like magnitude for pivoting.
     fn mag(self) -> f64;
     fn from_real(x: f64) -> Self;
+    /// self · x for a real x (2 products for a complex self, not 4: the same value).
+    fn scale(self, x: f64) -> Self;
 }
 
 impl Scalar for f64 {
@@ -23,6 +25,9 @@ impl Scalar for f64 {
     fn from_real(x: f64) -> Self {
         x
     }
+    fn scale(self, x: f64) -> Self {
+        self * x
+    }
 }
 
 impl Scalar for Complex<f64> {
@@ -32,6 +37,9 @@ impl Scalar for Complex<f64> {
     }
     fn from_real(x: f64) -> Self {
         Complex { re: x, im: 0.0 }
+    }
+    fn scale(self, x: f64) -> Self {
+        Complex { re: self.re * x, im: self.im * x }
     }
 }
 
@@ -107,6 +115,15 @@ impl<T: Scalar> ShiftedLu<T> {
         self.factor_dense()
     }
 
+    /// A dense `ShiftedLu` factoring the row-major n × n matrix `a` itself (taken over, no
+    /// zeroed buffers); `Err(k)` when singular at column k.
+    pub(crate) fn factor_owned(n: usize, a: Vec<T>) -> Result<Self, usize> {
+        assert_eq!(a.len(), n * n, "factor_owned: n × n");
+        let mut lu = ShiftedLu { n, band: None, a, l: Vec::new(), inv_diag: Vec::new(), piv: vec![0; n] };
+        lu.factor_dense()?;
+        Ok(lu)
+    }
+
     fn factor_dense(&mut self) -> Result<(), usize> {
         let n = self.n;
         let a = &mut self.a;
@@ -146,15 +163,13 @@ impl<T: Scalar> ShiftedLu<T> {
                 }
             }
         }
-        // the column copies of the substitutions (the doc of `l`)
+        // the column copies of the substitutions (the doc of `l`; its diagonal is not read)
         let one = T::from_real(1.0);
+        self.inv_diag.clear();
+        self.inv_diag.extend((0..n).map(|k| one / a[k * n + k]));
+        self.l.clear();
         for k in 0..n {
-            self.inv_diag[k] = one / a[k * n + k];
-            for i in 0..n {
-                if i != k {
-                    self.l[k * n + i] = a[i * n + k];
-                }
-            }
+            self.l.extend((0..n).map(|i| a[i * n + k]));
         }
         Ok(())
     }

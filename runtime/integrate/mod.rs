@@ -44,6 +44,7 @@ mod linalg;
 pub mod linear;
 mod radau;
 mod rosenbrock;
+pub mod reduced;
 pub mod tableau;
 mod variational;
 

@@ -549,6 +549,15 @@ impl super::Stepper for Radau5 {
             out[m] = k0[m] + s * (k1[m] + (s - (c2 - 1.0)) * (k2[m] + (s - (c1 - 1.0)) * k3[m]));
         }
     }
+
+    fn interpolate_at(&self, t: f64, idx: &[usize], out: &mut [f64]) {
+        let [c1, c2, _] = self.k.c;
+        let s = (t - self.t) / self.h_old.max(f64::MIN_POSITIVE);
+        let [k0, k1, k2, k3] = &self.cont;
+        for (o, &m) in out.iter_mut().zip(idx) {
+            *o = k0[m] + s * (k1[m] + (s - (c2 - 1.0)) * (k2[m] + (s - (c1 - 1.0)) * k3[m]));
+        }
+    }
 }
 
 #[cfg(test)]

@@ -74,6 +74,13 @@ impl ModeConst {
     }
 }
 
+/// Up to this many shape modes the boundary-layer Newton matrices are factored with the
+/// position rows eliminated, densely (1 + 2M unknowns); above, as a bordered band. Measured with
+/// callgrind on `run scenes/coil_static.toml --set drive.amplitude=0.2` (docs/performance.md,
+/// "branch runs"): M = 8 (k ≤ 16) 350·10⁶ against 396·10⁶ instructions, M = 12 556 against 576,
+/// M = 16 834 against 752.
+const POSITION_ROWS_MAX_MODES: usize = 12;
+
 /// Radial + shape modes with the boundary-layer closure, with the terms of the scene.
 #[derive(Debug)]
 pub struct BoundaryLayerSystem {
@@ -256,23 +263,27 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         true
     }
 
-    /// The exact Jacobian split along its [`JacobianPattern`](super::linearize::JacobianPattern)
-    /// for the implicit steppers' linear solves: border R, Ṙ and the `band` lowest modes (R̈
-    /// depends on them, every mode row depends on R̈), interior the block band of the mode
-    /// couplings, half-width 3·band + 2 ([`crate::integrate::bordered`]). `None` (dense LU) when J
-    /// is not finite or the system is too small for the split to pay.
+    /// The exact Jacobian in the form the implicit steppers' linear solves use
+    /// ([`crate::integrate::linear`]). Up to [`POSITION_ROWS_MAX_MODES`] modes, and whenever the
+    /// bordered split cannot pay (the quadratic coupling: band = M): the position rows R' = Ṙ,
+    /// a_k' = ȧ_k eliminated and the remaining 1 + 2M unknowns factored dense
+    /// ([`crate::integrate::reduced`]). Above, the bordered band along the
+    /// [`JacobianPattern`](super::linearize::JacobianPattern): border R, Ṙ and the `band` lowest
+    /// modes (R̈ depends on them, every mode row depends on R̈), interior the block band of the
+    /// mode couplings, half-width 3·band + 2 ([`crate::integrate::bordered`]). `None` (the
+    /// caller's dense LU) when J is not finite.
     fn structured_jacobian(&self, t: f64, y: &[f64]) -> Option<Box<dyn crate::integrate::linear::StructuredJacobian>> {
+        use crate::integrate::{bordered::BorderedBand, linear::StructuredJacobian, reduced::PositionRows};
         let n = y.len();
         let band = self.jacobian_pattern().band;
         let w = 3 * band + 2;
-        if 2 + 3 * band >= n || n - (2 + 3 * band) <= 2 * w + 1 {
-            // the split cannot pay (BorderedBand::new declines): the caller's dense path
-            // evaluates J, so do not evaluate it here as well (quadratic coupling: band = M)
-            return None;
-        }
+        let bordered_pays = 2 + 3 * band < n && n - (2 + 3 * band) > 2 * w + 1;
         let mut jac = vec![0.0; n * n];
         self.jacobian_into(t, y, &mut jac);
-        crate::integrate::bordered::BorderedBand::new(&jac, n, 2 + 3 * band, w, w)
-            .map(|b| Box::new(b) as Box<dyn crate::integrate::linear::StructuredJacobian>)
+        if !bordered_pays || (n - 2) / 3 <= POSITION_ROWS_MAX_MODES {
+            PositionRows::new(&jac, n).map(|b| Box::new(b) as Box<dyn StructuredJacobian>)
+        } else {
+            BorderedBand::new(&jac, n, 2 + 3 * band, w, w).map(|b| Box::new(b) as Box<dyn StructuredJacobian>)
+        }
     }
 }

@@ -21,8 +21,9 @@ pub(crate) struct Plan<'a> {
     pub max_steps: u64,
     /// Step to every sample time (the staggered scheme: its interpolant is only linear).
     pub land_on_samples: bool,
-    /// Writes the boundary-layer layout z = [R, Ṙ, (a, ȧ, b)_k] of a state.
-    pub layout: &'a dyn Fn(&[f64], &mut [f64]),
+    /// The boundary-layer layout z = [R, Ṙ, (a, ȧ, b)_k] of a state: z_j = y_{layout[j]} (only
+    /// these components are interpolated at the samples).
+    pub layout: &'a [usize],
     /// The mode a state component belongs to (for a non-finite state).
     pub component_mode: &'a dyn Fn(usize) -> String,
 }
@@ -82,11 +83,11 @@ pub(crate) fn execute(
             return outcome(rows, status, Stats::default());
         }
     };
-    let n = st.y().len();
     let nz = 2 + 3 * model.orders().len();
-    let (mut z, mut y_at) = (vec![0.0; nz], vec![0.0; n]);
+    debug_assert_eq!(plan.layout.len(), nz, "layout of z");
+    let mut z = vec![0.0; nz];
     let t0 = st.t();
-    (plan.layout)(st.y(), &mut z);
+    gather(st.y(), plan.layout, &mut z);
     rows.emit(t0, &z);
     if model.blow_up_margin(&z) > 0.0 {
         let status = model.stop_status(t0 * ts, &z);
@@ -115,13 +116,12 @@ pub(crate) fn execute(
             let is_sample = ts_i <= st.t() && ts_i < plan.t_end - 1e-9 * d;
             let (t_pt, at_end) = if is_sample { (ts_i, ts_i == st.t()) } else { (st.t(), true) };
             if at_end {
-                y_at.copy_from_slice(st.y());
+                gather(st.y(), plan.layout, &mut z);
             } else {
-                st.interpolate(t_pt, &mut y_at);
+                st.interpolate_at(t_pt, plan.layout, &mut z);
             }
-            (plan.layout)(&y_at, &mut z);
             if model.blow_up_margin(&z) > 0.0 {
-                let t_b = locate_crossing(model, plan, &*st, t_left, t_pt, &mut y_at, &mut z);
+                let t_b = locate_crossing(model, plan, &*st, t_left, t_pt, &mut z);
                 let status = model.stop_status(t_b * ts, &z);
                 rows.emit(t_b, &z);
                 let stats = st.stats();
@@ -143,13 +143,12 @@ pub(crate) fn execute(
 }
 
 /// Bisects g(t) = margin(z(t)) = 0 on the stepper's interpolant in [lo, hi] (g(lo) ≤ 0 < g(hi));
-/// returns the upper end (g > 0 there), its state left in `y`, `z`.
-fn locate_crossing(model: &Model, plan: &Plan<'_>, st: &dyn Stepper, mut lo: f64, mut hi: f64, y: &mut [f64], z: &mut [f64]) -> f64 {
+/// returns the upper end (g > 0 there), its layout left in `z`.
+fn locate_crossing(model: &Model, plan: &Plan<'_>, st: &dyn Stepper, mut lo: f64, mut hi: f64, z: &mut [f64]) -> f64 {
     let tol = 1e-13 * hi.abs().max(plan.t_end);
     while hi - lo > tol {
         let mid = 0.5 * (lo + hi);
-        st.interpolate(mid, y);
-        (plan.layout)(y, z);
+        st.interpolate_at(mid, plan.layout, z);
         if model.blow_up_margin(z) > 0.0 {
             hi = mid;
         } else {
@@ -157,12 +156,18 @@ fn locate_crossing(model: &Model, plan: &Plan<'_>, st: &dyn Stepper, mut lo: f64
         }
     }
     if hi == st.t() {
-        y.copy_from_slice(st.y());
+        gather(st.y(), plan.layout, z);
     } else {
-        st.interpolate(hi, y);
+        st.interpolate_at(hi, plan.layout, z);
     }
-    (plan.layout)(y, z);
     hi
+}
+
+/// z_j = y_{layout[j]}.
+fn gather(y: &[f64], layout: &[usize], z: &mut [f64]) {
+    for (zj, &i) in z.iter_mut().zip(layout) {
+        *zj = y[i];
+    }
 }
 
 /// A failed step: a non-finite state is a blow-up (a result, FORMULATION §5), the rest are

@@ -149,13 +149,14 @@ impl Model {
         let method = method_of(&run.integrator, ts);
         let t_end = run.duration / ts;
         let sys = self.system();
+        let layout: Vec<usize> = (0..sys.dim()).collect();
         let plan = Plan {
             sys,
             t_end,
             sample: run.sample_interval / ts,
             max_steps: run.integrator.max_steps,
             land_on_samples: false,
-            layout: &|y: &[f64], z: &mut [f64]| z.copy_from_slice(y),
+            layout: &layout,
             component_mode: &|c| self.component_mode(c),
         };
         let st = stepper(sys, &method, 0.0, self.initial_state(), t_end);

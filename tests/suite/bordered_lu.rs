@@ -1,7 +1,8 @@
-//! The boundary-layer model's structured Newton matrix (integrate/bordered.rs): for every shipped
-//! scene with shape modes, at the initial state and at a state with every amplitude set, the
-//! model hands the implicit steppers the bordered-band form (its Jacobian pattern holds: no
-//! silent dense fallback; also at k ≤ 32), and its solves of σI − J, real and complex σ, agree with a dense LU.
+//! The boundary-layer model's structured Newton matrix: for every shipped scene with shape modes,
+//! at the initial state and at a state with every amplitude set, the model hands the implicit
+//! steppers a structured form (no silent dense fallback) — the position rows eliminated
+//! (integrate/reduced.rs) at k ≤ 16, the bordered band (integrate/bordered.rs) at k ≤ 32 where
+//! its split pays — and its solves of σI − J, real and complex σ, agree with a dense LU.
 
 use magbubble::integrate::OdeSystem;
 use magbubble::model::Model;

@@ -278,13 +278,7 @@ impl FullModel {
         let t_end = run.duration / ts;
         let method = method_of(&run.integrator, ts);
         let (st, land) = self.scheme_stepper(&c, &sys, self.scheme, &method, run.integrator.dt / ts, t_end);
-        let layout = |y: &[f64], z: &mut [f64]| {
-            z[0] = y[0];
-            z[1] = y[1];
-            for mi in 0..orders.len() {
-                z[2 + 3 * mi..5 + 3 * mi].copy_from_slice(&y[2 + mi * nb..5 + mi * nb]);
-            }
-        };
+        let layout: Vec<usize> = [0, 1].into_iter().chain((0..orders.len()).flat_map(|mi| 2 + mi * nb..5 + mi * nb)).collect();
         let component_mode = |c: usize| match c {
             0 | 1 => "R".to_string(),
             c => {

@@ -79,24 +79,27 @@ fn dots2<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: [&[f64]; 2], acc0:
 
 impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
     fn new(sigma: T, rows: &[Rows], ni: usize) -> Option<Self> {
+        // built entry after entry in node-major order (no zeroed buffers: every entry is written)
         let m = rows.len();
-        let mut lower = vec![0.0; ni * m];
-        let mut inv_beta = vec![T::zero(); ni * m];
-        let mut gamma = vec![T::zero(); ni * m];
+        let (mut lower, mut inv_beta, mut gamma): (Vec<f64>, Vec<T>, Vec<T>) = (Vec::with_capacity(ni * m), Vec::with_capacity(ni * m), Vec::with_capacity(ni * m));
         for i in 0..ni {
             for (k, r) in rows.iter().enumerate() {
                 let at = i * m + k;
                 let beta = if i == 0 {
+                    lower.push(0.0);
+                    gamma.push(T::zero());
                     sigma - T::from_real(r.diag[0])
                 } else {
-                    lower[at] = -r.lower[i];
-                    gamma[at] = inv_beta[at - m].scale(-r.upper[i - 1]);
-                    sigma - T::from_real(r.diag[i]) - gamma[at].scale(lower[at])
+                    let l = -r.lower[i];
+                    let g = inv_beta[at - m].scale(-r.upper[i - 1]);
+                    lower.push(l);
+                    gamma.push(g);
+                    sigma - T::from_real(r.diag[i]) - g.scale(l)
                 };
                 if beta == T::zero() {
                     return None;
                 }
-                inv_beta[at] = T::one() / beta;
+                inv_beta.push(T::one() / beta);
             }
         }
         Some(Self { m, lower, inv_beta, gamma })
@@ -127,12 +130,6 @@ impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
             }
         }
     }
-}
-
-/// Mode k's entries of a node-major vector (entry i at `i * m + k`).
-#[inline]
-fn node_major_column<T: Copy>(v: &[T], k: usize, m: usize) -> impl Iterator<Item = T> + '_ {
-    v[k..].iter().step_by(m).copied()
 }
 
 /// LU with partial pivoting (largest |re| + |im| in the column, whole rows swapped) of the
@@ -333,17 +330,12 @@ impl StructuredJacobian {
         }
         let tri = TriBatch::new(sigma, &self.rows, ni)?;
         let mut uc = vec![T::zero(); ni * m];
-        let mut ur = vec![T::zero(); ni * m];
-        let mut urd = vec![T::zero(); ni * m];
-        for k in 0..m {
-            if ni > 0 {
-                uc[k] = T::from_real(self.rows[k].lower[0]);
-            }
-            for i in 0..ni {
-                ur[i * m + k] = T::from_real(self.r_r[k][i]);
-                urd[i * m + k] = T::from_real(self.r_rd[k][i]);
-            }
+        for k in 0..m.min(uc.len()) {
+            uc[k] = T::from_real(self.rows[k].lower[0]);
         }
+        let node_major = |v: &[Vec<f64>]| -> Vec<T> { (0..ni * m).map(|at| T::from_real(v[at % m][at / m])).collect() };
+        let mut ur = node_major(&self.r_r);
+        let mut urd = node_major(&self.r_rd);
         tri.solve(&mut uc);
         tri.solve(&mut ur);
         tri.solve(&mut urd);
@@ -387,14 +379,14 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
     /// Solves (σI − J) x = b in place (state layout of the monolithic system).
     pub fn solve(&self, b: &mut [T]) {
         let j = &*self.jac;
-        let (m, nz, nb, ni) = (j.m, j.nz, j.nb, j.ni);
+        let (m, nz, nb) = (j.m, j.nz, j.nb);
         let mut guard = self.scratch.borrow_mut();
         let Scratch { xt, rhs, d, s } = &mut *guard;
-        // D_k⁻¹ b_T,k, all modes at once on the node-major copy
-        for k in 0..m {
-            let o = 2 + k * nb + 3;
-            for (x, &v) in xt[k..].iter_mut().step_by(m).zip(&b[o..o + ni]) {
-                *x = v;
+        // D_k⁻¹ b_T,k, all modes at once on the node-major copy (node after node: contiguous
+        // stores, indexed loads; strided iterators cost more than the indexing)
+        for (i, xr) in xt.chunks_exact_mut(m.max(1)).enumerate() {
+            for (k, x) in xr.iter_mut().enumerate() {
+                *x = b[5 + k * nb + i];
             }
         }
         self.tri.solve(xt);
@@ -427,16 +419,12 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
         }
         let [uc, ur, urd] = &self.u;
         let (x0, x1) = (x[0], x[1]);
-        // mode after mode: contiguous stores into b, strided loads of the node-major vectors
-        // (the same products and sums as node after node)
-        for (k, &sk) in s.iter().enumerate() {
-            let o = 2 + k * nb + 3;
-            let terms = node_major_column(xt, k, m)
-                .zip(node_major_column(uc, k, m))
-                .zip(node_major_column(ur, k, m))
-                .zip(node_major_column(urd, k, m));
-            for (out, (((xv, c), r), rd)) in b[o..o + ni].iter_mut().zip(terms) {
-                *out = xv + (c * sk + r * x0 + rd * x1);
+        // node after node: contiguous loads of the node-major vectors, indexed stores into b
+        // (the same products and sums per entry as mode after mode)
+        let rows = xt.chunks_exact(m.max(1)).zip(uc.chunks_exact(m.max(1))).zip(ur.chunks_exact(m.max(1))).zip(urd.chunks_exact(m.max(1)));
+        for (i, (((xr, cr), rr), rdr)) in rows.enumerate() {
+            for (k, ((((&xv, &c), &r), &rd), &sk)) in xr.iter().zip(cr).zip(rr).zip(rdr).zip(s.iter()).enumerate() {
+                b[5 + k * nb + i] = xv + (c * sk + r * x0 + rd * x1);
             }
         }
     }
