@@ -54,6 +54,8 @@ mod quadratic_shell;
 mod quadratic_shell_oracle;
 mod quadratic_shell_effects;
 mod quadratic_virial;
+mod quadratic_resonance;
+mod quadratic_forms;
 mod quadratic_vorticity;
 mod plot;
 mod plot_figures;

@@ -170,15 +170,13 @@ impl<'c> Staggered<'c> {
         u0[2 + m..2 + 2 * m].copy_from_slice(&s.adot);
         u0[2 + 2 * m..].copy_from_slice(&s.b);
         debug_assert_eq!(u0.len(), dim);
+        let (w0, tw_fixed) = wall_inputs(&self.ops, self.wall, &self.tw_lagged);
         let ode = LaggedOde {
             coupling: self.coupling,
             i_int: &self.i_int,
             j_over_r: &self.j_over_r,
-            w0: self.ops.first().map_or(0.0, |o| o.w0()),
-            tw_fixed: match self.wall {
-                WallCoupling::InRhs => None,
-                WallCoupling::Lagged => Some(&self.tw_lagged),
-            },
+            w0,
+            tw_fixed,
             loads: RefCell::new(&mut self.loads),
             tw: RefCell::new(&mut self.tw),
         };
@@ -201,6 +199,7 @@ impl<'c> Staggered<'c> {
         if self.coupling.has_second_order() {
             // (TS) with the loads completed by the second pass (issue 12), its first-order ä at
             // the integrals lagged at T^n as in step 1
+            let (w0, tw_fixed) = wall_inputs(&self.ops, self.wall, &self.tw_lagged);
             let x = ModeInputs {
                 r: s.r,
                 rdot: s.rdot,
@@ -212,11 +211,8 @@ impl<'c> Staggered<'c> {
                 gt: &[],
                 i_int: &self.i_int,
                 j_over_r: &self.j_over_r,
-                w0: self.ops.first().map_or(0.0, |o| o.w0()),
-                tw_fixed: match self.wall {
-                    WallCoupling::InRhs => None,
-                    WallCoupling::Lagged => Some(&self.tw_lagged),
-                },
+                w0,
+                tw_fixed,
             };
             completed_loads(self.coupling, s.t, &x, &mut self.loads.gn, &mut self.loads.gt);
         } else {
@@ -291,6 +287,18 @@ impl<'c> Staggered<'c> {
 /// one shortened to land on `t_stop`); the interpolant between two steps is linear (the
 /// executor lands on every sample, so it is used only to time a blow-up inside a step).
 /// Cost counted per step: 4 evaluations of the ODE part, M tridiagonal factorisations.
+/// The wall inputs of (TS) for the mode rates: the first mode's w₀ and, with the lagged wall,
+/// the wall vorticity of the previous step (a free function: the callers hold `&mut` borrows of
+/// other fields of [`Staggered`] at the same time).
+fn wall_inputs<'a>(ops: &[ModeOperator], wall: WallCoupling, tw_lagged: &'a [f64]) -> (f64, Option<&'a [f64]>) {
+    let w0 = ops.first().map_or(0.0, |o| o.w0());
+    let tw_fixed = match wall {
+        WallCoupling::InRhs => None,
+        WallCoupling::Lagged => Some(tw_lagged),
+    };
+    (w0, tw_fixed)
+}
+
 pub struct StaggeredStepper<'c> {
     st: Staggered<'c>,
     s: FullState,
