@@ -14,6 +14,7 @@ pub mod floquet;
 pub mod floquet_full;
 pub mod frequencies;
 pub mod grid;
+pub mod ladder;
 pub mod periodic;
 pub mod shooting;
 pub mod stability;

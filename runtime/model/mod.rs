@@ -131,6 +131,10 @@ impl Model {
                 terms.push(Box::new(quadratic_membrane_term(scene, &params, &kf)?));
             }
             quadratic_shell_terms(scene, &scales, params.r0, &kf, &mut terms, &mut second)?;
+            // the membrane's loads are material-frame: mapped to the state's Eulerian amplitudes
+            if let Some(t) = frame_map(scene, &params, &scales, &kf) {
+                second.push(Box::new(t));
+            }
         }
         let form: Box<dyn RadialForm> = match params.sound_speed {
             None => Box::new(radial::Incompressible),
@@ -389,6 +393,25 @@ fn quadratic_shell_terms(
         second.push(Box::new(t));
     }
     Ok(())
+}
+
+/// The frame mapping of the material-frame linear loads (membrane law, bending, shell
+/// viscosity; not γ, whose second order is the free bubble's, nor the field, whose second order
+/// is left out), when the scene has any (issue 12; effects/quadratic_frame.rs).
+fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64]) -> Option<effects::quadratic_frame::FrameMap> {
+    let mut lagrangian: Vec<Box<dyn Term>> = Vec::new();
+    if !scene.shell.is_free() {
+        lagrangian.push(Box::new(effects::membrane::MembraneTerm {
+            law: params.membrane,
+            r0: params.r0,
+            c1: params.membrane_args.0,
+            c2: params.membrane_args.1,
+            orders: kf.to_vec(),
+        }));
+    }
+    let shell = crate::scene::Shell { surface_tension: 0.0, ..scene.shell.clone() };
+    lagrangian.extend(effects::shell::terms(&shell, sc, params.r0, kf));
+    effects::quadratic_frame::FrameMap::new(lagrangian, kf)
 }
 
 /// The derivations/shell/ file stem of a law.

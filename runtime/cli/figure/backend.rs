@@ -1,12 +1,12 @@
 //! The model and analysis behind the figure recipes of [`crate::plot::paper`]: a [`Simulator`]
 //! on `scene::load` + `model::simulate`, and an [`Analyzer`] on
-//! `analysis::{frequencies, stability}` (critical values by bracketing + bisection of the
-//! Floquet criterion, FORMULATION §4.6; paper §4 uses eigenvalues "< 1", we use |μ| < 1).
+//! `analysis::{frequencies, ladder}` (critical values by bracketing + bisection of the
+//! Floquet criterion, FORMULATION §4.6; paper §4 uses eigenvalues "< 1", we use |μ| < 1; the
+//! max-multiplier panel to 1e-7 relative, analysis/ladder.rs).
 
 use crate::analysis::frequencies::natural_frequencies;
-use crate::analysis::stability::{
-    critical_point, floquet, Criterion, CriticalOptions, FloquetOptions, StabilityError,
-};
+use crate::analysis::ladder;
+use crate::analysis::stability::{Criterion, CriticalOptions, FloquetOptions, StabilityError};
 use crate::model::{simulate, RunStatus};
 use crate::plot::paper::{Analyzer, CriticalRow, ModeRow, RunOutput, Simulator, Sweep};
 use crate::scene::{self, Scene, SceneTemplate};
@@ -141,14 +141,14 @@ impl Analyzer for ModelAnalyzer {
                 base.with(&[(sweep.freq_key, f), (sweep.vary, p)])
                     .map_err(|e| StabilityError::Scene(e.to_string()))
             };
-            let c = critical_point(&at, &opts)
+            // the figure plots outcome, critical value and mode: not the bracket ends' multipliers
+            let (outcome, mode) = ladder::critical_outcome(&at, &opts)
                 .map_err(|e| format!("at {} = {f:e} Hz: {e}", sweep.freq_key))?;
-            let fields = c.fields();
             Ok(CriticalRow {
                 frequency_hz: f,
-                critical: c.outcome.value().unwrap_or(f64::NAN),
-                outcome: fields[1].clone(),
-                mode: mode_number(&c.mode),
+                critical: outcome.value().unwrap_or(f64::NAN),
+                outcome: outcome.name().to_string(),
+                mode: mode_number(&mode),
             })
         };
         sweep.freqs_hz.par_iter().map(one).collect()
@@ -168,9 +168,20 @@ impl Analyzer for ModelAnalyzer {
             .map(|&f| {
                 let s = base.with(&[(freq_key, f)]).map_err(|e| e.to_string())?;
                 // No periodic orbit (collapse, blow-up) is drawn as a gap, not an error.
-                Ok(floquet(&s, &opts).map_or(f64::NAN, |r| r.max_multiplier))
+                Ok(ladder::max_multiplier(&s, &opts).unwrap_or(f64::NAN))
             })
             .collect()
+    }
+
+    fn max_multiplier_method(&self) -> String {
+        let n = self.floquet_options().magnus_steps;
+        format!(
+            "max |μ| over the orbit's period at the scene's ε_p, the Richardson value of the first rung of \
+             the Magnus ladder {:?} steps per drive period whose estimated error is ≤ {:e} of max |μ|, or the \
+             {n}-step value where no rung reaches that (analysis/ladder.rs)",
+            ladder::rungs(n),
+            ladder::MULTIPLIER_TOLERANCE
+        )
     }
 }
 

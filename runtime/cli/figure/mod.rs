@@ -214,7 +214,7 @@ fn simulator(set: &[String]) -> Option<Box<dyn Simulator>> {
     Some(Box::new(backend::ModelSimulator { extra: set.to_vec() }))
 }
 
-/// The analysis-backed analyzer (natural_frequencies + critical_point + floquet).
+/// The analysis-backed analyzer (natural_frequencies + the ladder's critical_outcome and max_multiplier).
 fn analyzer(quick: bool) -> Option<Box<dyn Analyzer>> {
     Some(Box::new(backend::ModelAnalyzer { quick }))
 }

@@ -24,6 +24,7 @@ pub mod magnetic;
 pub mod membrane;
 pub mod quadratic;
 pub mod quadratic_bending;
+pub mod quadratic_frame;
 pub mod quadratic_membrane;
 pub mod quadratic_shell_viscosity;
 pub mod second_order;

@@ -85,6 +85,11 @@ pub trait Analyzer {
         freq_key: &str,
         freqs_hz: &[f64],
     ) -> Result<Vec<f64>, String>;
+    /// How [`max_multiplier`](Self::max_multiplier) computes its values and to what tolerance,
+    /// for the figure note ("" when there is nothing to say).
+    fn max_multiplier_method(&self) -> String {
+        String::new()
+    }
 }
 
 /// Largest k of the ω_k panels.
@@ -385,6 +390,10 @@ pub fn make_stability(
         spec.range.0,
         spec.range.1
     );
+    let method = analyzer.max_multiplier_method();
+    if spec.multiplier && !method.is_empty() {
+        let _ = writeln!(note, "\nMax multiplier (`{stem}_mu.csv`): {method}.");
+    }
     write_atomic(&md, note.as_bytes())?;
     report.files.push(md);
     Ok(report)

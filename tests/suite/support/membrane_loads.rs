@@ -116,6 +116,13 @@ pub fn loads(law: Law, r: f64, r0: f64, modes: &[Amp], th: f64) -> (f64, f64, f6
         t1 += beta * f[2];
         t2 += beta * f[3];
     }
+    loads_on(law, r0, [rr, r1, r2, t, t1, t2], th)
+}
+
+/// (F_n, F_t paper, F_t tension) at material angle Θ of a surface given by its material
+/// parametrisation: g = [r, r′, r″, θ, θ′, θ″] at Θ (′ = d/dΘ).
+pub fn loads_on(law: Law, r0: f64, g: [f64; 6], th: f64) -> (f64, f64, f64) {
+    let [rr, r1, r2, t, t1, t2] = g;
     let (st, ct) = t.sin_cos();
     let rho = rr * st;
     let rho1 = r1 * st + rr * ct * t1;

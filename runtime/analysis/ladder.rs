@@ -1,0 +1,227 @@
+//! The cheap-first Magnus ladder of the critical search (analysis/critical.rs, issue 16) as an
+//! entry point of its own, for the callers that need only part of what
+//! [`super::critical::critical_point`] and [`super::stability::floquet`] compute: the paper
+//! figures (figs 5–11; issue 16 row 5, docs/stability.md "Cost of the stability curves").
+//!
+//! On one prepared orbit ([`Prepared`]) the monodromy is computed with n/64, n/32, n/16, n/8,
+//! n/4 and n/2 Magnus steps per drive period (n = `magnus_steps`, 400: 6, 12, 25, 50, 100, 200;
+//! critical.rs starts at n/32). At a rung m after m′ the fourth-order error of μ(m) is
+//! estimated as d·r, d = |μ(m) − μ(m′)|, r = 1/((m/m′)⁴ − 1) (1/15 for doubled rungs), and the
+//! Richardson value μ(m) + (μ(m) − μ(m′))·r is offered to a judge ([`climb`]), which accepts
+//! it, asks for the next rung, or asks for the n-step computation at once. Two judges:
+//! * [`verdict`]: the critical search's rule (critical.rs `floquet_eval`): the first rung where
+//!   |max|μ| − 1| > 8d (≈ 120 × the estimated error) and d < 1e-3 max|μ|, else the pair n/4,
+//!   n/2. The 6-step rung decides the points far from the threshold (the stable-throughout high
+//!   frequencies, where 6 and 12 steps agree to ~1e-8) at half the cost of the 12/25 pair;
+//! * [`converged`]: the figures' max-multiplier panel: the first Richardson value whose
+//!   estimated error d·r is ≤ [`MULTIPLIER_TOLERANCE`] relative; where the rungs up to n/2
+//!   cannot reach it (predicted from the O(h⁴) decay: d·r·(m/(n/2))⁴ still above it — the
+//!   resonant points, whose n-step value itself differs from 2n steps by up to 1.3e-5), the
+//!   n-step value as before.
+//!
+//! [`critical_outcome`] is [`super::critical::critical_point`] without the multipliers of the
+//! bracket ends (recomputed there with n steps when their estimated error exceeds 1e-7, which
+//! a figure never plots): the same scan and bracket search on these verdicts.
+
+use super::bisect::{self, Eval, Outcome, Verdict};
+use super::critical::CriticalOptions;
+use super::floquet::Spectrum;
+use super::stability::{base_model, prepare, Criterion, FloquetOptions, Prepared, StabilityError};
+use crate::scene::Scene;
+
+/// The fewest Magnus steps per drive period of a rung.
+const MIN_RUNG: usize = 6;
+
+/// Estimated relative error of μ(m) below which [`max_multiplier`] keeps the Richardson value:
+/// far below the panel's resolution (a plotted value moves by less than 1e-7 of itself).
+pub const MULTIPLIER_TOLERANCE: f64 = 1e-7;
+
+/// One decided pair of rungs.
+#[derive(Debug, Clone)]
+pub struct Rung {
+    /// Magnus steps per drive period of this rung and of the one before.
+    pub steps: usize,
+    pub previous: usize,
+    /// The spectrum at `steps`.
+    pub spectrum: Spectrum,
+    /// |μ(steps) − μ(previous)|.
+    pub difference: f64,
+    /// The Richardson value μ(m) + (μ(m) − μ(m′))·r.
+    pub value: f64,
+    /// The estimated error of μ(steps), d·r (0 for the n-step computation).
+    pub error: f64,
+}
+
+/// What a judge makes of a rung.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Next {
+    Accept,
+    Climb,
+    /// Skip the remaining rungs: compute n steps.
+    Full,
+}
+
+/// The ladder's rungs for `n` steps: n/64, n/32, n/16, n/8, n/4, n/2, those of at least
+/// [`MIN_RUNG`] steps (6, 12, 25, 50, 100, 200 of 400; 6, 12, 25, 50 of the `--quick` 100);
+/// empty below 64 steps (then only n itself).
+pub fn rungs(n: usize) -> Vec<usize> {
+    if n < 64 {
+        return Vec::new();
+    }
+    let mut r: Vec<usize> = [64, 32, 16, 8, 4, 2].iter().map(|d| n / d).filter(|&m| m >= MIN_RUNG).collect();
+    r.dedup();
+    r
+}
+
+/// Climbs the ladder on `prep` until `judge` accepts a rung; the n-step spectrum (error 0) when
+/// it asks for it or no rung is accepted. A rung whose monodromy overflows (a coarse step on a
+/// fast-growing system) is skipped, and the next one starts a new pair.
+pub fn climb(prep: &Prepared, n: usize, judge: impl Fn(&Rung) -> Next) -> Result<Rung, StabilityError> {
+    let ladder = rungs(n);
+    let mut coarse: Option<(usize, Spectrum)> = None;
+    for &m in &ladder {
+        let Ok(fine) = prep.spectrum(m) else {
+            coarse = None;
+            continue;
+        };
+        let Some((mc, coarse_spec)) = coarse.replace((m, fine.clone())) else { continue };
+        let d = (fine.max_modulus - coarse_spec.max_modulus).abs();
+        let r = 1.0 / ((m as f64 / mc as f64).powi(4) - 1.0);
+        let value = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) * r;
+        let rung = Rung { steps: m, previous: mc, spectrum: fine, difference: d, value, error: d * r };
+        match judge(&rung) {
+            Next::Accept => return Ok(rung),
+            Next::Climb => {}
+            Next::Full => break,
+        }
+    }
+    let n = n.max(1);
+    let spectrum = prep.spectrum(n)?;
+    let value = spectrum.max_modulus;
+    Ok(Rung { steps: n, previous: n, spectrum, difference: 0.0, value, error: 0.0 })
+}
+
+/// The critical search's judge (module doc; critical.rs `floquet_eval`).
+pub fn verdict(n: usize) -> impl Fn(&Rung) -> Next {
+    move |r: &Rung| {
+        let mu = r.spectrum.max_modulus;
+        let decided = (mu - 1.0).abs() > 8.0 * r.difference && r.difference < 1e-3 * mu;
+        if decided || r.steps == n / 2 {
+            Next::Accept
+        } else {
+            Next::Climb
+        }
+    }
+}
+
+/// The max-multiplier panel's judge (module doc), relative tolerance `tol`.
+pub fn converged(n: usize, tol: f64) -> impl Fn(&Rung) -> Next {
+    move |r: &Rung| {
+        let scale = tol * r.spectrum.max_modulus.abs();
+        if r.error <= scale {
+            Next::Accept
+        } else if r.steps >= n / 2 || r.error * (r.steps as f64 / (n / 2) as f64).powi(4) > scale {
+            Next::Full
+        } else {
+            Next::Climb
+        }
+    }
+}
+
+/// max|μ| over the orbit's period of `scene` within [`MULTIPLIER_TOLERANCE`] (module doc).
+pub fn max_multiplier(scene: &Scene, opts: &FloquetOptions) -> Result<f64, StabilityError> {
+    let model = base_model(scene)?;
+    let prep = prepare(&model, scene, opts)?;
+    let n = opts.magnus_steps.max(1);
+    Ok(climb(&prep, n, converged(n, MULTIPLIER_TOLERANCE))?.value)
+}
+
+/// One Floquet evaluation of the critical search: the verdict with the margin ln max|μ|, and
+/// the mode carrying the largest multiplier ("" where there is no orbit).
+fn evaluate(scene: &Scene, opts: &FloquetOptions) -> Result<(Eval, String), StabilityError> {
+    let model = base_model(scene)?;
+    let prep = match prepare(&model, scene, opts) {
+        Ok(prep) => prep,
+        Err(StabilityError::Orbit(_)) => return Ok((Eval { verdict: Verdict::Undefined, margin: None }, String::new())),
+        Err(e) => return Err(e),
+    };
+    let n = opts.magnus_steps.max(1);
+    let rung = climb(&prep, n, verdict(n))?;
+    let mode = prep.report(&rung.spectrum, n, None, opts.variant).mode;
+    let verdict = if rung.value > 1.0 { Verdict::Unstable } else { Verdict::Stable };
+    Ok((Eval { verdict, margin: Some(rung.value.ln()) }, format!("a{mode}")))
+}
+
+/// The outcome of [`super::critical::critical_point`] and its first unstable mode ("" if none),
+/// without the bracket ends' multipliers (module doc). Floquet criterion only.
+pub fn critical_outcome(
+    scene_at: &dyn Fn(f64) -> Result<Scene, StabilityError>,
+    opts: &CriticalOptions,
+) -> Result<(Outcome, String), StabilityError> {
+    if opts.criterion != Criterion::Floquet {
+        return Err(StabilityError::Scene("ladder::critical_outcome: Floquet criterion only".into()));
+    }
+    let mut seen: Vec<(f64, String)> = Vec::new();
+    let tolerance = if opts.relative_tol { bisect::Tolerance::Relative(opts.tol) } else { bisect::Tolerance::Absolute(opts.tol) };
+    let outcome = bisect::critical_search(opts.lo, opts.hi, opts.scan, tolerance, |p| {
+        let (eval, mode) = evaluate(&scene_at(p)?, &opts.floquet)?;
+        seen.push((p, mode));
+        Ok(eval)
+    })
+    .map_err(|e| match e {
+        bisect::BisectError::Predicate { error } => error,
+        other => StabilityError::Scene(other.to_string()),
+    })?;
+    let unstable = match outcome {
+        Outcome::Critical { unstable, .. } => Some(unstable),
+        Outcome::NoOrbit { no_orbit, .. } => Some(no_orbit),
+        Outcome::UnstableAtBottom { bottom, .. } | Outcome::NoOrbitAtBottom { bottom, .. } => Some(bottom),
+        Outcome::StableThroughout { .. } => None,
+    };
+    let mode = unstable.and_then(|u| seen.iter().rev().find(|e| e.0 == u)).map(|e| e.1.clone()).unwrap_or_default();
+    Ok((outcome, mode))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Complex;
+
+    fn rung(steps: usize, previous: usize, mu: f64, difference: f64) -> Rung {
+        let r = 1.0 / ((steps as f64 / previous as f64).powi(4) - 1.0);
+        let spectrum = Spectrum { multipliers: vec![Complex::new(mu, 0.0)], max_modulus: mu, block: 0, components: vec![(0, 1.0)] };
+        Rung { steps, previous, spectrum, difference, value: mu + difference * r, error: difference * r }
+    }
+
+    #[test]
+    fn rungs_of_the_full_and_the_quick_step_counts() {
+        assert_eq!(rungs(400), vec![6, 12, 25, 50, 100, 200]);
+        assert_eq!(rungs(100), vec![6, 12, 25, 50]);
+        assert!(rungs(63).is_empty());
+    }
+
+    #[test]
+    fn verdicts_need_a_clear_margin_and_an_asymptotic_pair() {
+        let judge = verdict(400);
+        assert_eq!(judge(&rung(12, 6, 0.6, 1e-8)), Next::Accept);
+        // |μ − 1| = 1e-4 < 8d: climb
+        assert_eq!(judge(&rung(12, 6, 1.0001, 1e-4)), Next::Climb);
+        // far from 1 but the rungs still differ by more than 1e-3 of μ: climb
+        assert_eq!(judge(&rung(25, 12, 1e6, 1e4)), Next::Climb);
+        // the last rung decides whatever the margin
+        assert_eq!(judge(&rung(200, 100, 1.0001, 1e-4)), Next::Accept);
+    }
+
+    #[test]
+    fn the_panel_stops_at_its_tolerance_or_goes_to_the_full_count() {
+        let judge = converged(400, 1e-7);
+        // estimated error 1e-9/15 relative: accept
+        assert_eq!(judge(&rung(12, 6, 0.5, 1e-9)), Next::Accept);
+        // 1e-5/15 now, ≈ 9e-12 predicted at 200 steps: climb
+        assert_eq!(judge(&rung(12, 6, 1.0, 1e-5)), Next::Climb);
+        // 1e2/17.8 relative to 2e12 at 25 steps: 200 steps cannot reach 1e-7, go to 400 at once
+        assert_eq!(judge(&rung(25, 12, 2e12, 2e14)), Next::Full);
+        // not reached at n/2: the full count
+        assert_eq!(judge(&rung(200, 100, 1.0, 1e-5)), Next::Full);
+    }
+}
