@@ -60,6 +60,8 @@ pub struct QuadraticCoupling {
     orders: Vec<f64>,
     /// (first, second, exponents of SYMBOLS) per table term
     kinds: Vec<(usize, usize, [i32; 7])>,
+    /// per table term, its non-zero exponents (symbol, power) in SYMBOLS order
+    powers: Vec<Vec<(usize, i32)>>,
     slots: Vec<Slot>,
     /// per slot, where its two factors are in [a_l, ȧ_l, ä_l, a_m, ȧ_m, ä_m]
     gather: Vec<(usize, usize)>,
@@ -135,7 +137,8 @@ impl QuadraticCoupling {
             // one factor of each mode: (l side, m side)
             *sd = if x < 3 { (x, y - 3) } else { (y, x - 3) };
         }
-        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, slots, gather, sides, rows, radial_only }
+        let powers = kinds.iter().map(|(_, _, e)| e.iter().enumerate().filter(|(_, p)| **p != 0).map(|(i, p)| (i, *p)).collect()).collect();
+        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, powers, slots, gather, sides, rows, radial_only }
     }
 
     /// Number of (unordered pair, target) rows the rhs evaluates.
@@ -153,15 +156,28 @@ impl QuadraticCoupling {
     fn prefactor(e: &[i32; 7], s: &[f64; 7]) -> f64 {
         let (mut num, mut den) = (1.0, 1.0);
         for (&p, &v) in e.iter().zip(s) {
-            for _ in 0..p.unsigned_abs() {
-                if p > 0 {
-                    num *= v;
-                } else {
-                    den *= v;
-                }
-            }
+            Self::raise(p, v, &mut num, &mut den);
         }
         num / den
+    }
+
+    /// [`prefactor`](Self::prefactor) from the non-zero exponents only (the same products in
+    /// the same order).
+    fn prefactor_of(powers: &[(usize, i32)], s: &[f64; 7]) -> f64 {
+        let (mut num, mut den) = (1.0, 1.0);
+        for &(i, p) in powers {
+            Self::raise(p, s[i], &mut num, &mut den);
+        }
+        num / den
+    }
+
+    /// num · v^p (p > 0) or den · v^|p| (p < 0), by repeated products.
+    #[inline(always)]
+    fn raise(p: i32, v: f64, num: &mut f64, den: &mut f64) {
+        let x = if p > 0 { num } else { den };
+        for _ in 0..p.unsigned_abs() {
+            *x *= v;
+        }
     }
 
     /// The amplitudes [a, ȧ, ä⁽¹⁾] per mode index and the prefactor of each table term.
@@ -172,8 +188,8 @@ impl QuadraticCoupling {
         }
         let s = self.symbols(at.r(), at.rdot(), first.rdd);
         let mut tp = [0.0; MAX_SLOTS];
-        for (p, (_, _, e)) in tp.iter_mut().zip(&self.kinds) {
-            *p = Self::prefactor(e, &s);
+        for (p, e) in tp.iter_mut().zip(&self.powers) {
+            *p = Self::prefactor_of(e, &s);
         }
         (amp, tp, s)
     }
@@ -191,20 +207,26 @@ impl SecondOrderTerm for QuadraticCoupling {
     }
     fn add(&self, at: &At<'_>, first: &FirstOrder<'_>, loads: &mut Loads<'_>) {
         let n = self.orders.len();
-        let (amp, tp, _) = self.state(at, first);
+        let sym = self.symbols(at.r(), at.rdot(), first.rdd);
+        let mut tp = [0.0; MAX_SLOTS];
+        for (p, e) in tp.iter_mut().zip(&self.powers) {
+            *p = Self::prefactor_of(e, &sym);
+        }
         let mut pre = [0.0; MAX_SLOTS];
         for (p, slot) in pre.iter_mut().zip(&self.slots) {
             *p = tp[slot.term];
         }
+        // [a, ȧ, ä⁽¹⁾, 0] of mode index i (3: a padding slot's zero)
+        let amp = |i: usize| [at.a(i), at.adot(i), first.add[i], 0.0];
         let mut out = [0.0; MAX_MODES + 1];
         for e in &self.radial_only {
             let (f, g, _) = self.kinds[e.term];
-            out[0] += e.value * tp[e.term] * amp[e.l][f] * amp[e.m][g];
+            out[0] += e.value * tp[e.term] * amp(e.l)[f] * amp(e.m)[g];
         }
+        let st = self.rows.stride();
         self.rows.eval(&mut out[..=n], |left, right| {
-            let st = left.len() / n.max(1);
-            for ((lv, rv), a) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).zip(&amp) {
-                let a4 = [a[0], a[1], a[2], 0.0];
+            for (i, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate().take(n) {
+                let a4 = amp(i);
                 for (((x, y), &(f, g)), p) in lv.iter_mut().zip(rv.iter_mut()).zip(&self.sides).zip(&pre) {
                     (*x, *y) = (p * a4[f & 3], a4[g & 3]);
                 }
