@@ -40,6 +40,11 @@ pub struct FrameMap {
     lagrangian: Vec<Box<dyn Term>>,
     /// (target n: 0 = P_0, 1 + i = mode index i; l; m; K(n, l, m)) over ordered mode pairs.
     entries: Vec<(usize, usize, usize, f64)>,
+    /// The same entries grouped by the ordered pair (l, m): the pair's (z index of a_l, z index
+    /// of b_m, l, m) and the range of its (n, K) in `targets`, so that the rhs forms each pair's
+    /// products once and scatters them to the targets the selection rules allow.
+    pairs: Vec<(usize, usize, usize, usize, usize, usize)>,
+    targets: Vec<(usize, f64)>,
     modes: usize,
 }
 
@@ -68,7 +73,17 @@ impl FrameMap {
                 }
             }
         }
-        Some(Self { lagrangian, entries, modes: ks.len() })
+        let (mut pairs, mut targets) = (Vec::new(), Vec::new());
+        for l in 0..ks.len() {
+            for m in 0..ks.len() {
+                let start = targets.len();
+                targets.extend(entries.iter().filter(|e| e.1 == l && e.2 == m).map(|e| (e.0, e.3)));
+                if targets.len() > start {
+                    pairs.push((a_index(l), a_index(m) + 2, l, m, start, targets.len()));
+                }
+            }
+        }
+        Some(Self { lagrangian, entries, pairs, targets, modes: ks.len() })
     }
 
     /// Σ over the Lagrangian terms: (P, G_n, G_t) at z.
@@ -97,10 +112,13 @@ impl FrameMap {
     /// Σ K a_l b_m and Σ K (ȧ_l b_m + a_l ḃ_m) per target (the shift times R).
     fn sums(&self, z: &[f64], bd: &[f64]) -> ([f64; MAX_MODES + 1], [f64; MAX_MODES + 1]) {
         let (mut d, mut s) = ([0.0; MAX_MODES + 1], [0.0; MAX_MODES + 1]);
-        for &(n, l, m, c) in &self.entries {
-            let (al, adl, bm) = (z[a_index(l)], z[a_index(l) + 1], z[a_index(m) + 2]);
-            d[n] += c * al * bm;
-            s[n] += c * (adl * bm + al * bd.get(m).copied().unwrap_or(0.0));
+        for &(ia, ib, _, m, t0, t1) in &self.pairs {
+            let (al, adl, bm) = (z[ia], z[ia + 1], z[ib]);
+            let (x, y) = (al * bm, adl * bm + al * bd.get(m).copied().unwrap_or(0.0));
+            for &(n, c) in &self.targets[t0..t1] {
+                d[n] += c * x;
+                s[n] += c * y;
+            }
         }
         (d, s)
     }
@@ -142,8 +160,11 @@ impl SecondOrderTerm for FrameMap {
         }
         // frame change −Σ K F_l b_m / R of the normal load on P_n
         let mut fr = [0.0; MAX_MODES + 1];
-        for &(n, l, k, c) in &self.entries {
-            fr[n] -= c * f1[l] * z[a_index(k) + 2];
+        for &(_, ib, l, _, t0, t1) in &self.pairs {
+            let x = f1[l] * z[ib];
+            for &(n, c) in &self.targets[t0..t1] {
+                fr[n] -= c * x;
+            }
         }
         // the normal load on P_0 is subtracted from P (as Ŝ0), on P_j added to G_n,j
         loads.pressure += pl - p0 - fr[0] / r;
