@@ -107,13 +107,7 @@ impl Model {
         terms.push(Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
         if !scene.shell.is_free() {
-            terms.push(Box::new(effects::membrane::MembraneTerm {
-                law: params.membrane,
-                r0: params.r0,
-                c1: params.membrane_args.0,
-                c2: params.membrane_args.1,
-                orders: kf.clone(),
-            }));
+            terms.push(Box::new(membrane_term(&params, &kf)));
         }
         // issue 11 / issue 10 part 2: only the shell effects the scene switches on
         terms.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
@@ -401,17 +395,24 @@ fn quadratic_shell_terms(
 fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64]) -> Option<effects::quadratic_frame::FrameMap> {
     let mut lagrangian: Vec<Box<dyn Term>> = Vec::new();
     if !scene.shell.is_free() {
-        lagrangian.push(Box::new(effects::membrane::MembraneTerm {
-            law: params.membrane,
-            r0: params.r0,
-            c1: params.membrane_args.0,
-            c2: params.membrane_args.1,
-            orders: kf.to_vec(),
-        }));
+        lagrangian.push(Box::new(membrane_term(params, kf)));
     }
     let shell = crate::scene::Shell { surface_tension: 0.0, ..scene.shell.clone() };
     lagrangian.extend(effects::shell::terms(&shell, sc, params.r0, kf));
     effects::quadratic_frame::FrameMap::new(lagrangian, kf)
+}
+
+/// The linear membrane term of the scene's law (−Ŝ0 in the radial balance, Ŝ·(a, b) in G_n and
+/// G_t; effects/membrane.rs): one of the model's terms, and one of the material-frame loads of
+/// the quadratic frame mapping.
+fn membrane_term(params: &Params, kf: &[f64]) -> effects::membrane::MembraneTerm {
+    effects::membrane::MembraneTerm {
+        law: params.membrane,
+        r0: params.r0,
+        c1: params.membrane_args.0,
+        c2: params.membrane_args.1,
+        orders: kf.to_vec(),
+    }
 }
 
 /// The derivations/shell/ file stem of a law.
