@@ -17,8 +17,7 @@
 //! the mode-to-mode couplings (k ± 2 for the paper's coil).
 
 use super::linalg::{Scalar, ShiftedLu};
-use super::linear::{Factorization, StructuredJacobian};
-use nalgebra::Complex;
+use super::linear::{AnalyticStructure, Factorization};
 use std::rc::Rc;
 
 /// J split into border and interior (row-major pieces), checked against the pattern.
@@ -80,8 +79,11 @@ impl BorderedBand {
         }
         Some(BorderedBand(Rc::new(p)))
     }
+}
 
-    /// Factors σI − J; `None` when singular.
+impl AnalyticStructure for BorderedBand {
+    type Lu<T: Scalar + 'static> = BorderedLu<T>;
+
     fn factor_as<T: Scalar + 'static>(&self, sigma: T) -> Option<BorderedLu<T>> {
         let p = &self.0;
         let (nb, ni) = (p.nb, p.ni);
@@ -116,7 +118,7 @@ impl BorderedBand {
 }
 
 /// The factorisation of σI − J (module doc).
-struct BorderedLu<T: Scalar> {
+pub(crate) struct BorderedLu<T: Scalar> {
     parts: Rc<Parts>,
     inner: ShiftedLu<T>,
     /// M_II⁻¹ J_IB, column after column
@@ -148,22 +150,11 @@ impl<T: Scalar> Factorization<T> for BorderedLu<T> {
     }
 }
 
-impl StructuredJacobian for BorderedBand {
-    /// Built from the system's analytic Jacobian: no rhs calls.
-    fn rhs_equivalents(&self) -> u64 {
-        0
-    }
-    fn factor(&self, sigma: f64) -> Option<Box<dyn Factorization<f64>>> {
-        self.factor_as(sigma).map(|f| Box::new(f) as Box<dyn Factorization<f64>>)
-    }
-    fn factor_complex(&self, sigma: Complex<f64>) -> Option<Box<dyn Factorization<Complex<f64>>>> {
-        self.factor_as(sigma).map(|f| Box::new(f) as Box<dyn Factorization<Complex<f64>>>)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrate::linear::{assert_solves_like_dense, StructuredJacobian};
+    use nalgebra::Complex;
 
     /// A bordered-band matrix (border 3, interior band (2, 2)) with a small diagonal, so that
     /// both LUs pivot; the structured solve must agree with the dense one.
@@ -181,27 +172,11 @@ mod tests {
         }
         let bb = BorderedBand::new(&jac, n, nb, ml, mu).expect("structure holds");
         let b: Vec<f64> = (0..n).map(|i| (i as f64).sin() + 1.0).collect();
-        let sigma = 0.3;
-        let mut x = b.clone();
-        bb.factor(sigma).unwrap().solve(&mut x);
-        let mut dense = ShiftedLu::<f64>::new(n, None);
-        dense.factor(sigma, &jac, |v| v).unwrap();
-        let mut xd = b.clone();
-        dense.solve(&mut xd);
-        for (a, d) in x.iter().zip(&xd) {
-            assert!((a - d).abs() <= 1e-11 * d.abs().max(1.0), "{a} vs {d}");
-        }
+        let hook: &dyn StructuredJacobian = &bb;
+        assert_solves_like_dense(&*hook.factor(0.3).unwrap(), 0.3, &jac, n, &b);
         let sc = Complex::new(0.3, -2.0);
         let bc: Vec<Complex<f64>> = b.iter().map(|&v| Complex::new(v, -v)).collect();
-        let mut x = bc.clone();
-        bb.factor_complex(sc).unwrap().solve(&mut x);
-        let mut dense = ShiftedLu::<Complex<f64>>::new(n, None);
-        dense.factor(sc, &jac, |v| Complex::new(v, 0.0)).unwrap();
-        let mut xd = bc;
-        dense.solve(&mut xd);
-        for (a, d) in x.iter().zip(&xd) {
-            assert!((a - d).mag() <= 1e-11 * d.mag().max(1.0), "{a} vs {d}");
-        }
+        assert_solves_like_dense(&*hook.factor_complex(sc).unwrap(), sc, &jac, n, &bc);
         // an entry outside the band: the structure does not hold
         jac[(nb + 10) * n + nb + 1] = 1.0;
         assert!(BorderedBand::new(&jac, n, nb, ml, mu).is_none());

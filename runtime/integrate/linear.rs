@@ -8,7 +8,7 @@
 //! differences, dense or banded) and the LU of [`super::linalg`].
 
 use super::jacobian::FdJacobian;
-use super::linalg::ShiftedLu;
+use super::linalg::{Scalar, ShiftedLu};
 use super::{first_non_finite, OdeSystem, Stats};
 use nalgebra::Complex;
 
@@ -26,6 +26,43 @@ pub trait StructuredJacobian {
     fn factor(&self, sigma: f64) -> Option<Box<dyn Factorization<f64>>>;
     /// σI − J for complex σ; `None` when singular.
     fn factor_complex(&self, sigma: Complex<f64>) -> Option<Box<dyn Factorization<Complex<f64>>>>;
+}
+
+/// A [`StructuredJacobian`] built from the system's analytic Jacobian (no rhs calls) whose
+/// factorisation is one generic code for both scalars: the boundary-layer splits
+/// ([`super::bordered`], [`super::reduced`]) implement this and get the hook from it.
+pub(crate) trait AnalyticStructure {
+    /// The factorisation of σI − J for a real or complex σ.
+    type Lu<T: Scalar + 'static>: Factorization<T> + 'static;
+    /// Factors σI − J; `None` when singular.
+    fn factor_as<T: Scalar + 'static>(&self, sigma: T) -> Option<Self::Lu<T>>;
+}
+
+impl<S: AnalyticStructure> StructuredJacobian for S {
+    fn rhs_equivalents(&self) -> u64 {
+        0
+    }
+    fn factor(&self, sigma: f64) -> Option<Box<dyn Factorization<f64>>> {
+        self.factor_as(sigma).map(|f| Box::new(f) as Box<dyn Factorization<f64>>)
+    }
+    fn factor_complex(&self, sigma: Complex<f64>) -> Option<Box<dyn Factorization<Complex<f64>>>> {
+        self.factor_as(sigma).map(|f| Box::new(f) as Box<dyn Factorization<Complex<f64>>>)
+    }
+}
+
+/// Test helper: `lu` (a structured factorisation of σI − J) solves (σI − J) x = b like the dense
+/// LU of the row-major n × n `jac`, to 1e-11 relative.
+#[cfg(test)]
+pub(crate) fn assert_solves_like_dense<T: Scalar + std::fmt::Display>(lu: &dyn Factorization<T>, sigma: T, jac: &[f64], n: usize, b: &[T]) {
+    let mut x = b.to_vec();
+    lu.solve(&mut x);
+    let mut dense = ShiftedLu::<T>::new(n, None);
+    dense.factor(sigma, jac, T::from_real).expect("dense LU");
+    let mut xd = b.to_vec();
+    dense.solve(&mut xd);
+    for (&a, &d) in x.iter().zip(&xd) {
+        assert!((a - d).mag() <= 1e-11 * d.mag().max(1.0), "{a} vs {d}");
+    }
 }
 
 enum Kind {

@@ -15,8 +15,7 @@
 //! factors a dense (1 + 2M)-square matrix instead of the (2 + 3M)-square one.
 
 use super::linalg::{Scalar, ShiftedLu};
-use super::linear::{Factorization, StructuredJacobian};
-use nalgebra::Complex;
+use super::linear::{AnalyticStructure, Factorization};
 use std::rc::Rc;
 
 #[derive(Debug)]
@@ -74,6 +73,10 @@ impl PositionRows {
         start.push(jkp.len());
         Some(PositionRows(Rc::new(Parts { kept, pos, jkk, jkp, start })))
     }
+}
+
+impl AnalyticStructure for PositionRows {
+    type Lu<T: Scalar + 'static> = ReducedLu<T>;
 
     fn factor_as<T: Scalar + 'static>(&self, sigma: T) -> Option<ReducedLu<T>> {
         let p = &self.0;
@@ -98,7 +101,7 @@ impl PositionRows {
 }
 
 /// The factorisation of σI − J (module doc).
-struct ReducedLu<T: Scalar> {
+pub(crate) struct ReducedLu<T: Scalar> {
     parts: Rc<Parts>,
     inv_sigma: T,
     lu: ShiftedLu<T>,
@@ -128,22 +131,11 @@ impl<T: Scalar> Factorization<T> for ReducedLu<T> {
     }
 }
 
-impl StructuredJacobian for PositionRows {
-    /// Built from the system's analytic Jacobian: no rhs calls.
-    fn rhs_equivalents(&self) -> u64 {
-        0
-    }
-    fn factor(&self, sigma: f64) -> Option<Box<dyn Factorization<f64>>> {
-        self.factor_as(sigma).map(|f| Box::new(f) as Box<dyn Factorization<f64>>)
-    }
-    fn factor_complex(&self, sigma: Complex<f64>) -> Option<Box<dyn Factorization<Complex<f64>>>> {
-        self.factor_as(sigma).map(|f| Box::new(f) as Box<dyn Factorization<Complex<f64>>>)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrate::linear::{assert_solves_like_dense, StructuredJacobian};
+    use nalgebra::Complex;
 
     /// A 2 + 3·4 system laid out like the boundary-layer model (R, Ṙ, (a, ȧ, b)_k): the reduced
     /// solve agrees with the dense LU of σI − J, real and complex σ.
@@ -174,28 +166,13 @@ mod tests {
         let so = PositionRows::new(&jac, n).expect("position rows");
         assert_eq!(so.0.kept.len(), n - 5);
         let b: Vec<f64> = (0..n).map(|i| (i as f64).sin() + 1.0).collect();
+        let hook: &dyn StructuredJacobian = &so;
         for sigma in [0.3, -4.0] {
-            let mut x = b.clone();
-            so.factor(sigma).unwrap().solve(&mut x);
-            let mut dense = ShiftedLu::<f64>::new(n, None);
-            dense.factor(sigma, &jac, |v| v).unwrap();
-            let mut xd = b.clone();
-            dense.solve(&mut xd);
-            for (a, d) in x.iter().zip(&xd) {
-                assert!((a - d).abs() <= 1e-11 * d.abs().max(1.0), "{a} vs {d}");
-            }
+            assert_solves_like_dense(&*hook.factor(sigma).unwrap(), sigma, &jac, n, &b);
         }
         let sc = Complex::new(0.3, -2.0);
         let bc: Vec<Complex<f64>> = b.iter().map(|&v| Complex::new(v, -v)).collect();
-        let mut x = bc.clone();
-        so.factor_complex(sc).unwrap().solve(&mut x);
-        let mut dense = ShiftedLu::<Complex<f64>>::new(n, None);
-        dense.factor(sc, &jac, |v| Complex::new(v, 0.0)).unwrap();
-        let mut xd = bc;
-        dense.solve(&mut xd);
-        for (a, d) in x.iter().zip(&xd) {
-            assert!((a - d).mag() <= 1e-11 * d.mag().max(1.0), "{a} vs {d}");
-        }
+        assert_solves_like_dense(&*hook.factor_complex(sc).unwrap(), sc, &jac, n, &bc);
         // no unit row: nothing to eliminate
         let full: Vec<f64> = (0..n * n).map(|i| 1.0 + i as f64).collect();
         assert!(PositionRows::new(&full, n).is_none());
