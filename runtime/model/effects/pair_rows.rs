@@ -47,6 +47,62 @@ fn aligned(v: &[f64]) -> (Vec<f64>, usize) {
     (buf, at)
 }
 
+/// One x86-64 kernel of [`PairRows::apply`] for a vector width of `lanes` f64 (the intrinsics of
+/// that width given by name): the pair products, then per output two rows at a time into `V`
+/// register accumulators, folded by `|sum, a| …` into one 4-lane sum (AVX) whose lanes are added
+/// as the portable kernel adds its four partial sums. One body for AVX and AVX-512, so the two
+/// cannot drift apart (the bit-for-bit test below covers both).
+macro_rules! simd_kernel {
+    ($(#[$doc:meta])* $name:ident, $feature:literal, lanes $lanes:literal, $zero:ident, $load:ident, $store:ident, $mul:ident, $add:ident,
+     |$sum:ident, $a:ident| $fold:expr) => {
+        $(#[$doc])*
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        unsafe fn $name<const V: usize>(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {
+            use std::arch::x86_64::*;
+            let s = $lanes * V;
+            debug_assert_eq!(s, self.stride);
+            let (lp, rp, wp) = (left.as_ptr(), right.as_ptr(), w.as_mut_ptr());
+            for (p, &(l, m)) in self.pairs.iter().enumerate() {
+                let (x, y, d) = (lp.add(l * s), rp.add(m * s), wp.add(p * s));
+                for v in 0..V {
+                    $store(d.add($lanes * v), $mul($load(x.add($lanes * v)), $load(y.add($lanes * v))));
+                }
+            }
+            let wp = w.as_ptr();
+            let (cp, off) = (self.coef().as_ptr(), self.row_off.as_ptr());
+            for (o, x) in out.iter_mut().enumerate().take(self.out_start.len() - 1) {
+                let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
+                let mut acc = [$zero(); V];
+                let mut r = r0;
+                while r + 2 <= r1 {
+                    let (w0, w1) = (wp.add(*off.add(r) as usize), wp.add(*off.add(r + 1) as usize));
+                    let (c0, c1) = (cp.add(r * s), cp.add((r + 1) * s));
+                    for (v, a) in acc.iter_mut().enumerate() {
+                        let t0 = $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v)));
+                        let t1 = $mul($load(c1.add($lanes * v)), $load(w1.add($lanes * v)));
+                        *a = $add(*a, $add(t0, t1));
+                    }
+                    r += 2;
+                }
+                if r < r1 {
+                    let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add(r * s));
+                    for (v, a) in acc.iter_mut().enumerate() {
+                        *a = $add(*a, $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v))));
+                    }
+                }
+                let mut $sum = _mm256_setzero_pd();
+                for $a in acc {
+                    $fold;
+                }
+                let mut v = [0.0f64; 4];
+                _mm256_storeu_pd(v.as_mut_ptr(), $sum);
+                *x += (v[0] + v[1]) + (v[2] + v[3]);
+            }
+        }
+    };
+}
+
 impl PairRows {
     /// `modes` mode indices, `outputs` outputs, `slots` products per pair; `fill(o, l, m, c)`
     /// writes the coefficients of output o on pair (l ≤ m) into `c` (length `slots`, zeroed) and
@@ -168,108 +224,30 @@ impl PairRows {
         }
     }
 
-    /// [`apply_s`](Self::apply_s) with `V` = stride/4 AVX registers per row: the same
-    /// products, sums and order lane by lane (no FMA), so bit for bit its result; the
-    /// accumulators stay in registers and the rows are read through their stored offsets.
-    ///
-    /// # Safety
-    /// AVX available; `left`, `right`, `w`, `out` at least as long as [`apply`](Self::apply)
-    /// asserts; `self` built by [`new`](Self::new) (pairs < modes, row offsets < pairs · stride).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn apply_avx<const V: usize>(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {
-        use std::arch::x86_64::*;
-        let s = 4 * V;
-        debug_assert_eq!(s, self.stride);
-        let (lp, rp, wp) = (left.as_ptr(), right.as_ptr(), w.as_mut_ptr());
-        for (p, &(l, m)) in self.pairs.iter().enumerate() {
-            let (x, y, d) = (lp.add(l * s), rp.add(m * s), wp.add(p * s));
-            for v in 0..V {
-                _mm256_storeu_pd(d.add(4 * v), _mm256_mul_pd(_mm256_loadu_pd(x.add(4 * v)), _mm256_loadu_pd(y.add(4 * v))));
-            }
-        }
-        let wp = w.as_ptr();
-        let (cp, off) = (self.coef().as_ptr(), self.row_off.as_ptr());
-        for (o, x) in out.iter_mut().enumerate().take(self.out_start.len() - 1) {
-            let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
-            let mut acc = [_mm256_setzero_pd(); V];
-            let mut r = r0;
-            while r + 2 <= r1 {
-                let (w0, w1) = (wp.add(*off.add(r) as usize), wp.add(*off.add(r + 1) as usize));
-                let (c0, c1) = (cp.add(r * s), cp.add((r + 1) * s));
-                for (v, a) in acc.iter_mut().enumerate() {
-                    let t0 = _mm256_mul_pd(_mm256_loadu_pd(c0.add(4 * v)), _mm256_loadu_pd(w0.add(4 * v)));
-                    let t1 = _mm256_mul_pd(_mm256_loadu_pd(c1.add(4 * v)), _mm256_loadu_pd(w1.add(4 * v)));
-                    *a = _mm256_add_pd(*a, _mm256_add_pd(t0, t1));
-                }
-                r += 2;
-            }
-            if r < r1 {
-                let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add(r * s));
-                for (v, a) in acc.iter_mut().enumerate() {
-                    *a = _mm256_add_pd(*a, _mm256_mul_pd(_mm256_loadu_pd(c0.add(4 * v)), _mm256_loadu_pd(w0.add(4 * v))));
-                }
-            }
-            let mut sum = _mm256_setzero_pd();
-            for a in acc {
-                sum = _mm256_add_pd(sum, a);
-            }
-            let mut v = [0.0f64; 4];
-            _mm256_storeu_pd(v.as_mut_ptr(), sum);
-            *x += (v[0] + v[1]) + (v[2] + v[3]);
-        }
+    simd_kernel! {
+        /// [`apply_s`](Self::apply_s) with `V` = stride/4 AVX registers per row: the same
+        /// products, sums and order lane by lane (no FMA), so bit for bit its result; the
+        /// accumulators stay in registers and the rows are read through their stored offsets.
+        ///
+        /// # Safety
+        /// AVX available; `left`, `right`, `w`, `out` at least as long as [`apply`](Self::apply)
+        /// asserts; `self` built by [`new`](Self::new) (pairs < modes, row offsets < pairs · stride).
+        apply_avx, "avx", lanes 4, _mm256_setzero_pd, _mm256_loadu_pd, _mm256_storeu_pd, _mm256_mul_pd, _mm256_add_pd,
+        |sum, a| sum = _mm256_add_pd(sum, a)
     }
 
-    /// [`apply_avx`](Self::apply_avx) with `V` = stride/8 AVX-512 registers per row (half the
-    /// loads and instructions): the same lane-wise products and sums, and the final sum over
-    /// the partial sums in the 4-lane order of the other kernels, so bit for bit their result.
-    ///
-    /// # Safety
-    /// AVX-512F available; otherwise as [`apply_avx`](Self::apply_avx).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn apply_avx512<const V: usize>(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {
-        use std::arch::x86_64::*;
-        let s = 8 * V;
-        debug_assert_eq!(s, self.stride);
-        let (lp, rp, wp) = (left.as_ptr(), right.as_ptr(), w.as_mut_ptr());
-        for (p, &(l, m)) in self.pairs.iter().enumerate() {
-            let (x, y, d) = (lp.add(l * s), rp.add(m * s), wp.add(p * s));
-            for v in 0..V {
-                _mm512_storeu_pd(d.add(8 * v), _mm512_mul_pd(_mm512_loadu_pd(x.add(8 * v)), _mm512_loadu_pd(y.add(8 * v))));
-            }
-        }
-        let wp = w.as_ptr();
-        let (cp, off) = (self.coef().as_ptr(), self.row_off.as_ptr());
-        for (o, x) in out.iter_mut().enumerate().take(self.out_start.len() - 1) {
-            let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
-            let mut acc = [_mm512_setzero_pd(); V];
-            let mut r = r0;
-            while r + 2 <= r1 {
-                let (w0, w1) = (wp.add(*off.add(r) as usize), wp.add(*off.add(r + 1) as usize));
-                let (c0, c1) = (cp.add(r * s), cp.add((r + 1) * s));
-                for (v, a) in acc.iter_mut().enumerate() {
-                    let t0 = _mm512_mul_pd(_mm512_loadu_pd(c0.add(8 * v)), _mm512_loadu_pd(w0.add(8 * v)));
-                    let t1 = _mm512_mul_pd(_mm512_loadu_pd(c1.add(8 * v)), _mm512_loadu_pd(w1.add(8 * v)));
-                    *a = _mm512_add_pd(*a, _mm512_add_pd(t0, t1));
-                }
-                r += 2;
-            }
-            if r < r1 {
-                let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add(r * s));
-                for (v, a) in acc.iter_mut().enumerate() {
-                    *a = _mm512_add_pd(*a, _mm512_mul_pd(_mm512_loadu_pd(c0.add(8 * v)), _mm512_loadu_pd(w0.add(8 * v))));
-                }
-            }
-            // slots 0–3, 4–7, 8–11, …: the order of the 4-lane kernels
-            let mut sum = _mm256_setzero_pd();
-            for a in acc {
-                sum = _mm256_add_pd(sum, _mm512_castpd512_pd256(a));
-                sum = _mm256_add_pd(sum, _mm512_extractf64x4_pd::<1>(a));
-            }
-            let mut v = [0.0f64; 4];
-            _mm256_storeu_pd(v.as_mut_ptr(), sum);
-            *x += (v[0] + v[1]) + (v[2] + v[3]);
+    simd_kernel! {
+        /// [`apply_avx`](Self::apply_avx) with `V` = stride/8 AVX-512 registers per row (half the
+        /// loads and instructions): the same lane-wise products and sums, and the final sum over
+        /// the partial sums in the 4-lane order of the other kernels (slots 0–3, 4–7, 8–11, …), so
+        /// bit for bit their result.
+        ///
+        /// # Safety
+        /// AVX-512F available; otherwise as [`apply_avx`](Self::apply_avx).
+        apply_avx512, "avx512f", lanes 8, _mm512_setzero_pd, _mm512_loadu_pd, _mm512_storeu_pd, _mm512_mul_pd, _mm512_add_pd,
+        |sum, a| {
+            sum = _mm256_add_pd(sum, _mm512_castpd512_pd256(a));
+            sum = _mm256_add_pd(sum, _mm512_extractf64x4_pd::<1>(a));
         }
     }
 
