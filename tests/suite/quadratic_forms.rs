@@ -3,9 +3,11 @@
 //! literature's forms"), for the even n = 2..=16 of the tables: in the model's radius R (the P_0
 //! coefficient), in the volume radius R_v = R + a²/((2n+1)R), and on-shell (ä replaced by the inviscid Plesset mode
 //! equation ä = −3(Ṙ/R)ȧ + ((n−1)R̈/R − ω_n²)a, ω_n² = (n−1)(n+1)(n+2)γ/(ρR³)). The tables come
-//! from codegen; the closed forms are the page's; the changes of variables are exact at second
-//! order (substituting R = R_v − a²/((2n+1)R_v) into ρ(RR̈ + 3/2Ṙ²) − p_g(R) + 2γ/R adds the
-//! shifts below and turns p_g(R) into p_g(V)).
+//! from codegen; the closed forms are the page's own (derived there, with sympy), not transcribed
+//! from a printed paper: no printed form was reachable, so none is compared here (the page's
+//! "Not done"). The changes of variables are exact at second order (substituting
+//! R = R_v − a²/((2n+1)R_v) into ρ(RR̈ + 3/2Ṙ²) − p_g(R) + 2γ/R adds the shifts below and turns
+//! p_g(R) into p_g(V)).
 
 use magbubble::coefficients::quadratic::FREE_BUBBLE;
 
@@ -32,7 +34,7 @@ fn close(a: &[f64; 7], b: &[f64; 7]) -> bool {
 }
 
 #[test]
-fn the_generated_radial_row_in_r_in_the_volume_radius_and_on_shell_matches_the_printed_forms() {
+fn generated_radial_row_equals_the_derived_closed_forms_in_r_r_v_and_on_shell_and_the_virial_mean() {
     // the tables carry the even-mode set (issue 12: l + m + j even)
     for n in (2..=16usize).step_by(2) {
         let f = n as f64;

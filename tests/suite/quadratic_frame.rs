@@ -322,6 +322,7 @@ fn a_bending_shell_does_not_depend_on_the_initial_b_to_second_order() {
 fn frame_term_jacobian_matches_differences() {
     use magbubble::model::effects::second_order::FirstOrderGradient;
     use magbubble::model::effects::shell::ShellViscosity;
+    use crate::support::load_jacobian::{assert_load_jacobian_matches_fd, finite_state, flat_loads};
     use magbubble::model::effects::LoadJacobian;
     let modes = 6;
     let orders: Vec<f64> = (1..=modes).map(|i| 2.0 * i as f64).collect();
@@ -339,32 +340,17 @@ fn frame_term_jacobian_matches_differences() {
     let bd = |z: &[f64]| (0..modes).map(|m| (0..n).map(|j| g[m * n + j] * z[j]).sum()).collect::<Vec<f64>>();
     for (label, set) in sets {
         let t = FrameMap::new(set, &orders).expect("term");
-        let y: Vec<f64> = (0..n).map(|i| if i == 0 { 1.2 } else { 0.05 * (1.7 * i as f64).sin() }).collect();
+        let y = finite_state(modes);
         let eval = |z: &[f64]| {
-            let (mut gn, mut gt) = (vec![0.0; modes], vec![0.0; modes]);
-            let mut l = Loads { pressure: 0.0, gn: &mut gn, gt: &mut gt };
-            let (zero, b) = (vec![0.0; modes], bd(z));
-            t.add(&At { t: 0.0, z }, &FirstOrder { rdd: 0.0, add: &zero, bd: &b }, &mut l);
-            let mut v = vec![l.pressure];
-            v.extend(gn);
-            v.extend(gt);
-            v
+            flat_loads(modes, |l| {
+                let (zero, b) = (vec![0.0; modes], bd(z));
+                t.add(&At { t: 0.0, z }, &FirstOrder { rdd: 0.0, add: &zero, bd: &b }, l);
+            })
         };
         let mut jac = LoadJacobian::new(modes);
         let (zero, zn, b) = (vec![0.0; modes], vec![0.0; n], bd(&y));
         let zm = vec![0.0; modes * n];
         t.add_jacobian(&At { t: 0.0, z: &y }, &FirstOrder { rdd: 0.0, add: &zero, bd: &b }, &FirstOrderGradient { drdd: &zn, dadd: &zm, dbd: &g }, &mut jac);
-        let an: Vec<&[f64]> = std::iter::once(&jac.pressure[..]).chain((0..modes).map(|m| jac.gn_row(m))).chain((0..modes).map(|m| jac.gt_row(m))).collect();
-        for j in 0..n {
-            let h = 1e-6;
-            let (mut yp, mut ym) = (y.clone(), y.clone());
-            yp[j] += h;
-            ym[j] -= h;
-            let (fp, fm) = (eval(&yp), eval(&ym));
-            for (i, row) in an.iter().enumerate() {
-                let fd = (fp[i] - fm[i]) / (2.0 * h);
-                assert!((row[j] - fd).abs() <= 1e-7 * (1.0 + fd.abs()), "{label}: output {i}, column {j}: {} vs {fd}", row[j]);
-            }
-        }
+        assert_load_jacobian_matches_fd(&jac, &y, eval, label);
     }
 }

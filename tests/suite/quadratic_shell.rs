@@ -92,35 +92,15 @@ fn shelled_quadratic_jacobians_match_differences() {
 fn quadratic_membrane_term_jacobian_matches_differences() {
     use magbubble::coefficients::quadratic_membrane::Form;
     use magbubble::model::effects::quadratic_membrane::QuadraticMembrane;
-    use magbubble::model::effects::{At, LoadJacobian, Loads, Term};
+    use crate::support::load_jacobian::{assert_load_jacobian_matches_fd, finite_state, flat_loads};
+    use magbubble::model::effects::{At, LoadJacobian, Term};
     let modes = 6;
     let orders: Vec<f64> = (1..=modes).map(|i| 2.0 * i as f64).collect();
     for (name, form) in [("mooney_rivlin", Form::Paper), ("mooney_rivlin", Form::Tension), ("skalak", Form::Paper)] {
         let t = QuadraticMembrane::new(QuadraticMembrane::law(name).unwrap(), form, 1.0, (0.9, 0.3), &orders).unwrap();
-        let n = 2 + 3 * modes;
-        let y: Vec<f64> = (0..n).map(|i| if i == 0 { 1.2 } else { 0.05 * (1.7 * i as f64).sin() }).collect();
-        let eval = |z: &[f64]| {
-            let (mut gn, mut gt) = (vec![0.0; modes], vec![0.0; modes]);
-            let mut l = Loads { pressure: 0.0, gn: &mut gn, gt: &mut gt };
-            t.add(&At { t: 0.0, z }, &mut l);
-            let mut v = vec![l.pressure];
-            v.extend(gn);
-            v.extend(gt);
-            v
-        };
+        let y = finite_state(modes);
         let mut jac = LoadJacobian::new(modes);
         t.add_jacobian(&At { t: 0.0, z: &y }, &mut jac);
-        let an: Vec<&[f64]> = std::iter::once(&jac.pressure[..]).chain((0..modes).map(|m| jac.gn_row(m))).chain((0..modes).map(|m| jac.gt_row(m))).collect();
-        for j in 0..n {
-            let h = 1e-6;
-            let (mut yp, mut ym) = (y.clone(), y.clone());
-            yp[j] += h;
-            ym[j] -= h;
-            let (fp, fm) = (eval(&yp), eval(&ym));
-            for (i, row) in an.iter().enumerate() {
-                let fd = (fp[i] - fm[i]) / (2.0 * h);
-                assert!((row[j] - fd).abs() <= 1e-7 * (1.0 + fd.abs()), "{name} {form:?} row {i} ∂/∂y{j}: {} vs {fd}", row[j]);
-            }
-        }
+        assert_load_jacobian_matches_fd(&jac, &y, |z| flat_loads(modes, |l| t.add(&At { t: 0.0, z }, l)), &format!("{name} {form:?}"));
     }
 }

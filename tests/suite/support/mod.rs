@@ -8,3 +8,4 @@ pub mod rk4_ref;
 pub mod dopri_ref;
 pub mod membrane_loads;
 pub mod surface_jets;
+pub mod load_jacobian;
