@@ -22,6 +22,7 @@
 //!   `order_work` = −slope of log e against log (rhs evaluations) for every ladder.
 //! * **Wall time.** Median over `repeats` runs of the same settings.
 
+pub use super::convergence::log_slope;
 use crate::integrate::Stats;
 use crate::model::{params::Scales, simulate, ModelError, RunStatus};
 use crate::scene::{Method, Scene, Viscous, VorticityScheme};
@@ -255,25 +256,6 @@ pub fn order_vs_work(work: &[f64], err: &[f64]) -> (Option<f64>, f64) {
     };
     let order = if ratio >= MIN_WORK_RATIO { log_slope(work, err).map(|s| -s) } else { None };
     (order, ratio)
-}
-
-/// Least-squares slope of log y against log x over finite positive points (`None` with < 2).
-pub fn log_slope(x: &[f64], y: &[f64]) -> Option<f64> {
-    let pts: Vec<(f64, f64)> = x
-        .iter()
-        .zip(y)
-        .filter(|(x, y)| x.is_finite() && y.is_finite() && **x > 0.0 && **y > 0.0)
-        .map(|(x, y)| (x.ln(), y.ln()))
-        .collect();
-    if pts.len() < 2 {
-        return None;
-    }
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-    (sxx > 0.0).then(|| sxy / sxx)
 }
 
 /// Fixed step Δ/m with m the smallest integer such that Δ/m ≤ target (samples land on steps).

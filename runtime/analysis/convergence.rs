@@ -74,10 +74,19 @@ fn rel_l2(x: &[f64], r: &[f64]) -> f64 {
     }
 }
 
-/// Least-squares slope of log e against log dt over the finite, positive errors.
+/// Least-squares slope of log e against log dt over the finite, positive errors ([`log_slope`]).
 pub fn observed_order(dt: &[f64], e: &[f64]) -> Option<f64> {
-    let pts: Vec<(f64, f64)> =
-        dt.iter().zip(e).filter(|(_, e)| e.is_finite() && **e > 0.0).map(|(d, e)| (d.ln(), e.ln())).collect();
+    log_slope(dt, e)
+}
+
+/// Least-squares slope of log y against log x over finite positive points (`None` with < 2).
+pub fn log_slope(x: &[f64], y: &[f64]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = x
+        .iter()
+        .zip(y)
+        .filter(|(x, y)| x.is_finite() && y.is_finite() && **x > 0.0 && **y > 0.0)
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
     if pts.len() < 2 {
         return None;
     }
@@ -86,7 +95,7 @@ pub fn observed_order(dt: &[f64], e: &[f64]) -> Option<f64> {
     let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-    Some(sxy / sxx)
+    (sxx > 0.0).then(|| sxy / sxx)
 }
 
 /// Runs the reference (step `reference_dt`) and every `multiples[i] · reference_dt` up to

@@ -36,18 +36,6 @@ fn err(fig: &PaperFigure, variant: &str, message: impl std::fmt::Display) -> Fig
     }
 }
 
-fn scene_path(fig: &PaperFigure, scenes: &Path) -> Result<PathBuf, FigureError> {
-    let p = scenes.join(fig.scene);
-    if p.is_file() {
-        Ok(p)
-    } else {
-        Err(FigureError::MissingScene {
-            figure: fig.number,
-            path: p,
-        })
-    }
-}
-
 fn write_note(out: &Path, stem: &str, text: &str) -> Result<PathBuf, FigureError> {
     let md = out.join(format!("{stem}.md"));
     crate::plot::paper::write_atomic(&md, text.as_bytes())?;
@@ -62,7 +50,7 @@ pub fn make_convergence(
     quick: bool,
 ) -> Result<FigureReport, FigureError> {
     let start = Instant::now();
-    let path = scene_path(fig, scenes)?;
+    let path = fig.scene_in(scenes)?;
     let over: &[&str] = if quick { QUICK_CONV } else { &[] };
     let sc = scene::load(&path, over).map_err(|e| err(fig, "scene", e))?;
     let fm = FullModel::from_scene(&sc).map_err(|e| err(fig, "full model", e))?;
@@ -159,7 +147,7 @@ pub fn make_compare(
     quick: bool,
 ) -> Result<FigureReport, FigureError> {
     let start = Instant::now();
-    let path = scene_path(fig, scenes)?;
+    let path = fig.scene_in(scenes)?;
     let over: &[&str] = if quick { QUICK_COMPARE } else { &[] };
     let sc = scene::load(&path, over).map_err(|e| err(fig, "scene", e))?;
     let both = run_both(&sc).map_err(|e| err(fig, "boundary layer vs full model", e))?;

@@ -4,6 +4,11 @@ use crate::integrate::Stats;
 use crate::model::Groups;
 use super::*;
 
+/// `run SCENE --out OUT` (no overrides, no plot).
+fn args(scene: PathBuf, out: &Path) -> RunArgs {
+    RunArgs { scene, out: Some(out.to_path_buf()), set: vec![], plot: false }
+}
+
 fn report(status: RunStatus, names: &[String]) -> RunReport {
     RunReport {
         status,
@@ -66,11 +71,7 @@ fn run_writes_series_and_summary_and_no_temp_files() {
         "[modes]\nmax_order = 4\n[run]\nduration = 1e-6\nsample_interval = 1e-7\n",
     );
     let out = tmp.path().join("deep/out");
-    let args = RunArgs {
-        scene,
-        out: Some(out.clone()),
-        set: vec!["shell.c1=0.2".into()], plot: false,
-    };
+    let args = RunArgs { set: vec!["shell.c1=0.2".into()], ..args(scene, &out) };
     execute(&args, decay).unwrap();
 
     let csv = std::fs::read_to_string(out.join("series.csv")).unwrap();
@@ -123,11 +124,7 @@ fn failed_model_leaves_no_directory_and_no_files() {
     let scene = write_scene(tmp.path(), "[modes]\nmax_order = 0\n");
     let out = tmp.path().join("fresh");
     let err = execute(
-        &RunArgs {
-            scene,
-            out: Some(out.clone()),
-            set: vec![], plot: false,
-        },
+        &args(scene, &out),
         failing,
     )
     .unwrap_err();
@@ -142,11 +139,7 @@ fn failed_model_in_an_existing_directory_keeps_it_but_leaves_no_files() {
     let out = tmp.path().join("existing");
     std::fs::create_dir(&out).unwrap();
     execute(
-        &RunArgs {
-            scene,
-            out: Some(out.clone()),
-            set: vec![], plot: false,
-        },
+        &args(scene, &out),
         failing,
     )
     .unwrap_err();
@@ -160,11 +153,7 @@ fn invalid_scene_creates_nothing() {
     let scene = write_scene(tmp.path(), "[shell]\nc1 = -1.0\n");
     let out = tmp.path().join("never");
     let err = execute(
-        &RunArgs {
-            scene,
-            out: Some(out.clone()),
-            set: vec![], plot: false,
-        },
+        &args(scene, &out),
         decay,
     )
     .unwrap_err();

@@ -106,6 +106,16 @@ impl PaperFigure {
     pub fn stem(&self) -> String {
         format!("fig{:02}", self.number)
     }
+
+    /// The figure's scene file in `scenes_dir`; [`FigureError::MissingScene`] when it is not a file.
+    pub fn scene_in(&self, scenes_dir: &Path) -> Result<PathBuf, FigureError> {
+        let path = scenes_dir.join(self.scene);
+        if path.is_file() {
+            Ok(path)
+        } else {
+            Err(FigureError::MissingScene { figure: self.number, path })
+        }
+    }
 }
 
 /// The figure with this number.

@@ -121,13 +121,7 @@ pub fn make_stability(
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<FigureReport, FigureError> {
     let start = Instant::now();
-    let scene = scenes_dir.join(fig.scene);
-    if !scene.is_file() {
-        return Err(FigureError::MissingScene {
-            figure: fig.number,
-            path: scene,
-        });
-    }
+    let scene = fig.scene_in(scenes_dir)?;
     let families: Vec<(usize, &Variant)> = spec
         .families
         .iter()

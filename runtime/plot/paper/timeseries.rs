@@ -77,13 +77,7 @@ pub fn make_time_series(
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<FigureReport, FigureError> {
     let start = Instant::now();
-    let scene = scenes_dir.join(fig.scene);
-    if !scene.is_file() {
-        return Err(FigureError::MissingScene {
-            figure: fig.number,
-            path: scene,
-        });
-    }
+    let scene = fig.scene_in(scenes_dir)?;
     // The curves are independent runs: run them in parallel (results in registry order). Each
     // finished run is stored in figNN.parts/ and reused by a rerun of the same request.
     let dir = parts_dir(out_dir, &fig.stem());
