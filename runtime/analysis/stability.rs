@@ -20,15 +20,20 @@
 //! **Time series**: the nonlinear boundary-layer model from a seeded shape perturbation over a
 //! fixed number of drive periods; see [`series_unstable`].
 
-use super::floquet::{self, LinearPeriodic};
-use super::periodic::{self, PeriodicOrbit, RkFlow, ShootingOptions};
+use super::floquet;
+use super::periodic::{self, PeriodicOrbit, ShootingOptions};
 use crate::integrate::OdeSystem;
-use crate::model::{BoundaryLayerSystem, Model, ModelError};
+use crate::model::{Model, ModelError};
 use super::floquet_full::FullShape;
 use crate::model::vorticity::scene::SceneCoupling;
 use crate::scene::{Current, Field, Scene, Viscous};
-use nalgebra::DMatrix;
 use serde::Serialize;
+
+mod series;
+mod systems;
+pub use series::{series_unstable, SeriesOptions, SeriesVerdict};
+pub use systems::Radial;
+use systems::{radial_damping_rate, SampledOrbit, ShapeSystem};
 
 /// Errors of a stability computation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -167,178 +172,6 @@ pub fn drive_frequencies(scene: &Scene) -> Vec<f64> {
     f
 }
 
-/// The radial equation alone at a_k = b_k = 0 (M0 evaluated with zero shape amplitudes): the
-/// system whose periodic orbit [`floquet`] shoots for. State [R, Ṙ], nondimensional.
-pub struct Radial<'a> {
-    bl: &'a BoundaryLayerSystem,
-    full: usize,
-    /// (t, R, Ṙ, R̈) of the last [`OdeSystem::jacobian`] call: the exact gradient computes R̈
-    /// too, and the variational RK4 of the orbit search asks for the Jacobian and then the rhs
-    /// at the same point ([`super::periodic::RkFlow::advance_variational`]), so the rhs reuses
-    /// it (bit-identical: the same loads and the same radial form).
-    last: std::cell::Cell<[f64; 4]>,
-}
-
-impl<'a> Radial<'a> {
-    /// The radial system of a model with shape modes (`None` for a radial-only model).
-    pub fn of(model: &'a Model) -> Option<Self> {
-        model.boundary_layer().map(|bl| Radial::new(bl, bl.dim()))
-    }
-
-    fn new(bl: &'a BoundaryLayerSystem, full: usize) -> Self {
-        Radial { bl, full, last: std::cell::Cell::new([f64::NAN; 4]) }
-    }
-}
-
-impl Radial<'_> {
-    /// `f` of the model state z = [R, Ṙ, 0, …] (a stack buffer: the rhs runs ~10⁵ times per
-    /// orbit, and zeroing only what k ≤ 36 needs saves a memset of the largest size); `None`
-    /// beyond the largest supported state.
-    #[inline]
-    fn at_rest_shape<T>(&self, y: &[f64], f: impl FnOnce(&[f64]) -> T) -> Option<T> {
-        fn fill<const L: usize, T>(full: usize, y: &[f64], f: impl FnOnce(&[f64]) -> T) -> T {
-            let mut z = [0.0; L];
-            z[0] = y[0];
-            z[1] = y[1];
-            f(&z[..full])
-        }
-        match self.full {
-            n if n <= 56 => Some(fill::<56, T>(n, y, f)),
-            n if n <= 2 + 3 * 64 => Some(fill::<{ 2 + 3 * 64 }, T>(n, y, f)),
-            _ => None,
-        }
-    }
-}
-
-impl OdeSystem for Radial<'_> {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        dy[0] = y[1];
-        let [tl, rl, rdl, rddl] = self.last.get();
-        dy[1] = if tl == t && rl == y[0] && rdl == y[1] {
-            rddl
-        } else {
-            self.at_rest_shape(y, |z| self.bl.radial_acceleration(t, z)).unwrap_or(f64::NAN)
-        };
-    }
-    /// Exact: [[0, 1], ∂R̈/∂(R, Ṙ)] at a_k = b_k = 0 ([`crate::model::equations::Equations::radial_gradient`]).
-    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
-        let Some((rdd, g)) = self.at_rest_shape(y, |z| self.bl.equations().radial_gradient(t, z)) else { return false };
-        self.last.set([t, y[0], y[1], rdd]);
-        jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
-        true
-    }
-}
-
-/// R(t), Ṙ(t) on one orbit period, by cubic Hermite interpolation of RK4 grid values.
-struct SampledOrbit {
-    t0: f64,
-    h: f64,
-    period: f64,
-    y: Vec<[f64; 2]>,
-    f: Vec<[f64; 2]>,
-}
-
-impl SampledOrbit {
-    fn new(sys: &dyn OdeSystem, orbit: &PeriodicOrbit, steps_per_period: usize) -> Result<Self, StabilityError> {
-        let flow = RkFlow { sys, period: orbit.drive_period, steps_per_period };
-        let (mut y, mut f) = (Vec::new(), Vec::new());
-        let mut state = orbit.y0.clone();
-        flow.advance_observed(orbit.t0, &mut state, orbit.multiple, |_, y_, f_| {
-            y.push([y_[0], y_[1]]);
-            f.push([f_[0], f_[1]]);
-        })?;
-        Ok(Self { t0: orbit.t0, h: orbit.drive_period / steps_per_period as f64, period: orbit.period(), y, f })
-    }
-
-    /// (R, Ṙ) at t (periodic continuation).
-    fn at(&self, t: f64) -> (f64, f64) {
-        let s = (t - self.t0).rem_euclid(self.period) / self.h;
-        let i = (s.floor() as usize).min(self.y.len() - 2);
-        let u = s - i as f64;
-        let (h00, h10, h01, h11) =
-            ((1.0 + 2.0 * u) * (1.0 - u).powi(2), u * (1.0 - u).powi(2), u * u * (3.0 - 2.0 * u), u * u * (u - 1.0));
-        let v = |c: usize| {
-            h00 * self.y[i][c] + h10 * self.h * self.f[i][c] + h01 * self.y[i + 1][c] + h11 * self.h * self.f[i + 1][c]
-        };
-        (v(0), v(1))
-    }
-}
-
-/// The linear (a, ȧ, b) system along a prescribed R(t).
-struct ShapeSystem<'a> {
-    bl: &'a BoundaryLayerSystem,
-    n: usize,
-    radial: Box<dyn Fn(f64) -> (f64, f64, f64) + 'a>,
-    /// The forcing column of [`BoundaryLayerSystem::linear_modes_into`] (not used: the forcing
-    /// is inhomogeneous), kept so that A(t) is assembled without an allocation.
-    forcing: std::cell::RefCell<nalgebra::DVector<f64>>,
-}
-
-impl<'a> ShapeSystem<'a> {
-    fn new(bl: &'a BoundaryLayerSystem, n: usize, radial: Box<dyn Fn(f64) -> (f64, f64, f64) + 'a>) -> Self {
-        ShapeSystem { bl, n, radial, forcing: std::cell::RefCell::new(nalgebra::DVector::zeros(n)) }
-    }
-}
-
-impl LinearPeriodic for ShapeSystem<'_> {
-    fn dim(&self) -> usize {
-        self.n
-    }
-    /// A(t), assembled exactly from the model's linear structure
-    /// ([`BoundaryLayerSystem::linear_modes_into`]).
-    fn matrix(&self, t: f64, a: &mut DMatrix<f64>) {
-        let (r, rd, rdd) = (self.radial)(t);
-        self.bl.linear_modes_into(t, r, rd, rdd, a, &mut self.forcing.borrow_mut());
-    }
-    /// Without a field each block lies within one mode's (a, ȧ, b): assembled from the mode
-    /// blocks directly ([`BoundaryLayerSystem::linear_mode_blocks_into`], the same entries as
-    /// [`matrix`](Self::matrix)).
-    fn block_matrices(&self, t: f64, blocks: &[Vec<usize>], out: &mut [DMatrix<f64>]) {
-        if self.bl.jacobian_pattern().band > 0 {
-            return self.matrix(t, &mut out[0]);
-        }
-        let (r, rd, rdd) = (self.radial)(t);
-        let mut mb = [[0.0; 9]; crate::model::effects::MAX_MODES];
-        self.bl.linear_mode_blocks_into(t, r, rd, rdd, &mut mb[..self.n / 3]);
-        for (idx, o) in blocks.iter().zip(out) {
-            let base = idx[0] - idx[0] % 3;
-            for (bj, &j) in idx.iter().enumerate() {
-                for (bi, &i) in idx.iter().enumerate() {
-                    debug_assert!(i / 3 == base / 3 && j / 3 == base / 3, "a block spans two modes");
-                    o[(bi, bj)] = mb[base / 3][(j - base) * 3 + (i - base)];
-                }
-            }
-        }
-    }
-    fn blocks(&self) -> Vec<Vec<usize>> {
-        if self.bl.jacobian_pattern().band > 0 {
-            vec![(0..self.n).collect()]
-        } else if self.b_free() {
-            (0..self.n / 3).flat_map(|m| [vec![3 * m, 3 * m + 1], vec![3 * m + 2]]).collect()
-        } else {
-            (0..self.n / 3).map(|m| vec![3 * m, 3 * m + 1, 3 * m + 2]).collect()
-        }
-    }
-}
-
-impl ShapeSystem<'_> {
-    /// Whether no b_k feeds back into the (a, ȧ) rows (a free bubble: surface tension and bending
-    /// have no tangential stiffness, S2 = S12 = 0, no field). A(t) is then block lower-triangular,
-    /// the (a, ȧ) blocks carry the shape's multipliers, and each b_k block only relabels material
-    /// points: ḃ = Ṙb/R + (terms in a, ȧ) gives the multiplier R(T)/R(0) = 1 on any orbit, neutral
-    /// and not a shape instability. Checked on A at a generic (t, R, Ṙ, R̈).
-    fn b_free(&self) -> bool {
-        if self.bl.jacobian_pattern().band > 0 {
-            return false;
-        }
-        let (a, _) = self.bl.linear_modes(0.1, 1.1, 0.3, -0.2);
-        (0..self.n / 3).all(|m| (0..self.n).all(|i| i % 3 == 2 || a[(i, 3 * m + 2)] == 0.0))
-    }
-}
-
 /// Whether `criterion` can be evaluated on `scene` at all (assembled model, shape modes for
 /// Floquet, a periodic drive for the time series): checked once before a sweep, so that a
 /// scene the criterion cannot judge is one error, not a CSV of error rows.
@@ -356,15 +189,6 @@ pub fn check_scene(scene: &Scene, criterion: Criterion) -> Result<(), StabilityE
         }
         Criterion::Series => Ok(()),
     }
-}
-
-/// −½ ∂R̈/∂Ṙ at (R0, Ṙ = 0), t = 0: the radial damping rate γ (nondimensional).
-fn radial_damping_rate(radial: &Radial) -> f64 {
-    let (mut fp, mut fm) = ([0.0; 2], [0.0; 2]);
-    let h = 1e-6;
-    radial.rhs(0.0, &[1.0, h], &mut fp);
-    radial.rhs(0.0, &[1.0, -h], &mut fm);
-    -0.5 * (fp[1] - fm[1]) / (2.0 * h)
 }
 
 /// The periodic problem behind [`floquet`]: the radial orbit (found once) and the linear shape
@@ -573,110 +397,6 @@ pub fn floquet(scene: &Scene, opts: &FloquetOptions) -> Result<FloquetReport, St
         None
     };
     Ok(prep.report(&spec, opts.magnus_steps, convergence, opts.variant))
-}
-
-/// Settings of the time-series criterion (docs/stability.md).
-#[derive(Debug, Clone, PartialEq)]
-pub struct SeriesOptions {
-    /// Drive periods simulated.
-    pub periods: usize,
-    /// Initial a_k = seed · R0 for every simulated k (when the scene sets none).
-    pub seed: f64,
-    /// Unstable when the last quarter's peak exceeds `growth` × the third quarter's peak.
-    pub growth: f64,
-}
-
-impl Default for SeriesOptions {
-    fn default() -> Self {
-        Self { periods: 400, seed: 1e-6, growth: 2.0 }
-    }
-}
-
-/// The time-series verdict of one run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SeriesVerdict {
-    pub unstable: bool,
-    /// "blow_up", "growth" or "bounded" (or "failed: …").
-    pub reason: String,
-    /// Mode with the largest late/early ratio (or the blown-up one).
-    pub mode: String,
-    /// Peak ratio late/early of that mode.
-    pub ratio: f64,
-}
-
-/// Time-series criterion: run the nonlinear boundary-layer model for `periods` drive periods
-/// from a_k(0) = seed·R0; **unstable** iff the run is classified blow-up (threshold of
-/// `run.blow_up_threshold`, or R ≤ 0, or non-finite) or, for some shape amplitude (a_k or b_k),
-/// max|x| over the last quarter of the run exceeds `growth` × max|x| over the third quarter.
-/// The first half is discarded: the seed first decays (its projection on the stable Floquet
-/// directions dies out, by ~7 decades in 50 periods at 1.2 MHz) and the radial start-up
-/// transient lasts hundreds of periods, so an early window can hide growth that Floquet sees
-/// (tests/stability_series_window.rs). Detection limit: |μ| > growth^(4/periods) per period
-/// (2^(1/100) = 1.0069 with the default 400 periods).
-pub fn series_unstable(scene: &Scene, opts: &SeriesOptions) -> Result<SeriesVerdict, StabilityError> {
-    let mut scene = scene.clone();
-    let mut freqs = drive_frequencies(&scene);
-    if freqs.is_empty() {
-        // ε_p = 0 with nothing else periodic: still watch over the acoustic period.
-        freqs.extend(scene.drive.as_ref().map(|d| d.frequency_hz));
-    }
-    let tp = if freqs.is_empty() {
-        return Err(StabilityError::Scene("the time-series criterion needs a periodic drive".into()));
-    } else {
-        periodic::common_period(&freqs, 1000, 1e-9)?
-    };
-    if scene.bubble.initial.a.is_empty() {
-        for k in scene.modes.orders() {
-            scene.bubble.initial.a.insert(k, opts.seed * scene.bubble.radius);
-        }
-    }
-    let duration = opts.periods as f64 * tp;
-    scene.run.duration = duration;
-    scene.run.sample_interval = tp / 16.0;
-    let model = Model::from_scene(&scene)?;
-    let names = model.state_names();
-    let cols = names.len();
-    let (mut early, mut late) = (vec![0.0f64; cols], vec![0.0f64; cols]);
-    let report = model.run(&scene.run, &mut |t, row| {
-        let w = if t >= 0.75 * duration {
-            &mut late
-        } else if t >= 0.5 * duration {
-            &mut early
-        } else {
-            return;
-        };
-        for (m, v) in w.iter_mut().zip(row) {
-            *m = m.max(v.abs());
-        }
-    });
-    use crate::model::RunStatus;
-    match report.status {
-        RunStatus::BlowUp { mode, .. } => {
-            Ok(SeriesVerdict { unstable: true, reason: "blow_up".into(), mode, ratio: f64::INFINITY })
-        }
-        RunStatus::Failed { reason } => {
-            Ok(SeriesVerdict { unstable: true, reason: format!("failed: {reason}"), mode: String::new(), ratio: f64::NAN })
-        }
-        RunStatus::OutOfCredibleRange { mode, .. } => {
-            Ok(SeriesVerdict { unstable: true, reason: "out_of_credible_range".into(), mode, ratio: f64::INFINITY })
-        }
-        RunStatus::Completed => {
-            let (mut best, mut ratio) = (1, 0.0);
-            for c in 1..cols {
-                let r = late[c] / early[c].max(f64::MIN_POSITIVE);
-                if r > ratio {
-                    (best, ratio) = (c, r);
-                }
-            }
-            let unstable = ratio > opts.growth;
-            Ok(SeriesVerdict {
-                unstable,
-                reason: if unstable { "growth".into() } else { "bounded".into() },
-                mode: names.get(best).cloned().unwrap_or_default(),
-                ratio,
-            })
-        }
-    }
 }
 
 /// Which stability criterion a diagram uses.
