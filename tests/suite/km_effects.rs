@@ -16,13 +16,8 @@ use crate::support::jacobian::assert_jacobian_matches_fd;
 use magbubble::coefficients::membrane::viscous;
 use magbubble::model::Model;
 use magbubble::scene;
+use crate::common::water::*;
 
-const RHO: f64 = 1000.0;
-const ETA: f64 = 1e-3;
-const P0: f64 = 101325.0;
-const KAPPA: f64 = 1.4;
-const C: f64 = 1500.0;
-const GAMMA: f64 = 0.072;
 const KS: f64 = 1e-9;
 
 fn scene_text(r0: f64, c1: f64, c2: f64, drive: Option<(f64, f64)>) -> String {

@@ -15,14 +15,9 @@ use magbubble::model::effects::shell::{bending_table, surface_tension_table};
 use crate::support::jacobian::assert_jacobian_matches_fd;
 use magbubble::model::Model;
 use magbubble::scene;
+use crate::common::water::*;
 
 const R0: f64 = 5e-6;
-const RHO: f64 = 1000.0;
-const ETA: f64 = 1e-3;
-const P0: f64 = 101325.0;
-const KAPPA: f64 = 1.4;
-const C: f64 = 1500.0;
-const GAMMA: f64 = 0.072;
 
 #[test]
 fn keller_miksis_with_surface_tension_linear_frequency_and_damping() {

@@ -28,12 +28,9 @@
 use magbubble::analysis::frequencies::natural_frequencies;
 use magbubble::model::Model;
 use magbubble::scene::{self, Scene};
+use crate::common::water::*;
 
 const R0: f64 = 5e-6;
-const RHO: f64 = 1000.0;
-const P0: f64 = 101325.0;
-const KAPPA: f64 = 1.4;
-const GAMMA: f64 = 0.072;
 
 fn scene(pv: f64) -> Scene {
     let text = format!(

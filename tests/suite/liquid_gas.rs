@@ -12,13 +12,9 @@ use magbubble::analysis::frequencies::natural_frequencies;
 use magbubble::model::{simulate, Model, RunStatus};
 use magbubble::scene::{self, Scene};
 use std::process::Command;
+use crate::common::water::*;
 
 const R0: f64 = 5e-6;
-const RHO: f64 = 1000.0;
-const ETA: f64 = 1e-3;
-const P0: f64 = 101325.0;
-const KAPPA: f64 = 1.4;
-const C: f64 = 1500.0;
 
 fn free(extra: &str, overrides: &[&str]) -> Scene {
     let text = format!(

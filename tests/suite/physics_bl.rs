@@ -9,14 +9,9 @@ use magbubble::field::{coil, MU0};
 use magbubble::model::{Model, RunStatus};
 use magbubble::scene::*;
 use nalgebra::{DMatrix, DVector, Matrix3};
+use crate::common::water::*;
+use crate::common::{C1, C2, R0};
 
-const R0: f64 = 10e-6;
-const C1: f64 = 0.1;
-const C2: f64 = 0.12;
-const RHO: f64 = 1000.0;
-const ETA: f64 = 1e-3;
-const P0: f64 = 101325.0;
-const KAPPA: f64 = 1.4;
 
 fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
     Scene {
@@ -39,17 +34,6 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
             max_output_bytes: 1e9,
         },
     }
-}
-
-fn coil_field(current: f64) -> Field {
-    Field::Coil(Coil {
-        turns: 1000.0,
-        distance: 0.1,
-        angle: (3.0f64 / 7.0).sqrt().acos(),
-        current: Current::Static { value: current },
-        distance_oscillation: None,
-        include_h4: false,
-    })
 }
 
 /// Runs and returns (t, rows).
@@ -259,7 +243,7 @@ fn static_coil_gives_the_predicted_steady_a2() {
     let n = 6;
     let (r_eq, ab) = static_coil_equilibrium(100e3, n);
     let mut s = scene(n, 2e-9, 150e-6, 20e-9);
-    s.field = Some(coil_field(100e3));
+    s.field = Some(crate::common::coil(100e3));
     let (model, t, rows) = run(&s);
     assert!(model.magnetic_evaluations() > 0);
     // average over the last 10 µs (residual transient oscillations average out)
@@ -279,7 +263,7 @@ fn no_field_equals_zero_current_coil_and_evaluates_no_magnetic_term() {
     s.drive = Some(Drive { amplitude: 0.3, frequency_hz: 1e6 });
     s.bubble.initial.a.insert(2, 1e-8);
     let (m_plain, _, plain) = run(&s);
-    s.field = Some(coil_field(0.0));
+    s.field = Some(crate::common::coil(0.0));
     let (m_coil, _, coil) = run(&s);
     assert_eq!(m_plain.magnetic_evaluations(), 0);
     assert!(m_coil.magnetic_evaluations() > 0);
@@ -309,7 +293,7 @@ fn radial_only_scene_is_a_two_state_system() {
 #[test]
 fn groups_follow_their_definitions() {
     let mut s = scene(16, 1e-9, 1e-6, 1e-7);
-    s.field = Some(coil_field(100e3));
+    s.field = Some(crate::common::coil(100e3));
     s.drive = Some(Drive { amplitude: 0.5, frequency_hz: 1e6 });
     let g = Model::from_scene(&s).unwrap().groups();
     let h2 = coil::h2(100e3, 0.1, 1000.0, (3.0f64 / 7.0).sqrt().acos());

@@ -14,7 +14,7 @@
 //!   alone have them); and a run of a bending-only shell does not depend on the initial b to
 //!   O(ε³).
 
-use crate::support::membrane_loads::{loads_on, mode, Law};
+use crate::support::membrane_loads::{loads_on, mode, normalise_projections, Law};
 use crate::support::shell_energy::{gauss_legendre, mixed, second, steps};
 use magbubble::coefficients::quadratic_membrane::Form;
 use magbubble::model::effects::membrane::MembraneTerm;
@@ -189,13 +189,7 @@ fn eulerian_projection(law: Law, amps: &[(usize, f64, f64)], jmax: usize) -> Vec
             o[2] += w * ft * pm[1];
         }
     }
-    for (j, o) in out.iter_mut().enumerate() {
-        let jj = j as f64;
-        o[0] *= (2.0 * jj + 1.0) / 2.0;
-        let tn = if j == 0 { 0.0 } else { (2.0 * jj + 1.0) / (2.0 * jj * (jj + 1.0)) };
-        o[1] *= tn;
-        o[2] *= tn;
-    }
+    normalise_projections(&mut out);
     out
 }
 

@@ -6,9 +6,8 @@ use crate::common;
 use crate::support::prony::prony;
 use magbubble::analysis::frequencies::natural_frequencies;
 use magbubble::scene::ShellLaw;
+use crate::common::water::*;
 
-const RHO: f64 = 1000.0;
-const P0: f64 = 101325.0;
 
 #[test]
 fn skalak_radial_frequency_has_the_area_modulus_k_equal_gs_1_plus_2c() {

@@ -8,6 +8,18 @@ pub const R0: f64 = 10e-6;
 pub const C1: f64 = 0.1;
 pub const C2: f64 = 0.12;
 
+/// Water at 20 °C and air, the liquid and gas of the hand-built scenes: density [kg/m³],
+/// viscosity [Pa s], ambient pressure [Pa], polytropic exponent, sound speed [m/s], surface
+/// tension [N/m].
+pub mod water {
+    pub const RHO: f64 = 1000.0;
+    pub const ETA: f64 = 1e-3;
+    pub const P0: f64 = 101325.0;
+    pub const KAPPA: f64 = 1.4;
+    pub const C: f64 = 1500.0;
+    pub const GAMMA: f64 = 0.072;
+}
+
 pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
     Scene {
         bubble: Bubble {

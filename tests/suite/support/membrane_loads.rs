@@ -163,6 +163,14 @@ pub fn projected(law: Law, r: f64, r0: f64, modes: &[Amp], jmax: usize) -> Vec<[
             o[2] += w * ft * p1;
         }
     }
+    normalise_projections(&mut out);
+    out
+}
+
+/// Turns the quadrature sums ∫ f P_j dx, ∫ f P¹_j dx of [`projected`]'s layout (normal, then
+/// two tangential columns) into Legendre coefficients: × (2j + 1)/2 for P_j and
+/// × (2j + 1)/(2j(j + 1)) for P¹_j (0 for j = 0, where P¹_0 = 0).
+pub fn normalise_projections(out: &mut [[f64; 3]]) {
     for (j, o) in out.iter_mut().enumerate() {
         let jj = j as f64;
         o[0] *= (2.0 * jj + 1.0) / 2.0;
@@ -170,5 +178,4 @@ pub fn projected(law: Law, r: f64, r0: f64, modes: &[Amp], jmax: usize) -> Vec<[
         o[1] *= tn;
         o[2] *= tn;
     }
-    out
 }
