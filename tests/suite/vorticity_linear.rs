@@ -15,19 +15,7 @@ use magbubble::model::vorticity::Grid;
 /// The paper's bubble (R0 = 10 µm, c1 = 0.1, c2 = 0.12 N/m, water). The membrane coefficients at
 /// R = R0 are FORMULATION §2's reduced values (test inputs: the dispersion relation holds for any).
 fn mode(k: usize) -> LinearMode {
-    let (c1, c2, r0) = (0.1, 0.12, 10e-6);
-    let n = (k * (k + 1)) as f64;
-    let c = (c1 + c2) / (r0 * r0);
-    LinearMode {
-        k,
-        rho: 1000.0,
-        eta: 1e-3,
-        r0,
-        s1: 24.0 * c,
-        s2: -12.0 * n * c,
-        s11: -12.0 * c,
-        s12: 4.0 * (2.0 * n - 1.0) * c,
-    }
+    crate::common::paper_mode(k)
 }
 
 fn grid() -> Grid {
@@ -134,10 +122,7 @@ fn monolithic_free_decay_agrees_with_the_dispersion_relation() {
     use magbubble::integrate::{solve, Control, Method, Output};
     // nondimensional units of FORMULATION §4.5 (R0 = ρ = 1, c1 = 1/2): the integrator's
     // absolute tolerance is meant for O(1) states
-    let (c1, c2, k) = (0.5, 0.6, 2usize);
-    let n = (k * (k + 1)) as f64;
-    let c = c1 + c2;
-    let m = LinearMode { k, rho: 1.0, eta: 1.0 / 44.72, r0: 1.0, s1: 24.0 * c, s2: -12.0 * n * c, s11: -12.0 * c, s12: 4.0 * (2.0 * n - 1.0) * c };
+    let m = crate::common::paper_mode_nd(2, 44.72);
     let exact = m.exact_root(initial_guess(&m)).unwrap();
     let cpl = LinearCoupling::new(vec![m]);
     let sys = Monolithic::new(&cpl, grid());

@@ -9,10 +9,7 @@ use magbubble::model::vorticity::Grid;
 
 fn mode(k: usize) -> LinearMode {
     // nondimensional (R0 = 1, ρ = 1, c1 = 1/2, c2 = 0.6), Re ≈ 63
-    let (c1, c2) = (0.5, 0.6);
-    let n = (k * (k + 1)) as f64;
-    let c = c1 + c2;
-    LinearMode { k, rho: 1.0, eta: 1.0 / 63.0, r0: 1.0, s1: 24.0 * c, s2: -12.0 * n * c, s11: -12.0 * c, s12: 4.0 * (2.0 * n - 1.0) * c }
+    crate::common::paper_mode_nd(k, 63.0)
 }
 
 #[test]

@@ -7,10 +7,7 @@ use magbubble::model::vorticity::staggered::{Staggered, WallCoupling};
 use magbubble::model::vorticity::Grid;
 
 fn mode(k: usize) -> LinearMode {
-    let (c1, c2, r0) = (0.1, 0.12, 10e-6);
-    let n = (k * (k + 1)) as f64;
-    let c = (c1 + c2) / (r0 * r0);
-    LinearMode { k, rho: 1000.0, eta: 1e-3, r0, s1: 24.0 * c, s2: -12.0 * n * c, s11: -12.0 * c, s12: 4.0 * (2.0 * n - 1.0) * c }
+    crate::common::paper_mode(k)
 }
 
 #[test]
@@ -136,10 +133,7 @@ fn staggered_timing() {
 /// The paper's bubble in the nondimensional units of FORMULATION §4.5 (R0 = ρ = 1, c1 = 1/2,
 /// t* = 2.236 µs, Re = 44.7).
 fn mode_nd(k: usize) -> LinearMode {
-    let (c1, c2) = (0.5, 0.6);
-    let n = (k * (k + 1)) as f64;
-    let c = c1 + c2;
-    LinearMode { k, rho: 1.0, eta: 1.0 / 44.72, r0: 1.0, s1: 24.0 * c, s2: -12.0 * n * c, s11: -12.0 * c, s12: 4.0 * (2.0 * n - 1.0) * c }
+    crate::common::paper_mode_nd(k, 44.72)
 }
 
 #[test]

@@ -42,6 +42,18 @@ fn write_note(out: &Path, stem: &str, text: &str) -> Result<PathBuf, FigureError
     Ok(md)
 }
 
+/// The figure's scene file and the scene with the `over` overrides.
+fn load_scene(fig: &PaperFigure, scenes: &Path, over: &[&str]) -> Result<(PathBuf, scene::Scene), FigureError> {
+    let path = fig.scene_in(scenes)?;
+    let sc = scene::load(&path, over).map_err(|e| err(fig, "scene", e))?;
+    Ok((path, sc))
+}
+
+fn create_dir(out: &Path) -> Result<(), FigureError> {
+    std::fs::create_dir_all(out).map_err(|source| crate::plot::PlotError::Io { path: out.to_path_buf(), source })?;
+    Ok(())
+}
+
 /// Fig 3: e_s and e_f against Δt′ (log–log) with a slope-2 guide; `fig03.csv`, `.svg/.png`, `.md`.
 pub fn make_convergence(
     fig: &PaperFigure,
@@ -50,9 +62,7 @@ pub fn make_convergence(
     quick: bool,
 ) -> Result<FigureReport, FigureError> {
     let start = Instant::now();
-    let path = fig.scene_in(scenes)?;
-    let over: &[&str] = if quick { QUICK_CONV } else { &[] };
-    let sc = scene::load(&path, over).map_err(|e| err(fig, "scene", e))?;
+    let (path, sc) = load_scene(fig, scenes, if quick { QUICK_CONV } else { &[] })?;
     let fm = FullModel::from_scene(&sc).map_err(|e| err(fig, "full model", e))?;
     let ts = fm.base().time_scale();
     let (reference, duration, multiples): (f64, f64, &[u64]) = if quick {
@@ -65,10 +75,7 @@ pub fn make_convergence(
         .map_err(|e| err(fig, "reference run", e))?;
     let stem = fig.stem();
     let csv_path = out.join(format!("{stem}.csv"));
-    std::fs::create_dir_all(out).map_err(|source| crate::plot::PlotError::Io {
-        path: out.to_path_buf(),
-        source,
-    })?;
+    create_dir(out)?;
     let mut csv = CsvWriter::create(&csv_path, &["dt_prime", "dt_s", "e_s", "e_f", "worst_k", "seconds"])
         .map_err(|e| err(fig, "csv", e))?;
     for r in &rep.rows {
@@ -147,17 +154,12 @@ pub fn make_compare(
     quick: bool,
 ) -> Result<FigureReport, FigureError> {
     let start = Instant::now();
-    let path = fig.scene_in(scenes)?;
-    let over: &[&str] = if quick { QUICK_COMPARE } else { &[] };
-    let sc = scene::load(&path, over).map_err(|e| err(fig, "scene", e))?;
+    let (path, sc) = load_scene(fig, scenes, if quick { QUICK_COMPARE } else { &[] })?;
     let both = run_both(&sc).map_err(|e| err(fig, "boundary layer vs full model", e))?;
     let (names, t) = (&both.names, &both.t);
     let (rep_bl, rep_full) = (&both.report_bl, &both.report_full);
     let stem = fig.stem();
-    std::fs::create_dir_all(out).map_err(|source| crate::plot::PlotError::Io {
-        path: out.to_path_buf(),
-        source,
-    })?;
+    create_dir(out)?;
     let csv_path = out.join(format!("{stem}.csv"));
     both.write_csv(&csv_path).map_err(|e| err(fig, "csv", e))?;
     let shapes: Vec<&str> = ["a_2", "a_4"]

@@ -20,6 +20,26 @@ pub mod water {
     pub const GAMMA: f64 = 0.072;
 }
 
+/// The linear shape mode k of a Mooney–Rivlin shell at rest, for the dispersion relation and
+/// the vorticity closure (FORMULATION §2's reduced membrane coefficients at R = R0, ∝ (c1 + c2)/R0²):
+/// density ρ, viscosity η, radius R0, and c1 + c2 (test inputs: the relation holds for any).
+pub fn shell_mode(k: usize, rho: f64, eta: f64, r0: f64, c1_plus_c2: f64) -> magbubble::analysis::dispersion::LinearMode {
+    let n = (k * (k + 1)) as f64;
+    let c = c1_plus_c2 / (r0 * r0);
+    magbubble::analysis::dispersion::LinearMode { k, rho, eta, r0, s1: 24.0 * c, s2: -12.0 * n * c, s11: -12.0 * c, s12: 4.0 * (2.0 * n - 1.0) * c }
+}
+
+/// [`shell_mode`] of the paper's bubble (R0 = 10 µm, c1 = 0.1, c2 = 0.12 N/m, water).
+pub fn paper_mode(k: usize) -> magbubble::analysis::dispersion::LinearMode {
+    shell_mode(k, 1000.0, 1e-3, R0, C1 + C2)
+}
+
+/// [`shell_mode`] in the nondimensional units of FORMULATION §4.5 (R0 = ρ = 1, c1 = 1/2,
+/// c2 = 0.6) at Reynolds number `re` (44.72 for the paper's bubble: t* = 2.236 µs).
+pub fn paper_mode_nd(k: usize, re: f64) -> magbubble::analysis::dispersion::LinearMode {
+    shell_mode(k, 1.0, 1.0 / re, 1.0, 0.5 + 0.6)
+}
+
 pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
     Scene {
         bubble: Bubble {
