@@ -131,28 +131,43 @@ pub struct TriBatch {
 impl TriBatch {
     /// `None` on a zero pivot.
     pub fn new<T: Lane>(sigma: T, rows: &[Rows], ni: usize) -> Option<Self> {
+        // built node after node with pushes (no zeroed buffers: every vector is written once)
         let m = rows.len();
-        let (mut inv_beta, mut gamma) = (Split::zeros::<T>(ni, m), Split::zeros::<T>(ni, m));
-        let q = inv_beta.q;
-        let mut lower = vec![[0.0; L]; ni * q];
+        let q = per_node(m);
+        let n = ni * q;
+        let cap = if T::CPLX { n } else { 0 };
+        let mut lower = Vec::with_capacity(n);
+        let (mut ib, mut gm) = (Split { q, re: Vec::with_capacity(n), im: Vec::with_capacity(cap) }, Split { q, re: Vec::with_capacity(n), im: Vec::with_capacity(cap) });
         for i in 0..ni {
-            for (k, r) in rows.iter().enumerate() {
-                let beta = if i == 0 {
-                    sigma - T::from_real(r.diag[0])
-                } else {
-                    let l = -r.lower[i];
-                    let g = inv_beta.get::<T>(i - 1, k).scale(-r.upper[i - 1]);
-                    lower[i * q + k / L][k % L] = l;
-                    gamma.set(i, k, g);
-                    sigma - T::from_real(r.diag[i]) - g.scale(l)
-                };
-                if beta == T::zero() {
-                    return None;
+            for v in 0..q {
+                let (mut l4, mut ibr, mut ibi, mut gr, mut gi) = ([0.0; L], [0.0; L], [0.0; L], [0.0; L], [0.0; L]);
+                for (lane, r) in rows[v * L..m.min((v + 1) * L)].iter().enumerate() {
+                    let beta = if i == 0 {
+                        sigma - T::from_real(r.diag[0])
+                    } else {
+                        let at = (i - 1) * q + v;
+                        let prev = T::from_parts(ib.re[at][lane], if T::CPLX { ib.im[at][lane] } else { 0.0 });
+                        let l = -r.lower[i];
+                        let g = prev.scale(-r.upper[i - 1]);
+                        l4[lane] = l;
+                        (gr[lane], gi[lane]) = g.parts();
+                        sigma - T::from_real(r.diag[i]) - g.scale(l)
+                    };
+                    if beta == T::zero() {
+                        return None;
+                    }
+                    (ibr[lane], ibi[lane]) = (T::one() / beta).parts();
                 }
-                inv_beta.set(i, k, T::one() / beta);
+                lower.push(l4);
+                ib.re.push(ibr);
+                gm.re.push(gr);
+                if T::CPLX {
+                    ib.im.push(ibi);
+                    gm.im.push(gi);
+                }
             }
         }
-        Some(Self { q, lower, inv_beta, gamma })
+        Some(Self { q, lower, inv_beta: ib, gamma: gm })
     }
 
     /// x ← (σI − L_k)⁻¹ x for every mode k at once (x node-major, split like the factors).

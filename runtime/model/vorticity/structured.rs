@@ -387,19 +387,20 @@ impl<T: Lane> StructuredLu<T> {
             let lanes = xt.re.chunks_exact_mut(q1).zip(xt.im.chunks_exact_mut(q1));
             let us = uc.re.chunks_exact(q1).zip(uc.im.chunks_exact(q1)).zip(ur.re.chunks_exact(q1).zip(ur.im.chunks_exact(q1))).zip(urd.re.chunks_exact(q1).zip(urd.im.chunks_exact(q1)));
             for ((xr, xi), (((cr, ci), (rr, ri)), (dr, di))) in lanes.zip(us) {
-                for v in 0..q {
-                    let (csr, csi) = cmul(cr[v], ci[v], sr[v], si[v]);
-                    let (rxr, rxi) = cmul(rr[v], ri[v], x0r, x0i);
-                    let (dxr, dxi) = cmul(dr[v], di[v], x1r, x1i);
-                    xr[v] = add(xr[v], add(add(csr, rxr), dxr));
-                    xi[v] = add(xi[v], add(add(csi, rxi), dxi));
+                let it = xr.iter_mut().zip(xi.iter_mut()).zip(cr.iter().zip(ci)).zip(rr.iter().zip(ri)).zip(dr.iter().zip(di)).zip(sr.iter().zip(si));
+                for (((((xr, xi), (&cr, &ci)), (&rr, &ri)), (&dr, &di)), (&sr, &si)) in it {
+                    let (csr, csi) = cmul(cr, ci, sr, si);
+                    let (rxr, rxi) = cmul(rr, ri, x0r, x0i);
+                    let (dxr, dxi) = cmul(dr, di, x1r, x1i);
+                    *xr = add(*xr, add(add(csr, rxr), dxr));
+                    *xi = add(*xi, add(add(csi, rxi), dxi));
                 }
             }
         } else {
             let us = uc.re.chunks_exact(q1).zip(ur.re.chunks_exact(q1)).zip(urd.re.chunks_exact(q1));
             for (xr, ((cr, rr), dr)) in xt.re.chunks_exact_mut(q1).zip(us) {
-                for v in 0..q {
-                    xr[v] = add(xr[v], add(add(mul(cr[v], sr[v]), mul(rr[v], x0r)), mul(dr[v], x1r)));
+                for ((((x, &c), &r), &d), &sv) in xr.iter_mut().zip(cr).zip(rr).zip(dr).zip(sr) {
+                    *x = add(*x, add(add(mul(c, sv), mul(r, x0r)), mul(d, x1r)));
                 }
             }
         }
