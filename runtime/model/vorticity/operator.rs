@@ -228,13 +228,13 @@ impl ModeOperator {
     fn functionals_lanes_body(&self, t: &[f64]) -> (f64, f64) {
         let n = t.len().min(self.wi.len() - 1);
         let (t, wi, wj) = (&t[..n], &self.wi[1..n + 1], &self.wj[1..n + 1]);
-        let (mut si, mut sj) = ([0.0f64; 4], [0.0f64; 4]);
+        use super::batch::{add, mul, V};
+        let (mut si, mut sj): (V, V) = ([0.0; 4], [0.0; 4]);
         let chunks = t.chunks_exact(4).zip(wi.chunks_exact(4)).zip(wj.chunks_exact(4));
         for ((c, a), b) in chunks {
-            for q in 0..4 {
-                si[q] += c[q] * a[q];
-                sj[q] += c[q] * b[q];
-            }
+            let (c, a, b): (&V, &V, &V) = (c.try_into().unwrap_or(&[0.0; 4]), a.try_into().unwrap_or(&[0.0; 4]), b.try_into().unwrap_or(&[0.0; 4]));
+            si = add(si, mul(*c, *a));
+            sj = add(sj, mul(*c, *b));
         }
         let tail = n - n % 4;
         let (mut ri, mut rj) = ((si[0] + si[1]) + (si[2] + si[3]), (sj[0] + sj[1]) + (sj[2] + sj[3]));

@@ -231,17 +231,19 @@ impl StructuredJacobian {
     pub fn factor<T: Lane>(self: &Rc<Self>, sigma: T) -> Option<StructuredLu<T>> {
         let (m, nz, ni) = (self.m, self.nz, self.ni);
         let ns = nz + 2 * m;
-        // row-major ns × ns (the own dense LU below)
-        let mut s = vec![T::zero(); ns * ns];
+        // row-major ns × ns (the own dense LU below), built row after row (every entry written
+        // once: no zeroed buffer); the π rows are written below
+        let mut s = Vec::with_capacity(ns * ns);
         for i in 0..nz {
             for j in 0..nz {
-                s[i * ns + j] = -T::from_real(self.gz[(i, j)]);
+                s.push(-T::from_real(self.gz[(i, j)]));
             }
             s[i * ns + i] += sigma;
             for q in 0..2 * m {
-                s[i * ns + nz + q] = -T::from_real(self.gp[(i, q)]);
+                s.push(-T::from_real(self.gp[(i, q)]));
             }
         }
+        s.resize(ns * ns, T::zero());
         let tri = TriBatch::new(sigma, &self.rows, ni)?;
         let q = per_node(m);
         let mut uc = Split::zeros::<T>(ni, m);
