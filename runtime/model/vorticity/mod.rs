@@ -16,6 +16,7 @@
 //! state: the [`ModeCoupling`] trait. Units are whatever the coupling uses consistently (SI, or
 //! the nondimensional form of FORMULATION §4.5 with ρ = 1, η = 1/Re); nothing here assumes either.
 
+pub mod batch;
 pub mod equations;
 pub mod grid;
 pub mod linear;

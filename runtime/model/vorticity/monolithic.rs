@@ -12,7 +12,7 @@
 //! needs); [`OdeSystem::bandwidth`] reports `None`.
 
 use super::equations::{coupled_mode_rates, LoadScratch, ModeInputs, ModeRates};
-use super::operator::ModeOperator;
+use super::operator::{ModeOperator, SharedRows};
 use super::{FullState, Grid, ModeCoupling};
 use crate::integrate::OdeSystem;
 use std::cell::RefCell;
@@ -43,6 +43,8 @@ struct Scratch {
     add: Vec<f64>,
     bdot: Vec<f64>,
     tw: Vec<f64>,
+    /// The operator rows shared by every mode (`ModeOperator::shared_rows`).
+    shared: SharedRows,
 }
 
 impl<'c> Monolithic<'c> {
@@ -58,6 +60,7 @@ impl<'c> Monolithic<'c> {
             add: z(),
             bdot: z(),
             tw: z(),
+            shared: SharedRows::default(),
         };
         let reduced_buf = ReducedBuf { z: vec![0.0; 2 + 3 * m], p: vec![0.0; 2 * m], fz: vec![0.0; 2 + 3 * m], tw: z() };
         Self { coupling, grid, ops, scratch: RefCell::new(scratch), reduced_buf: RefCell::new(reduced_buf) }
@@ -161,7 +164,7 @@ impl Monolithic<'_> {
             let o = 2 + mi * nb;
             z[2 + 3 * mi..5 + 3 * mi].copy_from_slice(&y[o..o + 3]);
             let tn = &y[o + 3..o + nb];
-            (p[mi], p[m + mi]) = op.functionals(tn);
+            (p[mi], p[m + mi]) = op.functionals_lanes(tn);
         }
     }
 
@@ -200,10 +203,13 @@ impl OdeSystem for Monolithic<'_> {
         sc.tw.copy_from_slice(tw);
         let (r, rdot) = (y[0], y[1]);
         let nu = self.coupling.viscosity() / self.coupling.density();
+        if let Some(op) = self.ops.first() {
+            op.shared_rows(r, rdot, nu, &mut sc.shared);
+        }
         for (mi, op) in self.ops.iter().enumerate() {
             let o = 2 + mi * nb;
             dy[o..o + 3].copy_from_slice(&fz[2 + 3 * mi..5 + 3 * mi]);
-            op.apply(r, rdot, nu, tw[mi], &y[o + 3..o + nb], &mut dy[o + 3..o + nb]);
+            op.apply_shared(&sc.shared, tw[mi], &y[o + 3..o + nb], &mut dy[o + 3..o + nb]);
         }
     }
 }

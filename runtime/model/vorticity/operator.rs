@@ -41,6 +41,21 @@ pub struct ModeOperator {
     /// per interior node, the coefficients of the three for (lower, diag, upper), so that
     /// [`rows`](Self::rows) is 9 products per node instead of re-assembling the stencils.
     affine: Vec<[[f64; 3]; 3]>,
+    /// The diagonal's coefficients without the mode's reaction term νk(k+1)/(R²y²) (the same for
+    /// every mode; [`shared_rows`](Self::shared_rows)).
+    diag0: Vec<[f64; 3]>,
+}
+
+/// The rows of [`ModeOperator::rows`] at one (R, Ṙ, ν) without the mode's own term
+/// −νk(k+1)/(R²y²) of the diagonal: the same for every mode, so the right-hand side builds them
+/// once and each mode adds its term ([`ModeOperator::apply_shared`]).
+#[derive(Debug, Clone, Default)]
+pub struct SharedRows {
+    pub lower: Vec<f64>,
+    pub diag: Vec<f64>,
+    pub upper: Vec<f64>,
+    /// ν/R²
+    pub nu_r2: f64,
 }
 
 impl ModeOperator {
@@ -78,7 +93,13 @@ impl ModeOperator {
                 ]
             })
             .collect();
-        Self { k, wi, wj, d2, d1, dy, conv, inv_y2, inv_y3, affine }
+        let diag0 = (0..n - 2)
+            .map(|i| {
+                let ([_, b2, _], [_, b1, _]) = (d2[i], d1[i]);
+                [b2, conv[i] * b1 + 2.0 * inv_y3[i], 0.5 * conv[i] * dy[i] * b2]
+            })
+            .collect();
+        Self { k, wi, wj, d2, d1, dy, conv, inv_y2, inv_y3, affine, diag0 }
     }
 
     /// Number of interior unknowns n − 2.
@@ -125,6 +146,103 @@ impl ModeOperator {
             *o = row(a, w[0], w[1], w[2]);
         }
         out[m - 1] = row(&self.affine[m - 1], t[m - 2], t[m - 1], 0.0);
+    }
+
+    /// The rows shared by every mode at (r, rdot, nu) ([`SharedRows`]).
+    pub fn shared_rows(&self, r: f64, rdot: f64, nu: f64, out: &mut SharedRows) {
+        let m = self.interior();
+        out.lower.resize(m, 0.0);
+        out.diag.resize(m, 0.0);
+        out.upper.resize(m, 0.0);
+        let nu_r2 = nu / (r * r);
+        let rr = rdot / r;
+        let ra = rr.abs();
+        out.nu_r2 = nu_r2;
+        let it = out.lower.iter_mut().zip(out.diag.iter_mut()).zip(out.upper.iter_mut()).zip(&self.affine).zip(&self.diag0);
+        for ((((l, d), u), [a, _, c]), d0) in it {
+            *l = nu_r2 * a[0] + rr * a[1] + ra * a[2];
+            *d = nu_r2 * d0[0] + rr * d0[1] + ra * d0[2];
+            *u = nu_r2 * c[0] + rr * c[1] + ra * c[2];
+        }
+    }
+
+    /// [`apply`](Self::apply) from the [`SharedRows`] at (r, rdot, nu): row i is
+    /// l_i T_{i−1} + (d_i − νk(k+1)/(R² y_i²)) T_i + u_i T_{i+1} (the same operator; the diagonal
+    /// summed in another order, so equal to rounding). One pass the compiler vectorises; with
+    /// AVX when the processor has it (no FMA: the same roundings).
+    pub fn apply_shared(&self, rows: &SharedRows, tw: f64, t: &[f64], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+            unsafe { self.apply_shared_avx(rows, tw, t, out) };
+            return;
+        }
+        self.apply_shared_body(rows, tw, t, out);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn apply_shared_avx(&self, rows: &SharedRows, tw: f64, t: &[f64], out: &mut [f64]) {
+        self.apply_shared_body(rows, tw, t, out);
+    }
+
+    #[inline(always)]
+    fn apply_shared_body(&self, rows: &SharedRows, tw: f64, t: &[f64], out: &mut [f64]) {
+        let m = self.interior();
+        let (t, out) = (&t[..m], &mut out[..m]);
+        let kn = (self.k * (self.k + 1)) as f64 * rows.nu_r2;
+        let (l, d, u, iy2) = (&rows.lower[..m], &rows.diag[..m], &rows.upper[..m], &self.inv_y2[..m]);
+        let row = |i: usize, left: f64, right: f64| l[i] * left + (d[i] - kn * iy2[i]) * t[i] + u[i] * right;
+        if m < 2 {
+            if m == 1 {
+                out[0] = row(0, tw, 0.0);
+            }
+            return;
+        }
+        out[0] = row(0, tw, t[1]);
+        out[m - 1] = row(m - 1, t[m - 2], 0.0);
+        let inner = out[1..m - 1].iter_mut().zip(&l[1..m - 1]).zip(&d[1..m - 1]).zip(&u[1..m - 1]).zip(&iy2[1..m - 1]);
+        for (((((o, &l), &d), &u), &y2), ((&tl, &tc), &tr)) in inner.zip(t[..m - 2].iter().zip(&t[1..m - 1]).zip(&t[2..])) {
+            *o = l * tl + (d - kn * y2) * tc + u * tr;
+        }
+    }
+
+    /// ([`functionals`](Self::functionals)) summed in four interleaved partial sums (lanes the
+    /// compiler vectorises; equal to rounding, not to the bit).
+    pub fn functionals_lanes(&self, t: &[f64]) -> (f64, f64) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+            return unsafe { self.functionals_lanes_avx(t) };
+        }
+        self.functionals_lanes_body(t)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn functionals_lanes_avx(&self, t: &[f64]) -> (f64, f64) {
+        self.functionals_lanes_body(t)
+    }
+
+    #[inline(always)]
+    fn functionals_lanes_body(&self, t: &[f64]) -> (f64, f64) {
+        let n = t.len().min(self.wi.len() - 1);
+        let (t, wi, wj) = (&t[..n], &self.wi[1..n + 1], &self.wj[1..n + 1]);
+        use super::batch::{add, mul, V};
+        let (mut si, mut sj): (V, V) = ([0.0; 4], [0.0; 4]);
+        let chunks = t.chunks_exact(4).zip(wi.chunks_exact(4)).zip(wj.chunks_exact(4));
+        for ((c, a), b) in chunks {
+            let (c, a, b): (&V, &V, &V) = (c.try_into().unwrap_or(&[0.0; 4]), a.try_into().unwrap_or(&[0.0; 4]), b.try_into().unwrap_or(&[0.0; 4]));
+            si = add(si, mul(*c, *a));
+            sj = add(sj, mul(*c, *b));
+        }
+        let tail = n - n % 4;
+        let (mut ri, mut rj) = ((si[0] + si[1]) + (si[2] + si[3]), (sj[0] + sj[1]) + (sj[2] + sj[3]));
+        for q in tail..n {
+            ri += t[q] * wi[q];
+            rj += t[q] * wj[q];
+        }
+        (ri, rj)
     }
 
     /// The exact ∂/∂R and ∂/∂Ṙ of [`rows`](Self::rows) (for the structured Jacobian). |Ṙ| in the

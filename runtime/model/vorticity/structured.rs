@@ -13,6 +13,7 @@
 //! ([`super::equations::reduced_jacobian`]), L_k from the operator and its R, Ṙ derivatives from
 //! [`super::operator::ModeOperator::rows_derivatives`]. Nothing is differenced.
 
+use super::batch::{add, cmul, dots2, mul, per_node, Lane, Split, TriBatch, L, V};
 use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
 use super::operator::Rows;
@@ -32,104 +33,12 @@ pub struct StructuredJacobian {
     /// ∂(f_z, T_w)/∂p: (nz + M) × 2M
     gp: DMatrix<f64>,
     rows: Vec<Rows>,
-    /// ∂(T rows)/∂R and ∂/∂Ṙ at fixed T, T_w (per mode, length ni)
-    r_r: Vec<Vec<f64>>,
-    r_rd: Vec<Vec<f64>>,
+    /// ∂(T rows)/∂R and ∂/∂Ṙ at fixed T, T_w, node-major in lanes (module `batch`)
+    r_r: Vec<V>,
+    r_rd: Vec<V>,
     /// P rows per mode: weights of Ĩ_int and of ∫(y⁻³−1)y^{−k}T dy on the interior nodes
-    /// node-major (entry i of mode k at `i * M + k`, as [`TriBatch`])
-    pw: [Vec<f64>; 2],
-}
-
-/// Thomas factors of the M tridiagonal matrices σI − L_k, stored node-major (entry i of mode k
-/// at `i * m + k`), so that the M independent recurrences of a sweep run side by side in the
-/// inner loop (issue 16, lever "batched tridiagonal solves"); per mode the operations and their
-/// order are those of a single Thomas sweep.
-struct TriBatch<T> {
-    m: usize,
-    /// −L_k's sub-diagonal (real; a real times complex product is 2 multiplications, not 4)
-    lower: Vec<f64>,
-    inv_beta: Vec<T>,
-    gamma: Vec<T>,
-}
-
-/// Per mode k, acc[k] = Σ_i v[i·M + k] w[i·M + k] (summed in the order of i), node-major like
-/// [`TriBatch`]; `acc` has length M.
-fn dots<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: &[f64], acc: &mut [T]) {
-    let m = acc.len();
-    acc.fill(T::zero());
-    for (vi, wi) in v.chunks_exact(m.max(1)).zip(w.chunks_exact(m.max(1))) {
-        for ((a, &x), &c) in acc.iter_mut().zip(vi).zip(wi) {
-            *a = *a + x.scale(c);
-        }
-    }
-}
-
-/// [`dots`] with two weight vectors in one pass over `v` (the same sums).
-fn dots2<T: ComplexField<RealField = f64> + Copy>(v: &[T], w: [&[f64]; 2], acc0: &mut [T], acc1: &mut [T]) {
-    let m = acc0.len();
-    acc0.fill(T::zero());
-    acc1.fill(T::zero());
-    for ((vi, wa), wb) in v.chunks_exact(m.max(1)).zip(w[0].chunks_exact(m.max(1))).zip(w[1].chunks_exact(m.max(1))) {
-        for ((((a0, a1), &x), &c0), &c1) in acc0.iter_mut().zip(acc1.iter_mut()).zip(vi).zip(wa).zip(wb) {
-            *a0 = *a0 + x.scale(c0);
-            *a1 = *a1 + x.scale(c1);
-        }
-    }
-}
-
-impl<T: ComplexField<RealField = f64> + Copy> TriBatch<T> {
-    fn new(sigma: T, rows: &[Rows], ni: usize) -> Option<Self> {
-        // built entry after entry in node-major order (no zeroed buffers: every entry is written)
-        let m = rows.len();
-        let (mut lower, mut inv_beta, mut gamma): (Vec<f64>, Vec<T>, Vec<T>) = (Vec::with_capacity(ni * m), Vec::with_capacity(ni * m), Vec::with_capacity(ni * m));
-        for i in 0..ni {
-            for (k, r) in rows.iter().enumerate() {
-                let at = i * m + k;
-                let beta = if i == 0 {
-                    lower.push(0.0);
-                    gamma.push(T::zero());
-                    sigma - T::from_real(r.diag[0])
-                } else {
-                    let l = -r.lower[i];
-                    let g = inv_beta[at - m].scale(-r.upper[i - 1]);
-                    lower.push(l);
-                    gamma.push(g);
-                    sigma - T::from_real(r.diag[i]) - g.scale(l)
-                };
-                if beta == T::zero() {
-                    return None;
-                }
-                inv_beta.push(T::one() / beta);
-            }
-        }
-        Some(Self { m, lower, inv_beta, gamma })
-    }
-
-    /// x ← (σI − L_k)⁻¹ x for every mode k at once; x node-major (length ni·M).
-    fn solve(&self, x: &mut [T]) {
-        let m = self.m;
-        let n = x.len();
-        if n == 0 {
-            return;
-        }
-        for (v, ib) in x[..m].iter_mut().zip(&self.inv_beta[..m]) {
-            *v *= *ib;
-        }
-        for i in 1..n / m {
-            let (prev, cur) = x[(i - 1) * m..(i + 1) * m].split_at_mut(m);
-            let (l, ib) = (&self.lower[i * m..(i + 1) * m], &self.inv_beta[i * m..(i + 1) * m]);
-            for k in 0..m {
-                cur[k] = (cur[k] - prev[k].scale(l[k])) * ib[k];
-            }
-        }
-        for i in (0..n / m - 1).rev() {
-            let (cur, next) = x[i * m..(i + 2) * m].split_at_mut(m);
-            let g = &self.gamma[(i + 1) * m..(i + 2) * m];
-            for k in 0..m {
-                cur[k] -= g[k] * next[k];
-            }
-        }
-    }
+    /// node-major in lanes, as [`TriBatch`]
+    pw: [Vec<V>; 2],
 }
 
 /// LU with partial pivoting (largest |re| + |im| in the column, whole rows swapped) of the
@@ -212,11 +121,11 @@ impl<T: ComplexField<RealField = f64> + Copy> DenseLu<T> {
 }
 
 /// The factorisation of σI − J (shares the Jacobian it was built from).
-pub struct StructuredLu<T: ComplexField<RealField = f64> + Copy> {
+pub struct StructuredLu<T: Lane> {
     jac: Rc<StructuredJacobian>,
-    tri: TriBatch<T>,
-    /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k, node-major like [`TriBatch`]
-    u: [Vec<T>; 3],
+    tri: TriBatch,
+    /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k, node-major and split like [`TriBatch`]
+    u: [Split; 3],
     small: DenseLu<T>,
     /// The T_w,k rows of J in (z, π), row-major M × (nz + 2M): ∂T_w,k/∂z then ∂T_w,k/∂p
     /// (contiguous copies of the gz / gp rows, for s_k = δT_w,k in [`StructuredLu::solve`]).
@@ -225,14 +134,15 @@ pub struct StructuredLu<T: ComplexField<RealField = f64> + Copy> {
     scratch: std::cell::RefCell<Scratch<T>>,
 }
 
-struct Scratch<T: ComplexField<RealField = f64> + Copy> {
+struct Scratch<T: Lane> {
     /// node-major T part
-    xt: Vec<T>,
+    xt: Split,
     /// right-hand side and solution of the small dense system
     rhs: Vec<T>,
-    /// the 2M functionals P·xt (π ordering), and per mode s_k = δT_w,k
-    d: Vec<T>,
-    s: Vec<T>,
+    /// the 2M functionals P·xt in lanes: real parts of the two kinds, then imaginary parts
+    d: Vec<V>,
+    /// per mode s_k = δT_w,k in lanes: real parts, then imaginary parts
+    s: Vec<V>,
 }
 
 impl StructuredJacobian {
@@ -259,7 +169,8 @@ impl StructuredJacobian {
             j.gp[(0, c)] = 0.0;
             j.gp[(1, c)] = 0.0;
         }
-        j.r_r.iter_mut().chain(j.r_rd.iter_mut()).for_each(|v| v.fill(0.0));
+        j.r_r.fill([0.0; L]);
+        j.r_rd.fill([0.0; L]);
         Rc::new(j)
     }
 
@@ -283,9 +194,10 @@ impl StructuredJacobian {
         let nu = c.viscosity() / c.density();
         let (r, rd) = (y[0], y[1]);
         let mut rows = Vec::with_capacity(m);
-        let mut r_r = Vec::with_capacity(m);
-        let mut r_rd = Vec::with_capacity(m);
-        let mut pw = [vec![0.0; ni * m], vec![0.0; ni * m]];
+        let q = per_node(m);
+        let mut r_r = vec![[0.0; L]; ni * q];
+        let mut r_rd = vec![[0.0; L]; ni * q];
+        let mut pw = [vec![[0.0; L]; ni * q], vec![[0.0; L]; ni * q]];
         let apply = |rw: &Rows, tw: f64, tn: &[f64]| -> Vec<f64> {
             (0..ni)
                 .map(|i| {
@@ -303,50 +215,64 @@ impl StructuredJacobian {
             let (mut d_r, mut d_rd) = (Rows::default(), Rows::default());
             op.rows_derivatives(r, rd, nu, &mut d_r, &mut d_rd);
             rows.push(base);
-            r_r.push(apply(&d_r, tw, tn));
-            r_rd.push(apply(&d_rd, tw, tn));
+            for (i, (x, y)) in apply(&d_r, tw, tn).into_iter().zip(apply(&d_rd, tw, tn)).enumerate() {
+                r_r[i * q + mi / L][mi % L] = x;
+                r_rd[i * q + mi / L][mi % L] = y;
+            }
             for i in 0..ni {
-                pw[0][i * m + mi] = op.wi[1 + i];
-                pw[1][i * m + mi] = op.wj[1 + i];
+                pw[0][i * q + mi / L][mi % L] = op.wi[1 + i];
+                pw[1][i * q + mi / L][mi % L] = op.wj[1 + i];
             }
         }
         Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw }
     }
 
     /// Factors σI − J. `None` if singular.
-    pub fn factor<T: ComplexField<RealField = f64> + Copy>(self: &Rc<Self>, sigma: T) -> Option<StructuredLu<T>> {
+    pub fn factor<T: Lane>(self: &Rc<Self>, sigma: T) -> Option<StructuredLu<T>> {
         let (m, nz, ni) = (self.m, self.nz, self.ni);
         let ns = nz + 2 * m;
-        // row-major ns × ns (the own dense LU below)
-        let mut s = vec![T::zero(); ns * ns];
+        // row-major ns × ns (the own dense LU below), built row after row (every entry written
+        // once: no zeroed buffer); the π rows are written below
+        let mut s = Vec::with_capacity(ns * ns);
         for i in 0..nz {
             for j in 0..nz {
-                s[i * ns + j] = -T::from_real(self.gz[(i, j)]);
+                s.push(-T::from_real(self.gz[(i, j)]));
             }
             s[i * ns + i] += sigma;
             for q in 0..2 * m {
-                s[i * ns + nz + q] = -T::from_real(self.gp[(i, q)]);
+                s.push(-T::from_real(self.gp[(i, q)]));
             }
         }
+        s.resize(ns * ns, T::zero());
         let tri = TriBatch::new(sigma, &self.rows, ni)?;
-        let mut uc = vec![T::zero(); ni * m];
-        for k in 0..m.min(uc.len()) {
-            uc[k] = T::from_real(self.rows[k].lower[0]);
+        let q = per_node(m);
+        let mut uc = Split::zeros::<T>(ni, m);
+        if ni > 0 {
+            for k in 0..m {
+                uc.re[k / L][k % L] = self.rows[k].lower[0];
+            }
         }
-        let node_major = |v: &[Vec<f64>]| -> Vec<T> { (0..ni * m).map(|at| T::from_real(v[at % m][at / m])).collect() };
-        let mut ur = node_major(&self.r_r);
-        let mut urd = node_major(&self.r_rd);
+        let real = |v: &Vec<V>| Split { q, re: v.clone(), im: if T::CPLX { vec![[0.0; L]; v.len()] } else { Vec::new() } };
+        let (mut ur, mut urd) = (real(&self.r_r), real(&self.r_rd));
         tri.solve(&mut uc);
         tri.solve(&mut ur);
         tri.solve(&mut urd);
-        for (kind, w) in self.pw.iter().enumerate() {
-            let (mut pu_all, mut pr_all, mut prd_all) = (vec![T::zero(); m], vec![T::zero(); m], vec![T::zero(); m]);
-            dots(&uc, w, &mut pu_all);
-            dots(&ur, w, &mut pr_all);
-            dots(&urd, w, &mut prd_all);
+        // P·u for the two kinds of functional at once: [kind 0 re, kind 1 re, kind 0 im, kind 1 im]
+        let pw = [&self.pw[0][..], &self.pw[1][..]];
+        let dot = |v: &Split| {
+            let mut acc = vec![[0.0; L]; 4 * q];
+            let (a01, a23) = acc.split_at_mut(2 * q);
+            let (a0, a1) = a01.split_at_mut(q);
+            let (a2, a3) = a23.split_at_mut(q);
+            dots2(v, pw, [a0, a1, a2, a3]);
+            acc
+        };
+        let (pu_all, pr_all, prd_all) = (dot(&uc), dot(&ur), dot(&urd));
+        let at = |v: &[V], kind: usize, k: usize| T::from_parts(v[kind * q + k / L][k % L], if T::CPLX { v[(2 + kind) * q + k / L][k % L] } else { 0.0 });
+        for kind in 0..2 {
             for k in 0..m {
                 let q = kind * m + k; // π ordering = p ordering
-                let (pu, pr, prd) = (pu_all[k], pr_all[k], prd_all[k]);
+                let (pu, pr, prd) = (at(&pu_all, kind, k), at(&pr_all, kind, k), at(&prd_all, kind, k));
                 let row = nz + q;
                 let tw_row = nz + k; // row of T_w,k in gz/gp
                 for j in 0..nz {
@@ -370,26 +296,51 @@ impl StructuredJacobian {
                 r[nz + q] = self.gp[(nz + k, q)];
             }
         }
-        let scratch = std::cell::RefCell::new(Scratch { xt: vec![T::zero(); ni * m], rhs: vec![T::zero(); ns], d: vec![T::zero(); 2 * m], s: vec![T::zero(); m] });
+        let scratch = std::cell::RefCell::new(Scratch { xt: Split::zeros::<T>(ni, m), rhs: vec![T::zero(); ns], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] });
         Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, tw_rows, scratch })
     }
 }
 
-impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
+impl<T: Lane> StructuredLu<T> {
     /// Solves (σI − J) x = b in place (state layout of the monolithic system).
     pub fn solve(&self, b: &mut [T]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+            unsafe { self.solve_avx(b) };
+            return;
+        }
+        self.solve_body(b);
+    }
+
+    /// [`solve`](Self::solve) compiled with AVX (the same operations; module `batch`).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn solve_avx(&self, b: &mut [T]) {
+        self.solve_body(b);
+    }
+
+    #[inline(always)]
+    fn solve_body(&self, b: &mut [T]) {
         let j = &*self.jac;
-        let (m, nz, nb) = (j.m, j.nz, j.nb);
+        let (m, nz, nb, ni) = (j.m, j.nz, j.nb, j.ni);
+        let q = per_node(m);
         let mut guard = self.scratch.borrow_mut();
         let Scratch { xt, rhs, d, s } = &mut *guard;
-        // D_k⁻¹ b_T,k, all modes at once on the node-major copy (node after node: contiguous
-        // stores, indexed loads; strided iterators cost more than the indexing)
-        for (i, xr) in xt.chunks_exact_mut(m.max(1)).enumerate() {
-            for (k, x) in xr.iter_mut().enumerate() {
-                *x = b[5 + k * nb + i];
+        // D_k⁻¹ b_T,k, all modes at once on the node-major copy (mode after mode: contiguous
+        // loads from b, strided stores into the copy)
+        for k in 0..m {
+            let src = &b[5 + k * nb..5 + k * nb + ni];
+            let (v, lane) = (k / L, k % L);
+            for (i, &x) in src.iter().enumerate() {
+                let (re, im) = x.parts();
+                xt.re[i * q + v][lane] = re;
+                if T::CPLX {
+                    xt.im[i * q + v][lane] = im;
+                }
             }
         }
-        self.tri.solve(xt);
+        self.tri.solve_body(xt);
         rhs[0] = b[0];
         rhs[1] = b[1];
         for k in 0..m {
@@ -397,34 +348,69 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
                 rhs[2 + 3 * k + c] = b[2 + k * nb + c];
             }
         }
-        let (d0, d1) = d.split_at_mut(m);
-        dots2(xt, [&j.pw[0], &j.pw[1]], d0, d1);
-        for (q, &dq) in d.iter().enumerate() {
-            rhs[nz + q] = dq;
+        {
+            let (d01, d23) = d.split_at_mut(2 * q);
+            let (d0, d1) = d01.split_at_mut(q);
+            let (d2, d3) = d23.split_at_mut(q);
+            dots2(xt, [&j.pw[0], &j.pw[1]], [d0, d1, d2, d3]);
+        }
+        for kind in 0..2 {
+            for k in 0..m {
+                let (v, lane) = ((kind * q) + k / L, k % L);
+                rhs[nz + kind * m + k] = T::from_parts(d[v][lane], if T::CPLX { d[2 * q + v][lane] } else { 0.0 });
+            }
         }
         self.small.solve(rhs);
         let x = &rhs[..];
         b[0] = x[0];
         b[1] = x[1];
         let ns = x.len();
-        for (k, (sk, row)) in s.iter_mut().zip(self.tw_rows.chunks_exact(ns.max(1))).enumerate() {
+        for (k, row) in self.tw_rows.chunks_exact(ns.max(1)).enumerate() {
             for c in 0..3 {
                 b[2 + k * nb + c] = x[2 + 3 * k + c];
             }
             // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
-            *sk = T::zero();
+            let mut sk = T::zero();
             for (&xj, &g) in x.iter().zip(row) {
-                *sk += xj.scale(g);
+                sk += xj.scale(g);
             }
+            let (re, im) = sk.parts();
+            s[k / L][k % L] = re;
+            s[q + k / L][k % L] = im;
         }
         let [uc, ur, urd] = &self.u;
-        let (x0, x1) = (x[0], x[1]);
-        // node after node: contiguous loads of the node-major vectors, indexed stores into b
-        // (the same products and sums per entry as mode after mode)
-        let rows = xt.chunks_exact(m.max(1)).zip(uc.chunks_exact(m.max(1))).zip(ur.chunks_exact(m.max(1))).zip(urd.chunks_exact(m.max(1)));
-        for (i, (((xr, cr), rr), rdr)) in rows.enumerate() {
-            for (k, ((((&xv, &c), &r), &rd), &sk)) in xr.iter().zip(cr).zip(rr).zip(rdr).zip(s.iter()).enumerate() {
-                b[5 + k * nb + i] = xv + (c * sk + r * x0 + rd * x1);
+        let ((x0r, x0i), (x1r, x1i)) = (x[0].parts(), x[1].parts());
+        let ([x0r, x0i], [x1r, x1i]) = ([[x0r; L], [x0i; L]], [[x1r; L], [x1i; L]]);
+        // x_T = D⁻¹b_T + u_c s + u_R x_R + u_Ṙ x_Ṙ on the node-major copy, node after node (the
+        // modes as lanes; per entry the products and sums of `xv + (c·s + r·x0 + rd·x1)`)
+        let (sr, si) = s.split_at(q);
+        let q1 = q.max(1);
+        if T::CPLX {
+            let lanes = xt.re.chunks_exact_mut(q1).zip(xt.im.chunks_exact_mut(q1));
+            let us = uc.re.chunks_exact(q1).zip(uc.im.chunks_exact(q1)).zip(ur.re.chunks_exact(q1).zip(ur.im.chunks_exact(q1))).zip(urd.re.chunks_exact(q1).zip(urd.im.chunks_exact(q1)));
+            for ((xr, xi), (((cr, ci), (rr, ri)), (dr, di))) in lanes.zip(us) {
+                let it = xr.iter_mut().zip(xi.iter_mut()).zip(cr.iter().zip(ci)).zip(rr.iter().zip(ri)).zip(dr.iter().zip(di)).zip(sr.iter().zip(si));
+                for (((((xr, xi), (&cr, &ci)), (&rr, &ri)), (&dr, &di)), (&sr, &si)) in it {
+                    let (csr, csi) = cmul(cr, ci, sr, si);
+                    let (rxr, rxi) = cmul(rr, ri, x0r, x0i);
+                    let (dxr, dxi) = cmul(dr, di, x1r, x1i);
+                    *xr = add(*xr, add(add(csr, rxr), dxr));
+                    *xi = add(*xi, add(add(csi, rxi), dxi));
+                }
+            }
+        } else {
+            let us = uc.re.chunks_exact(q1).zip(ur.re.chunks_exact(q1)).zip(urd.re.chunks_exact(q1));
+            for (xr, ((cr, rr), dr)) in xt.re.chunks_exact_mut(q1).zip(us) {
+                for ((((x, &c), &r), &d), &sv) in xr.iter_mut().zip(cr).zip(rr).zip(dr).zip(sr) {
+                    *x = add(*x, add(add(mul(c, sv), mul(r, x0r)), mul(d, x1r)));
+                }
+            }
+        }
+        for k in 0..m {
+            let dst = &mut b[5 + k * nb..5 + k * nb + ni];
+            let (v, lane) = (k / L, k % L);
+            for (i, o) in dst.iter_mut().enumerate() {
+                *o = T::from_parts(xt.re[i * q + v][lane], if T::CPLX { xt.im[i * q + v][lane] } else { 0.0 });
             }
         }
     }
@@ -434,7 +420,7 @@ impl<T: ComplexField<RealField = f64> + Copy> StructuredLu<T> {
 /// ([`crate::integrate::linear`]): Radau5 and the Rosenbrock pair factor σI − J through it.
 pub struct Hook(pub Rc<StructuredJacobian>);
 
-impl<T: ComplexField<RealField = f64> + Copy> Factorization<T> for StructuredLu<T> {
+impl<T: Lane> Factorization<T> for StructuredLu<T> {
     fn solve(&self, b: &mut [T]) {
         StructuredLu::solve(self, b);
     }
