@@ -15,7 +15,7 @@
 //! a second time, from the loads completed with the first-order R̈, ä. The exact Jacobian and
 //! the linear mode system A(t) are in [`super::linearize`].
 
-use super::effects::second_order::FirstOrder;
+use super::effects::second_order::{FirstOrder, MaterialLoads};
 use super::effects::{BdotLoads, Loads, MAX_MODES};
 use super::equations::{mode_rates, mode_shift, wall_source, Equations, Wall, WallLinear};
 use super::params::Params;
@@ -203,7 +203,13 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         let (r, rd) = (y[0], y[1]);
         let m = self.modes.len();
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-        let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
+        // with second-pass terms the material-frame terms' share apart (the frame mapping's L(z))
+        let (mut mgn, mut mgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+        let (p, pm) = if self.eq.has_second_order() {
+            self.eq.loads_split(t, y, &mut gn[..m], &mut gt[..m], &mut mgn[..m], &mut mgt[..m])
+        } else {
+            (self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]), 0.0)
+        };
         let mut bmodes = [[0.0; 5]; MAX_MODES];
         if self.bdot_loads {
             self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut bmodes);
@@ -234,7 +240,8 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
             }
             let (mut dgn, mut dgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
             let mut l = Loads { pressure: 0.0, gn: &mut dgn[..m], gt: &mut dgt[..m] };
-            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m], bd: &bd[..m] }, &mut l);
+            let material = MaterialLoads { pressure: pm, gn: &mgn[..m], gt: &mgt[..m] };
+            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m], bd: &bd[..m], material }, &mut l);
             let rdd2 = self.eq.acceleration_at(t, y, p + l.pressure);
             dy[1] = rdd2;
             if dgt[..m].iter().all(|&x| x == 0.0) {
