@@ -44,9 +44,6 @@ fn p1p1p(l: usize, m: usize, j: usize) -> f64 {
     P1P1P.binary_search_by(|e| (e.0, e.1, e.2).cmp(&key)).map_or(0.0, |i| P1P1P[i].3)
 }
 
-/// Most unordered mode pairs (l ≤ m).
-const MAX_PAIRS: usize = MAX_MODES * (MAX_MODES + 1) / 2;
-
 #[derive(Debug)]
 pub struct FrameMap {
     /// The linear loads derived in the material frame (membrane law, bending, shell viscosity):
@@ -84,6 +81,9 @@ struct Scratch {
 
 thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+    /// The pairs' symmetric products of [`FrameMap::sums`] (a stack array for every possible
+    /// pair would be zeroed on each rhs).
+    static PAIRS: RefCell<Vec<[f64; 4]>> = const { RefCell::new(Vec::new()) };
 }
 
 /// `v` resized to `n` zeros.
@@ -188,7 +188,14 @@ impl FrameMap {
             u[i] = [z[k], z[k + 1], f[i], 0.0];
             (a[i], b[i]) = (z[k], z[k + 2]);
         }
-        let mut w = [[0.0; 4]; MAX_PAIRS];
+        PAIRS.with(|cell| self.sweep(&u, &a, &b, bd, &mut cell.borrow_mut()))
+    }
+
+    /// [`sums`](Self::sums) from the per-mode factors, `w` the pairs' scratch.
+    fn sweep(&self, u: &[[f64; 4]; MAX_MODES], a: &[f64; MAX_MODES], b: &[f64; MAX_MODES], bd: &[f64; MAX_MODES], w: &mut Vec<[f64; 4]>) -> Sums {
+        if w.len() < self.pairs.len() {
+            w.resize(self.pairs.len(), [0.0; 4]);
+        }
         for (wp, &(l, m)) in w.iter_mut().zip(&self.pairs) {
             let (ul, um, bl, bm) = (&u[l], &u[m], b[l], b[m]);
             for ((x, p), q) in wp.iter_mut().zip(ul).zip(um) {
@@ -199,13 +206,16 @@ impl FrameMap {
         let mut out = Sums { d: [0.0; MAX_MODES + 1], s: [0.0; MAX_MODES + 1], f: [0.0; MAX_MODES + 1] };
         for n in 0..=self.modes {
             let (r0, r1) = (self.row_start[n], self.row_start[n + 1]);
-            let mut acc = [0.0; 4];
-            for (&p, &k) in self.row_pair[r0..r1].iter().zip(&self.row_k[r0..r1]) {
-                let wp = &w[p as usize];
-                for (x, y) in acc.iter_mut().zip(wp) {
-                    *x += k * y;
-                }
-            }
+            let (rp, rk) = (&self.row_pair[r0..r1], &self.row_k[r0..r1]);
+            #[cfg(target_arch = "x86_64")]
+            let acc = if std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: AVX is available (checked just above).
+                unsafe { rows_avx(rp, rk, w) }
+            } else {
+                rows_portable(rp, rk, w)
+            };
+            #[cfg(not(target_arch = "x86_64"))]
+            let acc = rows_portable(rp, rk, w);
             (out.d[n], out.s[n], out.f[n]) = (acc[0], acc[1], acc[2]);
         }
         out
@@ -238,6 +248,36 @@ impl FrameMap {
         }
         (bd, f1)
     }
+}
+
+/// Σ_rows K · w[pair], lane by lane (mul, then add: no FMA).
+fn rows_portable(pairs: &[u32], ks: &[f64], w: &[[f64; 4]]) -> [f64; 4] {
+    let mut acc = [0.0; 4];
+    for (&p, &k) in pairs.iter().zip(ks) {
+        for (x, y) in acc.iter_mut().zip(&w[p as usize]) {
+            *x += k * y;
+        }
+    }
+    acc
+}
+
+/// [`rows_portable`] in one AVX register: the same products and sums per lane, so bit for bit
+/// its result.
+///
+/// # Safety
+/// AVX available.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn rows_avx(pairs: &[u32], ks: &[f64], w: &[[f64; 4]]) -> [f64; 4] {
+    use std::arch::x86_64::*;
+    let mut acc = _mm256_setzero_pd();
+    for (&p, &k) in pairs.iter().zip(ks) {
+        let wp = &w[p as usize];
+        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(k), _mm256_loadu_pd(wp.as_ptr())));
+    }
+    let mut out = [0.0; 4];
+    _mm256_storeu_pd(out.as_mut_ptr(), acc);
+    out
 }
 
 impl SecondOrderTerm for FrameMap {
