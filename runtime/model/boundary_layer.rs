@@ -203,12 +203,14 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         let (r, rd) = (y[0], y[1]);
         let m = self.modes.len();
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-        // with second-pass terms the material-frame terms' share apart (the frame mapping's L(z))
-        let (mut mgn, mut mgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-        let (p, pm) = if self.eq.has_second_order() {
-            self.eq.loads_split(t, y, &mut gn[..m], &mut gt[..m], &mut mgn[..m], &mut mgt[..m])
+        // with second-pass terms the material-frame terms' share apart (the frame mapping's
+        // L(z)); a linear scene neither sums nor zeroes it
+        let (p, material) = if self.eq.has_second_order() {
+            let (mut mgn, mut mgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+            let (p, pm) = self.eq.loads_split(t, y, &mut gn[..m], &mut gt[..m], &mut mgn[..m], &mut mgt[..m]);
+            (p, Some((pm, mgn, mgt)))
         } else {
-            (self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]), 0.0)
+            (self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]), None)
         };
         let mut bmodes = [[0.0; 5]; MAX_MODES];
         if self.bdot_loads {
@@ -227,7 +229,7 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
-        if self.eq.has_second_order() {
+        if let Some((pm, mgn, mgt)) = &material {
             // issue 12: the second pass with the first-order R̈, ä just computed; R̈ from the
             // completed P, and ä shifted exactly by ΔR̈, ΔG_n ((N) is affine in both,
             // [`mode_shift`]) — or the mode rates again if a tangential load changed (with ḃ loads,
@@ -240,7 +242,7 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
             }
             let (mut dgn, mut dgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
             let mut l = Loads { pressure: 0.0, gn: &mut dgn[..m], gt: &mut dgt[..m] };
-            let material = MaterialLoads { pressure: pm, gn: &mgn[..m], gt: &mgt[..m] };
+            let material = MaterialLoads { pressure: *pm, gn: &mgn[..m], gt: &mgt[..m] };
             self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m], bd: &bd[..m], material }, &mut l);
             let rdd2 = self.eq.acceleration_at(t, y, p + l.pressure);
             dy[1] = rdd2;
