@@ -15,7 +15,7 @@
 //! a second time, from the loads completed with the first-order R̈, ä. The exact Jacobian and
 //! the linear mode system A(t) are in [`super::linearize`].
 
-use super::effects::second_order::FirstOrder;
+use super::effects::second_order::{FirstOrder, MaterialLoads};
 use super::effects::{BdotLoads, Loads, MAX_MODES};
 use super::equations::{mode_rates, mode_shift, wall_source, Equations, Wall, WallLinear};
 use super::params::Params;
@@ -203,7 +203,15 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         let (r, rd) = (y[0], y[1]);
         let m = self.modes.len();
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-        let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
+        // with second-pass terms the material-frame terms' share apart (the frame mapping's
+        // L(z)); a linear scene neither sums nor zeroes it
+        let (p, material) = if self.eq.has_second_order() {
+            let (mut mgn, mut mgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+            let (p, pm) = self.eq.loads_split(t, y, &mut gn[..m], &mut gt[..m], &mut mgn[..m], &mut mgt[..m]);
+            (p, Some((pm, mgn, mgt)))
+        } else {
+            (self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]), None)
+        };
         // the ḃ-load store only when there are such loads (no 1.3 kB zeroed per call without)
         let mut store;
         let bmodes: &mut [BdotMode] = if self.bdot_loads {
@@ -226,7 +234,7 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
-        if self.eq.has_second_order() {
+        if let Some((pm, mgn, mgt)) = &material {
             // issue 12: the second pass with the first-order R̈, ä just computed; R̈ from the
             // completed P, and ä shifted exactly by ΔR̈, ΔG_n ((N) is affine in both,
             // [`mode_shift`]) — or the mode rates again if a tangential load changed (with ḃ loads,
@@ -239,7 +247,8 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
             }
             let (mut dgn, mut dgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
             let mut l = Loads { pressure: 0.0, gn: &mut dgn[..m], gt: &mut dgt[..m] };
-            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m], bd: &bd[..m] }, &mut l);
+            let material = MaterialLoads { pressure: *pm, gn: &mgn[..m], gt: &mgt[..m] };
+            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m], bd: &bd[..m], material }, &mut l);
             let rdd2 = self.eq.acceleration_at(t, y, p + l.pressure);
             dy[1] = rdd2;
             if dgt[..m].iter().all(|&x| x == 0.0) {

@@ -39,6 +39,9 @@ pub struct Equations {
     /// Second-pass terms (the quadratic coupling): loads that need the first-order R̈, ä
     /// ([`super::effects::second_order`]); empty for a linear scene.
     pub(crate) second: Vec<Box<dyn SecondOrderTerm>>,
+    /// Per term of `terms`, whether its loads are material-frame ([`super::material`]); empty
+    /// for a linear scene.
+    pub(crate) material: Vec<bool>,
 }
 
 impl Equations {

@@ -11,7 +11,7 @@
 //! field: 3×3 diagonal blocks; 1 for the paper's coil and the dipole).
 
 use super::boundary_layer::{BdotMode, BoundaryLayerSystem};
-use super::effects::second_order::{FirstOrder, FirstOrderGradient};
+use super::effects::second_order::{FirstOrder, FirstOrderGradient, MaterialLoads};
 use super::effects::{a_index, LoadJacobian, Loads, MAX_MODES};
 use super::equations::{mode_partials, var, wall_source, wall_source_partials};
 use nalgebra::{DMatrix, DVector};
@@ -123,9 +123,14 @@ impl BoundaryLayerSystem {
             let (ra, rb) = (&mut dadd[j * n..(j + 1) * n], &mut dbd[j * n..(j + 1) * n]);
             self.mode_rows(y, &l, j, ra, rb);
         }
-        let first = FirstOrder { rdd: l.rdd, add: &add, bd: &bd };
+        // the material-frame terms' loads and Jacobian (the frame mapping's L(z), J(z))
+        let (mut mgn, mut mgt, mut mj) = (vec![0.0; m], vec![0.0; m], LoadJacobian::new(m));
+        let pm = self.eq.material_loads(t, y, &mut mgn, &mut mgt);
+        self.eq.material_jacobian(t, y, &mut mj);
+        let material = MaterialLoads { pressure: pm, gn: &mgn, gt: &mgt };
+        let first = FirstOrder { rdd: l.rdd, add: &add, bd: &bd, material };
         let mut lj = l.lj.clone();
-        self.eq.add_second_order_jacobian(t, y, &first, &FirstOrderGradient { drdd: &l.drdd, dadd: &dadd, dbd: &dbd }, &mut lj);
+        self.eq.add_second_order_jacobian(t, y, &first, &FirstOrderGradient { drdd: &l.drdd, dadd: &dadd, dbd: &dbd, material: &mj }, &mut lj);
         let mut loads = Loads { pressure: p, gn: &mut l.gn[..m], gt: &mut l.gt[..m] };
         self.eq.add_second_order(t, y, &first, &mut loads);
         let p = loads.pressure;

@@ -17,6 +17,7 @@ pub mod effects;
 pub mod equations;
 pub mod keller_miksis;
 pub mod linearize;
+mod material;
 pub mod params;
 pub mod radial;
 mod executor;
@@ -106,11 +107,19 @@ impl Model {
         }
         terms.push(Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
+        // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
+        let mut material = Vec::new();
         if !scene.shell.is_free() {
             terms.push(Box::new(membrane_term(&params, &kf)));
+            material.push(terms.len() - 1);
         }
-        // issue 11 / issue 10 part 2: only the shell effects the scene switches on
-        terms.extend(effects::shell::terms(&scene.shell, &scales, params.r0, &kf));
+        // issue 11 / issue 10 part 2: only the shell effects the scene switches on (γ, then the
+        // material-frame ones: the summation order of the whole list)
+        let gamma = crate::scene::Shell { bending_modulus: 0.0, shear_viscosity: 0.0, dilatational_viscosity: 0.0, ..scene.shell.clone() };
+        terms.extend(effects::shell::terms(&gamma, &scales, params.r0, &kf));
+        let first = terms.len();
+        terms.extend(effects::shell::terms(&material_shell(&scene.shell), &scales, params.r0, &kf));
+        material.extend(first..terms.len());
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
         }
@@ -134,7 +143,8 @@ impl Model {
             None => Box::new(radial::Incompressible),
             Some(c) => Box::new(keller_miksis::KellerMiksis { c }),
         };
-        let eq = Equations { params, orders: kf, form, terms, second };
+        let material = if second.is_empty() { Vec::new() } else { (0..terms.len()).map(|i| material.contains(&i)).collect() };
+        let eq = Equations { params, orders: kf, form, terms, second, material };
         if eq.form().needs_rate() {
             let z = vec![1.0; 2 + 3 * orders.len()];
             if let Some(t) = eq.terms().find(|t| !t.add_rate(&effects::At { t: 0.0, z: &z }, &mut Default::default())) {
@@ -397,9 +407,13 @@ fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64]) -> Option<
     if !scene.shell.is_free() {
         lagrangian.push(Box::new(membrane_term(params, kf)));
     }
-    let shell = crate::scene::Shell { surface_tension: 0.0, ..scene.shell.clone() };
-    lagrangian.extend(effects::shell::terms(&shell, sc, params.r0, kf));
+    lagrangian.extend(effects::shell::terms(&material_shell(&scene.shell), sc, params.r0, kf));
     effects::quadratic_frame::FrameMap::new(lagrangian, kf)
+}
+
+/// The shell effects whose loads are material-frame: all but γ.
+fn material_shell(shell: &crate::scene::Shell) -> crate::scene::Shell {
+    crate::scene::Shell { surface_tension: 0.0, ..shell.clone() }
 }
 
 /// The linear membrane term of the scene's law (−Ŝ0 in the radial balance, Ŝ·(a, b) in G_n and

@@ -21,7 +21,7 @@ use magbubble::model::effects::membrane::MembraneTerm;
 use magbubble::model::effects::quadratic_bending::QuadraticBending;
 use magbubble::model::effects::quadratic_frame::FrameMap;
 use magbubble::model::effects::quadratic_membrane::QuadraticMembrane;
-use magbubble::model::effects::second_order::{FirstOrder, SecondOrderTerm};
+use magbubble::model::effects::second_order::{FirstOrder, MaterialLoads, SecondOrderTerm};
 use magbubble::model::effects::shell::{bending_table, surface_tension_table, OneConstant, Table};
 use magbubble::model::effects::{At, Loads, Term};
 use magbubble::model::params::Membrane;
@@ -59,7 +59,9 @@ impl Stack {
         }
         if let Some(f) = &self.frame {
             let zero = [0.0; MODES];
-            f.add(&at, &FirstOrder { rdd: 0.0, add: &zero, bd: &zero }, &mut l);
+            let (p, gn, gt) = f.lagrangian_loads(0.0, &z);
+            let material = MaterialLoads { pressure: p, gn: &gn[..MODES], gt: &gt[..MODES] };
+            f.add(&at, &FirstOrder { rdd: 0.0, add: &zero, bd: &zero, material }, &mut l);
         }
         let mut n = vec![-l.pressure];
         n.extend(gn);
@@ -338,13 +340,20 @@ fn frame_term_jacobian_matches_differences() {
         let eval = |z: &[f64]| {
             flat_loads(modes, |l| {
                 let (zero, b) = (vec![0.0; modes], bd(z));
-                t.add(&At { t: 0.0, z }, &FirstOrder { rdd: 0.0, add: &zero, bd: &b }, l);
+                let (p, gn0, gt0) = t.lagrangian_loads(0.0, z);
+                let material = MaterialLoads { pressure: p, gn: &gn0[..modes], gt: &gt0[..modes] };
+                t.add(&At { t: 0.0, z }, &FirstOrder { rdd: 0.0, add: &zero, bd: &b, material }, l);
             })
         };
         let mut jac = LoadJacobian::new(modes);
         let (zero, zn, b) = (vec![0.0; modes], vec![0.0; n], bd(&y));
         let zm = vec![0.0; modes * n];
-        t.add_jacobian(&At { t: 0.0, z: &y }, &FirstOrder { rdd: 0.0, add: &zero, bd: &b }, &FirstOrderGradient { drdd: &zn, dadd: &zm, dbd: &g }, &mut jac);
+        let (p, gn0, gt0) = t.lagrangian_loads(0.0, &y);
+        let material = MaterialLoads { pressure: p, gn: &gn0[..modes], gt: &gt0[..modes] };
+        let mut j0 = LoadJacobian::new(modes);
+        t.lagrangian_jacobian(0.0, &y, &mut j0);
+        let first = FirstOrder { rdd: 0.0, add: &zero, bd: &b, material };
+        t.add_jacobian(&At { t: 0.0, z: &y }, &first, &FirstOrderGradient { drdd: &zn, dadd: &zm, dbd: &g, material: &j0 }, &mut jac);
         assert_load_jacobian_matches_fd(&jac, &y, eval, label);
     }
 }

@@ -11,7 +11,7 @@ use crate::support::shell_energy::{mixed, second, steps};
 use crate::support::surface_jets::{bending, projected, viscous, Mode};
 use magbubble::model::effects::quadratic_bending::QuadraticBending;
 use magbubble::model::effects::quadratic_shell_viscosity::QuadraticShellViscosity;
-use magbubble::model::effects::second_order::{FirstOrder, SecondOrderTerm};
+use magbubble::model::effects::second_order::{FirstOrder, MaterialLoads, SecondOrderTerm};
 use magbubble::model::effects::{At, Loads, Term};
 
 const R: f64 = 1.08;
@@ -159,7 +159,7 @@ fn shell_viscous_second_order_loads_match_the_finite_amplitude_oracle() {
     let t = QuadraticShellViscosity::new(mu, kappa, R0, &orders()).expect("generated viscous table");
     let eval = |z: &[f64], bd: &[f64], l: &mut Loads<'_>| {
         let add = vec![0.0; MODES];
-        t.add(&At { t: 0.0, z }, &FirstOrder { rdd: 0.0, add: &add, bd }, l)
+        t.add(&At { t: 0.0, z }, &FirstOrder { rdd: 0.0, add: &add, bd, material: MaterialLoads::NONE }, l)
     };
     let mut worst: f64 = 0.0;
     for (l, m) in PAIRS {

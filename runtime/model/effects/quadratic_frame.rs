@@ -23,6 +23,16 @@
 //! "Neglected terms"), so only the membrane's tangential load carries second-order terms there
 //! and it gets the amplitude shift alone. K comes from the generated tensor
 //! `coefficients::quadratic::P1P1P` (exact rationals, codegen). The Jacobian is exact.
+//!
+//! Cost (issue 12, "Performance"; docs/performance.md): L(z) is the equations core's — the
+//! material-frame terms' share of its first pass ([`FirstOrder::material`], model/material.rs)
+//! — so the rhs evaluates the linear loads once, at z^L. K is symmetric in (l, m), so the three
+//! sums Σ K a_l b_m, Σ K (ȧ_l b_m + a_l ḃ_m), Σ K F_l b_m over ordered pairs are one sweep over
+//! the (target, unordered pair l ≤ m) rows the selection rules allow, each pair's three symmetric
+//! products formed once (a 4-lane vector per pair, the diagonal pairs' K halved). The
+//! Jacobian's work space is kept per thread (no allocation per refresh).
+
+use std::cell::RefCell;
 
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
 use super::{a_index, At, BdotLoads, LoadJacobian, Loads, Term, MAX_MODES};
@@ -36,15 +46,21 @@ fn p1p1p(l: usize, m: usize, j: usize) -> f64 {
 
 #[derive(Debug)]
 pub struct FrameMap {
-    /// The linear loads derived in the material frame (membrane law, bending, shell viscosity).
+    /// The linear loads derived in the material frame (membrane law, bending, shell viscosity):
+    /// evaluated here at z^L; at z they are the core's ([`FirstOrder::material`]).
     lagrangian: Vec<Box<dyn Term>>,
-    /// (target n: 0 = P_0, 1 + i = mode index i; l; m; K(n, l, m)) over ordered mode pairs.
+    /// Whether a Lagrangian term has ḃ loads (the shell viscosity).
+    bdot: bool,
+    /// (target n: 0 = P_0, 1 + i = mode index i; l; m; K(n, l, m)) over ordered mode pairs
+    /// (the Jacobian's list).
     entries: Vec<(usize, usize, usize, f64)>,
-    /// The same entries grouped by the ordered pair (l, m): the pair's (z index of a_l, z index
-    /// of b_m, l, m) and the range of its (n, K) in `targets`, so that the rhs forms each pair's
-    /// products once and scatters them to the targets the selection rules allow.
-    pairs: Vec<(usize, usize, usize, usize, usize, usize)>,
-    targets: Vec<(usize, f64)>,
+    /// The unordered pairs l ≤ m (mode indices) with a row.
+    pairs: Vec<(usize, usize)>,
+    /// Rows of target n: `row_start[n]..row_start[n + 1]`; per row its pair and K(n, l, m)
+    /// (halved for l = m: the pair's symmetric products count l = m twice).
+    row_start: Vec<usize>,
+    row_pair: Vec<u32>,
+    row_k: Vec<f64>,
     modes: usize,
 }
 
@@ -53,41 +69,82 @@ fn rows(n: usize) -> (usize, usize) {
     if n == 0 { (0, 1) } else { (a_index(n - 1), a_index(n - 1) + 1) }
 }
 
+/// The Jacobian's work space (per thread, grown once).
+#[derive(Default)]
+struct Scratch {
+    dsh: Vec<f64>,
+    v: Vec<f64>,
+    df: Vec<f64>,
+    dfr: Vec<f64>,
+    jl: Option<LoadJacobian>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+    /// The pairs' symmetric products of [`FrameMap::sums`] (a stack array for every possible
+    /// pair would be zeroed on each rhs).
+    static PAIRS: RefCell<Vec<[f64; 4]>> = const { RefCell::new(Vec::new()) };
+}
+
+/// `v` resized to `n` zeros.
+fn zeroed(v: &mut Vec<f64>, n: usize) -> &mut [f64] {
+    v.clear();
+    v.resize(n, 0.0);
+    v
+}
+
+/// The per-target sums of [`FrameMap::sums`].
+struct Sums {
+    /// Σ K a_l b_m
+    d: [f64; MAX_MODES + 1],
+    /// Σ K (ȧ_l b_m + a_l ḃ_m)
+    s: [f64; MAX_MODES + 1],
+    /// Σ K F_l b_m
+    f: [f64; MAX_MODES + 1],
+}
+
 impl FrameMap {
-    /// `lagrangian`: the scene's linear terms whose loads are derived in the material frame;
-    /// `orders`: k of each mode index. None without such terms (nothing to map).
+    /// `lagrangian`: the scene's linear terms whose loads are derived in the material frame
+    /// (the same ones the assembly marks for the core, model/material.rs); `orders`: k of each
+    /// mode index. None without such terms (nothing to map).
     pub fn new(lagrangian: Vec<Box<dyn Term>>, orders: &[f64]) -> Option<Self> {
         if lagrangian.is_empty() || orders.is_empty() {
             return None;
         }
         let ks: Vec<usize> = orders.iter().map(|&k| k as usize).collect();
+        let kn = |n: usize| if n == 0 { 0 } else { ks[n - 1] };
+        let coef = |n: usize, l: usize, m: usize| (2 * kn(n) + 1) as f64 / 2.0 * p1p1p(ks[l], ks[m], kn(n));
         let mut entries = Vec::new();
         for n in 0..=ks.len() {
-            let kn = if n == 0 { 0 } else { ks[n - 1] };
-            for (l, &kl) in ks.iter().enumerate() {
-                for (m, &km) in ks.iter().enumerate() {
-                    let c = (2 * kn + 1) as f64 / 2.0 * p1p1p(kl, km, kn);
+            for l in 0..ks.len() {
+                for m in 0..ks.len() {
+                    let c = coef(n, l, m);
                     if c != 0.0 {
                         entries.push((n, l, m, c));
                     }
                 }
             }
         }
-        let (mut pairs, mut targets) = (Vec::new(), Vec::new());
-        for l in 0..ks.len() {
-            for m in 0..ks.len() {
-                let start = targets.len();
-                targets.extend(entries.iter().filter(|e| e.1 == l && e.2 == m).map(|e| (e.0, e.3)));
-                if targets.len() > start {
-                    pairs.push((a_index(l), a_index(m) + 2, l, m, start, targets.len()));
+        let all: Vec<(usize, usize)> = (0..ks.len()).flat_map(|l| (l..ks.len()).map(move |m| (l, m))).collect();
+        let used: Vec<(usize, usize)> = all.into_iter().filter(|&(l, m)| (0..=ks.len()).any(|n| coef(n, l, m) != 0.0)).collect();
+        let (mut row_start, mut row_pair, mut row_k) = (vec![0], Vec::new(), Vec::new());
+        for n in 0..=ks.len() {
+            for (p, &(l, m)) in used.iter().enumerate() {
+                let c = coef(n, l, m);
+                if c != 0.0 {
+                    row_pair.push(p as u32);
+                    row_k.push(if l == m { c / 2.0 } else { c });
                 }
             }
+            row_start.push(row_pair.len());
         }
-        Some(Self { lagrangian, entries, pairs, targets, modes: ks.len() })
+        let bdot = lagrangian.iter().any(|t| t.has_bdot_loads());
+        Some(Self { lagrangian, bdot, entries, pairs: used, row_start, row_pair, row_k, modes: ks.len() })
     }
 
-    /// Σ over the Lagrangian terms: (P, G_n, G_t) at z.
-    fn linear(&self, t: f64, z: &[f64]) -> (f64, [f64; MAX_MODES], [f64; MAX_MODES]) {
+    /// Σ over the Lagrangian terms: (P, G_n, G_t) at z (the core hands over those at the state;
+    /// this is L at the material state z^L, and for a caller without a core, L(z)).
+    pub fn lagrangian_loads(&self, t: f64, z: &[f64]) -> (f64, [f64; MAX_MODES], [f64; MAX_MODES]) {
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let m = self.modes;
         let mut l = Loads { pressure: 0.0, gn: &mut gn[..m], gt: &mut gt[..m] };
@@ -98,29 +155,70 @@ impl FrameMap {
         (p, gn, gt)
     }
 
-    /// The normal ḃ coefficients cn and ∂cn/∂R of the Lagrangian terms at z.
+    /// ∂/∂z of [`lagrangian_loads`](Self::lagrangian_loads) (`jac` overwritten).
+    pub fn lagrangian_jacobian(&self, t: f64, z: &[f64], jac: &mut LoadJacobian) {
+        jac.clear();
+        for term in &self.lagrangian {
+            term.add_jacobian(&At { t, z }, jac);
+        }
+    }
+
+    /// The normal ḃ coefficients cn and ∂cn/∂R of the Lagrangian terms at z (zero without ḃ
+    /// loads).
     fn bdot_normal(&self, at: &At<'_>) -> ([f64; MAX_MODES], [f64; MAX_MODES]) {
         let m = self.modes;
         let (mut cn, mut ct, mut cn_r, mut ct_r) = ([0.0; MAX_MODES], [0.0; MAX_MODES], [0.0; MAX_MODES], [0.0; MAX_MODES]);
-        let mut c = BdotLoads { cn: &mut cn[..m], ct: &mut ct[..m], cn_r: &mut cn_r[..m], ct_r: &mut ct_r[..m] };
-        for term in self.lagrangian.iter().filter(|t| t.has_bdot_loads()) {
-            term.add_bdot_loads(at, &mut c);
+        if self.bdot {
+            let mut c = BdotLoads { cn: &mut cn[..m], ct: &mut ct[..m], cn_r: &mut cn_r[..m], ct_r: &mut ct_r[..m] };
+            for term in self.lagrangian.iter().filter(|t| t.has_bdot_loads()) {
+                term.add_bdot_loads(at, &mut c);
+            }
         }
         (cn, cn_r)
     }
 
-    /// Σ K a_l b_m and Σ K (ȧ_l b_m + a_l ḃ_m) per target (the shift times R).
-    fn sums(&self, z: &[f64], bd: &[f64]) -> ([f64; MAX_MODES + 1], [f64; MAX_MODES + 1]) {
-        let (mut d, mut s) = ([0.0; MAX_MODES + 1], [0.0; MAX_MODES + 1]);
-        for &(ia, ib, _, m, t0, t1) in &self.pairs {
-            let (al, adl, bm) = (z[ia], z[ia + 1], z[ib]);
-            let (x, y) = (al * bm, adl * bm + al * bd.get(m).copied().unwrap_or(0.0));
-            for &(n, c) in &self.targets[t0..t1] {
-                d[n] += c * x;
-                s[n] += c * y;
-            }
+    /// Per target, Σ K a_l b_m, Σ K (ȧ_l b_m + a_l ḃ_m) and Σ K F_l b_m over the ordered pairs:
+    /// one sweep over the rows, a pair's symmetric products [a_l b_m + a_m b_l, …] once.
+    fn sums(&self, z: &[f64], bd: &[f64; MAX_MODES], f: &[f64; MAX_MODES]) -> Sums {
+        // [a, ȧ, F, 0] and b, ḃ per mode
+        let mut u = [[0.0; 4]; MAX_MODES];
+        let (mut b, mut a) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+        for i in 0..self.modes {
+            let k = a_index(i);
+            u[i] = [z[k], z[k + 1], f[i], 0.0];
+            (a[i], b[i]) = (z[k], z[k + 2]);
         }
-        (d, s)
+        PAIRS.with(|cell| self.sweep(&u, &a, &b, bd, &mut cell.borrow_mut()))
+    }
+
+    /// [`sums`](Self::sums) from the per-mode factors, `w` the pairs' scratch.
+    fn sweep(&self, u: &[[f64; 4]; MAX_MODES], a: &[f64; MAX_MODES], b: &[f64; MAX_MODES], bd: &[f64; MAX_MODES], w: &mut Vec<[f64; 4]>) -> Sums {
+        if w.len() < self.pairs.len() {
+            w.resize(self.pairs.len(), [0.0; 4]);
+        }
+        for (wp, &(l, m)) in w.iter_mut().zip(&self.pairs) {
+            let (ul, um, bl, bm) = (&u[l], &u[m], b[l], b[m]);
+            for ((x, p), q) in wp.iter_mut().zip(ul).zip(um) {
+                *x = p * bm + q * bl;
+            }
+            wp[1] += a[l] * bd[m] + a[m] * bd[l];
+        }
+        let mut out = Sums { d: [0.0; MAX_MODES + 1], s: [0.0; MAX_MODES + 1], f: [0.0; MAX_MODES + 1] };
+        for n in 0..=self.modes {
+            let (r0, r1) = (self.row_start[n], self.row_start[n + 1]);
+            let (rp, rk) = (&self.row_pair[r0..r1], &self.row_k[r0..r1]);
+            #[cfg(target_arch = "x86_64")]
+            let acc = if std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: AVX is available (checked just above).
+                unsafe { rows_avx(rp, rk, w) }
+            } else {
+                rows_portable(rp, rk, w)
+            };
+            #[cfg(not(target_arch = "x86_64"))]
+            let acc = rows_portable(rp, rk, w);
+            (out.d[n], out.s[n], out.f[n]) = (acc[0], acc[1], acc[2]);
+        }
+        out
     }
 
     /// The material state z^L (R^L, Ṙ^L, a^L, ȧ^L, b) of z.
@@ -135,6 +233,51 @@ impl FrameMap {
         }
         zl
     }
+
+    /// ḃ⁽¹⁾ padded to the mode count, and the first-order normal loads F_l = G_n,l(z) + cn_l ḃ_l.
+    fn first(&self, at: &At<'_>, first: &FirstOrder<'_>) -> ([f64; MAX_MODES], [f64; MAX_MODES]) {
+        let m = self.modes;
+        let mut bd = [0.0; MAX_MODES];
+        for (x, y) in bd[..m].iter_mut().zip(first.bd) {
+            *x = *y;
+        }
+        let (cn, _) = self.bdot_normal(at);
+        let mut f1 = [0.0; MAX_MODES];
+        for ((f, g), (c, b)) in f1[..m].iter_mut().zip(first.material.gn).zip(cn.iter().zip(&bd)) {
+            *f = g + c * b;
+        }
+        (bd, f1)
+    }
+}
+
+/// Σ_rows K · w[pair], lane by lane (mul, then add: no FMA).
+fn rows_portable(pairs: &[u32], ks: &[f64], w: &[[f64; 4]]) -> [f64; 4] {
+    let mut acc = [0.0; 4];
+    for (&p, &k) in pairs.iter().zip(ks) {
+        for (x, y) in acc.iter_mut().zip(&w[p as usize]) {
+            *x += k * y;
+        }
+    }
+    acc
+}
+
+/// [`rows_portable`] in one AVX register: the same products and sums per lane, so bit for bit
+/// its result.
+///
+/// # Safety
+/// AVX available.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn rows_avx(pairs: &[u32], ks: &[f64], w: &[[f64; 4]]) -> [f64; 4] {
+    use std::arch::x86_64::*;
+    let mut acc = _mm256_setzero_pd();
+    for (&p, &k) in pairs.iter().zip(ks) {
+        let wp = &w[p as usize];
+        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(k), _mm256_loadu_pd(wp.as_ptr())));
+    }
+    let mut out = [0.0; 4];
+    _mm256_storeu_pd(out.as_mut_ptr(), acc);
+    out
 }
 
 impl SecondOrderTerm for FrameMap {
@@ -149,42 +292,39 @@ impl SecondOrderTerm for FrameMap {
     }
     fn add(&self, at: &At<'_>, first: &FirstOrder<'_>, loads: &mut Loads<'_>) {
         let (z, m, r) = (at.z, self.modes, at.z[0]);
-        let (d, s) = self.sums(z, first.bd);
-        let zl = self.material(z, &d, &s);
-        let (p0, gn0, gt0) = self.linear(at.t, z);
-        let (pl, gnl, gtl) = self.linear(at.t, &zl[..z.len()]);
-        let (cn, _) = self.bdot_normal(at);
-        let mut f1 = [0.0; MAX_MODES];
-        for i in 0..m {
-            f1[i] = gn0[i] + cn[i] * first.bd.get(i).copied().unwrap_or(0.0);
-        }
-        // frame change −Σ K F_l b_m / R of the normal load on P_n
-        let mut fr = [0.0; MAX_MODES + 1];
-        for &(_, ib, l, _, t0, t1) in &self.pairs {
-            let x = f1[l] * z[ib];
-            for &(n, c) in &self.targets[t0..t1] {
-                fr[n] -= c * x;
-            }
-        }
-        // the normal load on P_0 is subtracted from P (as Ŝ0), on P_j added to G_n,j
-        loads.pressure += pl - p0 - fr[0] / r;
+        let (bd, f1) = self.first(at, first);
+        let sums = self.sums(z, &bd, &f1);
+        let zl = self.material(z, &sums.d, &sums.s);
+        let (pl, gnl, gtl) = self.lagrangian_loads(at.t, &zl[..z.len()]);
+        let l0 = &first.material;
+        // L(z^L) − L(z), and the frame change −Σ K F_l b_m / R of the normal load on P_n: on
+        // P_0 subtracted from P (as Ŝ0), on P_j added to G_n,j
+        loads.pressure += pl - l0.pressure + sums.f[0] / r;
         for i in 0..loads.gn.len().min(m) {
-            loads.gn[i] += gnl[i] - gn0[i] + fr[1 + i] / r;
-            loads.gt[i] += gtl[i] - gt0[i];
+            loads.gn[i] += gnl[i] - l0.gn[i] - sums.f[1 + i] / r;
+            loads.gt[i] += gtl[i] - l0.gt[i];
         }
     }
     fn add_jacobian(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
+        SCRATCH.with(|s| self.jacobian_with(at, first, grad, jac, &mut s.borrow_mut()));
+    }
+}
+
+impl FrameMap {
+    /// [`SecondOrderTerm::add_jacobian`] in the work space `ws`.
+    fn jacobian_with(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch) {
         let (z, m, nc) = (at.z, self.modes, jac.n);
         let nz = z.len();
         let (r, rd) = (z[0], z[1]);
-        let bd = |i: usize| first.bd.get(i).copied().unwrap_or(0.0);
+        let (bd, f1) = self.first(at, first);
         let dbd = |i: usize, col: usize| grad.dbd.get(i * nc + col).copied().unwrap_or(0.0);
-        let (d, s) = self.sums(z, first.bd);
-        let zl = self.material(z, &d, &s);
+        let sums = self.sums(z, &bd, &f1);
+        let (d, s) = (&sums.d, &sums.s);
+        let zl = self.material(z, d, s);
         // dsh[q][col] = ∂(z^L − z)_q/∂x_col
-        let mut dsh = vec![0.0; nz * nc];
+        let dsh = zeroed(&mut ws.dsh, nz * nc);
         // v[n][k] = Σ_l K a_l / R: the coefficient of ḃ_k in the rate of target n
-        let mut v = vec![0.0; (m + 1) * m];
+        let v = zeroed(&mut ws.v, (m + 1) * m);
         for &(n, l, k, c) in &self.entries {
             let (p, q) = rows(n);
             let (ia, ib) = (a_index(l), a_index(k) + 2);
@@ -193,7 +333,7 @@ impl SecondOrderTerm for FrameMap {
             dsh[p * nc + ib] += c * al / r;
             dsh[q * nc + ia + 1] += c * bk / r;
             dsh[q * nc + ib] += c * adl / r - rd * c * al / (r * r);
-            dsh[q * nc + ia] += c * bd(k) / r - rd * c * bk / (r * r);
+            dsh[q * nc + ia] += c * bd[k] / r - rd * c * bk / (r * r);
             v[n * m + k] += c * al / r;
         }
         for n in 0..=m {
@@ -210,12 +350,15 @@ impl SecondOrderTerm for FrameMap {
                 }
             }
         }
-        let (mut j0, mut jl) = (LoadJacobian::new(m), LoadJacobian::new(m));
-        for term in &self.lagrangian {
-            term.add_jacobian(&At { t: at.t, z }, &mut j0);
-            term.add_jacobian(&At { t: at.t, z: &zl[..nz] }, &mut jl);
+        // J(z) is the core's; J(z^L) here
+        let j0 = grad.material;
+        let jl = ws.jl.get_or_insert_with(|| LoadJacobian::new(m));
+        if jl.modes() != m {
+            *jl = LoadJacobian::new(m);
         }
+        self.lagrangian_jacobian(at.t, &zl[..nz], jl);
         // ∂[L(z^L) − L(z)]/∂x = J(z^L)(E + ∂(z^L − z)/∂x) − J(z)E, per output row
+        let dsh = &*dsh;
         let shifted = |src: &[f64], src0: &[f64], out: &mut [f64]| {
             for col in 0..nz {
                 out[col] += src[col] - src0[col];
@@ -234,20 +377,20 @@ impl SecondOrderTerm for FrameMap {
             shifted(jl.gt_row(i), j0.gt_row(i), &mut jac.gt[i * nc..(i + 1) * nc]);
         }
         // the frame change fr_n = −(1/R) Σ K F_l b_k, F_l = G_n,l(z) + cn_l ḃ_l
-        let (gn0, (cn, cn_r)) = (self.linear(at.t, z).1, self.bdot_normal(at));
-        let mut df = vec![0.0; m * nc];
+        let (cn, cn_r) = self.bdot_normal(at);
+        let df = zeroed(&mut ws.df, m * nc);
         for l in 0..m {
             let row = &mut df[l * nc..(l + 1) * nc];
             row[..nz].copy_from_slice(j0.gn_row(l));
-            row[0] += cn_r[l] * bd(l);
+            row[0] += cn_r[l] * bd[l];
             for (col, x) in row.iter_mut().enumerate() {
                 *x += cn[l] * dbd(l, col);
             }
         }
         // ∂fr_n = −(K/R)(b_k ∂F_l + F_l ∂b_k) + (K F_l b_k/R²) ∂R, per entry
-        let mut dfr = vec![0.0; (m + 1) * nc];
+        let dfr = zeroed(&mut ws.dfr, (m + 1) * nc);
         for &(n, l, k, c) in &self.entries {
-            let (f, bk) = (gn0[l] + cn[l] * bd(l), z[a_index(k) + 2]);
+            let (f, bk) = (f1[l], z[a_index(k) + 2]);
             let row = &mut dfr[n * nc..(n + 1) * nc];
             row[a_index(k) + 2] -= c * f / r;
             row[0] += c * f * bk / (r * r);

@@ -7,8 +7,27 @@
 //! second-pass terms, adds what they return to P, G_n,k, G_t,k and re-evaluates R̈ and the mode
 //! rates from the completed loads. Nothing is evaluated twice; for the Jacobian the core hands
 //! over the exact gradients ∂R̈⁽¹⁾/∂z, ∂ä⁽¹⁾/∂z of the linear rows as well (chain rule).
+//!
+//! The core also hands over the first-order loads of the *material-frame* terms (the membrane
+//! law, bending, shell viscosity: [`crate::model::Equations::material_loads`]) and their
+//! Jacobian — already part of its first pass — which the frame mapping converts to the state's
+//! Eulerian amplitudes ([`super::quadratic_frame`]).
 
 use super::{At, LoadJacobian, Loads};
+
+/// The material-frame terms' share of P, G_n,k, G_t,k at the state (first order, their ḃ
+/// loads not included): what the frame mapping calls L(z).
+#[derive(Debug, Clone, Copy)]
+pub struct MaterialLoads<'a> {
+    pub pressure: f64,
+    pub gn: &'a [f64],
+    pub gt: &'a [f64],
+}
+
+impl MaterialLoads<'static> {
+    /// No material-frame loads (for a second-pass term that does not read them).
+    pub const NONE: Self = Self { pressure: 0.0, gn: &[], gt: &[] };
+}
 
 /// The first-order accelerations at the state: R̈⁽¹⁾ = form(P of the ordinary terms) and
 /// ä_k⁽¹⁾ of (N) with those loads, one per mode index; and the first-order ḃ_k⁽¹⁾ of (NS) and its
@@ -18,6 +37,8 @@ pub struct FirstOrder<'a> {
     pub rdd: f64,
     pub add: &'a [f64],
     pub bd: &'a [f64],
+    /// The material-frame terms' loads at the state ([`MaterialLoads`]).
+    pub material: MaterialLoads<'a>,
 }
 
 /// Their exact gradients over the n = `jac.n` columns of the Jacobian they are used for:
@@ -30,6 +51,8 @@ pub struct FirstOrderGradient<'a> {
     pub drdd: &'a [f64],
     pub dadd: &'a [f64],
     pub dbd: &'a [f64],
+    /// ∂/∂z of the material-frame terms' loads ([`MaterialLoads`]), z.len() columns.
+    pub material: &'a LoadJacobian,
 }
 
 /// A load evaluated after the first-order accelerations are known (module doc). Same contract

@@ -184,7 +184,9 @@ pub fn reduced_jacobian(c: &dyn ModeCoupling, t: f64, z: &[f64], p: &[f64], w0: 
     // ∂ḃ⁽¹⁾: no second-pass term of the vorticity closure reads ḃ⁽¹⁾ (scene/validate.rs refuses the
     // shell viscosities with it), so its gradient is zero.
     let dbd = vec![0.0; m * ne];
-    let grad = crate::model::effects::second_order::FirstOrderGradient { drdd: &grad_rdd, dadd: &dadd, dbd: &dbd };
+    // the material-frame terms' Jacobian: the coupling's own (SceneCoupling fills it)
+    let none = crate::model::effects::LoadJacobian::new(0);
+    let grad = crate::model::effects::second_order::FirstOrderGradient { drdd: &grad_rdd, dadd: &dadd, dbd: &dbd, material: &none };
     c.second_order_jacobian(t, z, rdd, &add, &grad, &mut sj, &mut drdd2);
     // the completed load rows: the ordinary terms' (z columns) plus the second pass's
     for mi in 0..m {

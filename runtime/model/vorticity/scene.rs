@@ -9,7 +9,7 @@ use super::staggered::{Staggered, StaggeredStepper};
 use super::{FullState, Grid, GridError, ModeCoupling, VorticityError};
 use crate::integrate::{drive, stepper, Control, IntegrateError, Method, OdeSystem, Output, Stats, Stepper};
 use crate::model::executor::{execute, Plan};
-use crate::model::effects::second_order::{FirstOrder, FirstOrderGradient};
+use crate::model::effects::second_order::{FirstOrder, FirstOrderGradient, MaterialLoads};
 use crate::model::effects::{LoadJacobian, Loads, MAX_MODES};
 use crate::model::{method_of, BoundaryLayerSystem, Model, ModelError, RunReport};
 use crate::scene::{Run, Scene, Viscous, VorticityScheme};
@@ -137,7 +137,11 @@ impl ModeCoupling for SceneCoupling<'_> {
         // ḃ⁽¹⁾: read only by the shell-viscous second-order term, which the scene validator refuses
         // with the vorticity closure (scene/validate.rs), so zeros stand for it here.
         let bd = [0.0; MAX_MODES];
-        self.bl.equations().add_second_order(t, &y, &FirstOrder { rdd, add, bd: &bd[..add.len()] }, &mut l);
+        let eq = self.bl.equations();
+        let (m, mut mgn, mut mgt) = (add.len(), [0.0; MAX_MODES], [0.0; MAX_MODES]);
+        let pm = eq.material_loads(t, &y, &mut mgn[..m], &mut mgt[..m]);
+        let material = MaterialLoads { pressure: pm, gn: &mgn[..m], gt: &mgt[..m] };
+        eq.add_second_order(t, &y, &FirstOrder { rdd, add, bd: &bd[..m], material }, &mut l);
         rdd + self.radial_shift(r, rdot, l.pressure)[0]
     }
     fn second_order_jacobian(&self, t: f64, z: &[f64], rdd: f64, add: &[f64], grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, drdd: &mut [f64]) {
@@ -151,7 +155,12 @@ impl ModeCoupling for SceneCoupling<'_> {
         // ḃ⁽¹⁾: read only by the shell-viscous second-order term, which the scene validator refuses
         // with the vorticity closure (scene/validate.rs), so zeros stand for it here.
         let bd = [0.0; MAX_MODES];
-        let first = FirstOrder { rdd, add, bd: &bd[..add.len()] };
+        // the material-frame terms' loads and Jacobian (the frame mapping's L(z), J(z))
+        let (mut mgn, mut mgt, mut mj) = ([0.0; MAX_MODES], [0.0; MAX_MODES], LoadJacobian::new(m));
+        let pm = eq.material_loads(t, z, &mut mgn[..m], &mut mgt[..m]);
+        eq.material_jacobian(t, z, &mut mj);
+        let grad = &FirstOrderGradient { material: &mj, ..*grad };
+        let first = FirstOrder { rdd, add, bd: &bd[..m], material: MaterialLoads { pressure: pm, gn: &mgn[..m], gt: &mgt[..m] } };
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let mut l = Loads { pressure: 0.0, gn: &mut gn[..m], gt: &mut gt[..m] };
         eq.add_second_order(t, z, &first, &mut l);
