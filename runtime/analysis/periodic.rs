@@ -102,6 +102,20 @@ impl RkFlow<'_> {
         phi: &mut DMatrix<f64>,
         periods: usize,
     ) -> Result<f64, PeriodicError> {
+        self.advance_variational_observed(t0, y, phi, periods, None)
+    }
+
+    /// As [`advance_variational`](Self::advance_variational), calling `obs(t, y, f(t, y))` at
+    /// every grid point (including the first and the last) as [`advance_observed`](Self::advance_observed)
+    /// does: the same RK4 steps, so the same values (one more rhs call at the end).
+    pub fn advance_variational_observed(
+        &self,
+        t0: f64,
+        y: &mut [f64],
+        phi: &mut DMatrix<f64>,
+        periods: usize,
+        mut obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+    ) -> Result<f64, PeriodicError> {
         let n = y.len();
         let h = self.period / self.steps_per_period as f64;
         let mut ws = VarWork::new(n);
@@ -129,6 +143,11 @@ impl RkFlow<'_> {
                 ws.jacobian(self.sys, t + c * h, &tmp);
                 self.sys.rhs(t + c * h, &tmp, &mut ky[st]);
                 kp[st].gemm(1.0, &ws.jac, &ptmp, 0.0);
+                if st == 0 {
+                    if let Some(o) = obs.as_mut() {
+                        o(t, y, &ky[0]);
+                    }
+                }
             }
             for i in 0..n {
                 y[i] += h / 6.0 * (ky[0][i] + 2.0 * ky[1][i] + 2.0 * ky[2][i] + ky[3][i]);
@@ -140,7 +159,12 @@ impl RkFlow<'_> {
                 return Err(PeriodicError::NonFinite { t: t + h });
             }
         }
-        Ok(t0 + total as f64 * h)
+        let t = t0 + total as f64 * h;
+        if let Some(o) = obs.as_mut() {
+            self.sys.rhs(t, y, &mut ky[0]);
+            o(t, y, &ky[0]);
+        }
+        Ok(t)
     }
 }
 
