@@ -169,9 +169,9 @@ fn membrane_fn(c: &MembraneCoeff, args: &[String], d_r: bool) -> Result<TokenStr
         format!(" {} = {}", c.name.to_uppercase(), membrane_text(c))
     };
     if c.uses_k {
-        Ok(quote!(#[doc = #doc] #[allow(unused_variables)] pub fn #name(#(#params,)* k: f64) -> f64 { let n = k * (k + 1.0); #expr }))
+        Ok(quote!(#[doc = #doc] #[allow(unused_variables)] #[inline] pub fn #name(#(#params,)* k: f64) -> f64 { let n = k * (k + 1.0); #expr }))
     } else {
-        Ok(quote!(#[doc = #doc] #[allow(unused_variables)] pub fn #name(#(#params),*) -> f64 { #expr }))
+        Ok(quote!(#[doc = #doc] #[allow(unused_variables)] #[inline] pub fn #name(#(#params),*) -> f64 { #expr }))
     }
 }
 

@@ -40,6 +40,9 @@ struct ComponentLoads {
     /// Band coefficients: row r, offset d ∈ [−W, W] (in modes), (a, b) pair.
     band_n: Vec<f64>,
     band_t: Vec<f64>,
+    /// The same bands interleaved for the right-hand side: per (row, offset) the four numbers
+    /// (normal a, normal b, tangential a, tangential b), rows after rows.
+    band_nt: Vec<f64>,
 }
 
 /// Prefactors at one (t, R): computed once per right-hand-side evaluation.
@@ -57,6 +60,9 @@ pub struct MagneticLoads {
     /// Half-bandwidth W in modes (1 for the paper's H2² coil: k couples to k ± 2).
     width: usize,
     law: TimeLaw,
+    /// Per row: the start of its existing sources in `band_nt`, their number, and the index in y
+    /// of the first one's a ([`source_range`](Self::source_range), computed once).
+    plan: Vec<(usize, usize, usize)>,
     /// Nondimensional angular frequencies (ω t*) of the current and of the distance.
     current_omega: Option<f64>,
     distance: Option<(f64, f64)>,
@@ -158,7 +164,9 @@ impl MagneticLoads {
                     }
                 }
             }
+            let band_nt = band_n.chunks_exact(2).zip(band_t.chunks_exact(2)).flat_map(|(n, t)| [n[0], n[1], t[0], t[1]]).collect();
             comps.push(ComponentLoads {
+                band_nt,
                 k_static,
                 zero_power,
                 coupling_power: zero_power - 1,
@@ -176,7 +184,14 @@ impl MagneticLoads {
                 (current_omega.map(|w| w * t_star), distance.map(|(b, w)| (b, w * t_star)))
             }
         };
-        Ok(Self { comps, modes, width, law: source.law, current_omega, distance, evaluations: AtomicU64::new(0) })
+        let mut loads = Self { comps, modes, width, law: source.law, plan: Vec::new(), current_omega, distance, evaluations: AtomicU64::new(0) };
+        loads.plan = (0..rows)
+            .map(|row| {
+                let (lo, hi, at0) = loads.source_range(row);
+                (4 * (row * (2 * width + 1) + lo), hi - lo, at0)
+            })
+            .collect();
+        Ok(loads)
     }
 
     /// Number of [`factors`](Self::factors) calls so far (one per right-hand-side evaluation).
@@ -274,21 +289,18 @@ impl MagneticLoads {
     /// sums in the same order), with the normal and tangential rows of a mode in one pass over
     /// its sources (issue 16: the separate row calls were 14 % of the boundary-layer run).
     pub fn add_to_balances(&self, f: &Factors, y: &[f64], pressure: &mut f64, gn: &mut [f64], gt: &mut [f64]) {
-        let stride = 2 * (2 * self.width + 1);
         let rows = (gn.len().min(gt.len()) + 1).min(self.modes + 1);
-        for row in 0..rows {
-            let (lo, hi, at0) = self.source_range(row);
-            let base = row * stride;
+        for (row, &(b0, count, at0)) in self.plan[..rows].iter().enumerate() {
+            // the sources' (a, ȧ, b) and the row's interleaved band as pre-cut slices (no index
+            // checks in the loop; the same operations in the same order as the indexed loop)
+            let ys = &y[at0..at0 + 3 * count];
             let (mut tn, mut tt) = (0.0, 0.0);
             for (i, c) in self.comps.iter().enumerate() {
                 let (mut sn, mut st) = (-0.0, -0.0);
-                let mut at = at0;
-                for d in lo..hi {
-                    let j = base + 2 * d;
-                    let (ya, yb) = (y[at], y[at + 2]);
-                    sn += c.band_n[j] * ya + c.band_n[j + 1] * yb;
-                    st += c.band_t[j] * ya + c.band_t[j + 1] * yb;
-                    at += 3;
+                for (yk, q) in ys.chunks_exact(3).zip(c.band_nt[b0..b0 + 4 * count].chunks_exact(4)) {
+                    let (ya, yb) = (yk[0], yk[2]);
+                    sn += q[0] * ya + q[1] * yb;
+                    st += q[2] * ya + q[3] * yb;
                 }
                 tn += f.zero[i] * c.zero_n[row] + f.coupling[i] * sn;
                 tt += f.zero[i] * c.zero_t[row] + f.coupling[i] * st;

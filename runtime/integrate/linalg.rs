@@ -168,6 +168,7 @@ impl<T: Scalar> ShiftedLu<T> {
         self.inv_diag.clear();
         self.inv_diag.extend((0..n).map(|k| one / a[k * n + k]));
         self.l.clear();
+        self.l.reserve(n * n);
         for k in 0..n {
             self.l.extend((0..n).map(|i| a[i * n + k]));
         }

@@ -45,6 +45,7 @@ pub mod linear;
 mod radau;
 mod rosenbrock;
 pub mod reduced;
+mod split_lu;
 pub mod tableau;
 mod variational;
 

@@ -16,8 +16,37 @@
 
 use super::linalg::{Scalar, ShiftedLu};
 use super::linear::{Factorization, StructuredJacobian};
+use super::split_lu::SplitLu;
 use nalgebra::Complex;
 use std::rc::Rc;
+
+/// The dense LU of the reduced matrix: `ShiftedLu` for the real one, the split-storage
+/// [`SplitLu`] for the complex one (the same factors to the bit, vectorisable loops).
+trait ReducedScalar: Scalar + 'static {
+    type Lu: std::fmt::Debug;
+    fn factor(n: usize, a: Vec<Self>) -> Result<Self::Lu, usize>;
+    fn solve(lu: &Self::Lu, x: &mut [Self]);
+}
+
+impl ReducedScalar for f64 {
+    type Lu = ShiftedLu<f64>;
+    fn factor(n: usize, a: Vec<f64>) -> Result<Self::Lu, usize> {
+        ShiftedLu::factor_owned(n, a)
+    }
+    fn solve(lu: &Self::Lu, x: &mut [f64]) {
+        lu.solve(x);
+    }
+}
+
+impl ReducedScalar for Complex<f64> {
+    type Lu = SplitLu;
+    fn factor(n: usize, a: Vec<Self>) -> Result<Self::Lu, usize> {
+        SplitLu::factor(n, &a)
+    }
+    fn solve(lu: &Self::Lu, x: &mut [Self]) {
+        lu.solve(x);
+    }
+}
 
 #[derive(Debug)]
 struct Parts {
@@ -75,7 +104,7 @@ impl PositionRows {
         Some(PositionRows(Rc::new(Parts { kept, pos, jkk, jkp, start })))
     }
 
-    fn factor_as<T: Scalar + 'static>(&self, sigma: T) -> Option<ReducedLu<T>> {
+    fn factor_as<T: ReducedScalar>(&self, sigma: T) -> Option<ReducedLu<T>> {
         let p = &self.0;
         let nr = p.kept.len();
         let inv_sigma = T::from_real(1.0) / sigma;
@@ -91,22 +120,22 @@ impl PositionRows {
                 row[v] = row[v] - inv_sigma.scale(jp);
             }
         }
-        let lu = ShiftedLu::<T>::factor_owned(nr, a).ok()?;
+        let lu = T::factor(nr, a).ok()?;
         let scratch = std::cell::RefCell::new(vec![T::ZERO; nr]);
         Some(ReducedLu { parts: Rc::clone(&self.0), inv_sigma, lu, scratch })
     }
 }
 
 /// The factorisation of σI − J (module doc).
-struct ReducedLu<T: Scalar> {
+struct ReducedLu<T: ReducedScalar> {
     parts: Rc<Parts>,
     inv_sigma: T,
-    lu: ShiftedLu<T>,
+    lu: T::Lu,
     /// The kept part of the right-hand side and solution (no allocation per solve).
     scratch: std::cell::RefCell<Vec<T>>,
 }
 
-impl<T: Scalar> Factorization<T> for ReducedLu<T> {
+impl<T: ReducedScalar> Factorization<T> for ReducedLu<T> {
     fn solve(&self, b: &mut [T]) {
         let p = &*self.parts;
         let mut guard = self.scratch.borrow_mut();
@@ -118,7 +147,7 @@ impl<T: Scalar> Factorization<T> for ReducedLu<T> {
             }
             *x = b[r] + s * self.inv_sigma;
         }
-        self.lu.solve(xk);
+        T::solve(&self.lu, xk);
         for (&x, &r) in xk.iter().zip(&p.kept) {
             b[r] = x;
         }

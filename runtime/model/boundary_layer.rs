@@ -204,10 +204,15 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         let m = self.modes.len();
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
-        let mut bmodes = [[0.0; 5]; MAX_MODES];
-        if self.bdot_loads {
-            self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut bmodes);
-        }
+        // the ḃ-load store only when there are such loads (no 1.3 kB zeroed per call without)
+        let mut store;
+        let bmodes: &mut [BdotMode] = if self.bdot_loads {
+            store = [[0.0; 5]; MAX_MODES];
+            self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut store);
+            &mut store
+        } else {
+            &mut []
+        };
         let rdd = if self.bdot_radial {
             self.mode_rates(r, rd, 0.0, &gn[..m], &gt[..m], y, dy);
             let mut bd = [0.0; MAX_MODES];

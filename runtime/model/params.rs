@@ -40,6 +40,8 @@ impl Scales {
 
 type S0 = fn(f64, f64, f64, f64) -> f64;
 type Sk = fn(f64, f64, f64, f64, f64) -> f64;
+/// Ŝ1, Ŝ2, Ŝ11, Ŝ12 of every mode k of `ks` at one R, into `out[m]` in that order.
+pub type SModes = fn(f64, f64, f64, f64, &[f64], &mut [[f64; 4]]);
 
 /// The five membrane loads of FORMULATION §4.1, chosen once by the scene's `shell.form`, and
 /// their exact R-derivatives (generated alongside them, for the analytic Jacobian).
@@ -55,6 +57,39 @@ pub struct Membrane {
     pub s2_dr: Sk,
     pub s11_dr: Sk,
     pub s12_dr: Sk,
+    /// The same generated s1, s2, s11, s12, all modes in one call: the four functions are inlined
+    /// into one loop, so the powers of R common to them are formed once per call, not four times
+    /// per mode through function pointers (the same expressions: bit-identical values).
+    pub modes: SModes,
+}
+
+/// The [`Membrane`] of one generated module (`coefficients::membrane::<law>::<form>`).
+macro_rules! tables {
+    ($($m:ident)::+) => {{
+        fn modes(r: f64, r0: f64, c1: f64, c2: f64, ks: &[f64], out: &mut [[f64; 4]]) {
+            for (o, &k) in out.iter_mut().zip(ks) {
+                *o = [
+                    $($m)::+::s1(r, r0, c1, c2, k),
+                    $($m)::+::s2(r, r0, c1, c2, k),
+                    $($m)::+::s11(r, r0, c1, c2, k),
+                    $($m)::+::s12(r, r0, c1, c2, k),
+                ];
+            }
+        }
+        Membrane {
+            s0: $($m)::+::s0,
+            s1: $($m)::+::s1,
+            s2: $($m)::+::s2,
+            s11: $($m)::+::s11,
+            s12: $($m)::+::s12,
+            s0_dr: $($m)::+::s0_dr,
+            s1_dr: $($m)::+::s1_dr,
+            s2_dr: $($m)::+::s2_dr,
+            s11_dr: $($m)::+::s11_dr,
+            s12_dr: $($m)::+::s12_dr,
+            modes,
+        }
+    }};
 }
 
 impl std::fmt::Debug for Membrane {
@@ -67,63 +102,18 @@ impl Membrane {
     /// The tables of the scene's elastic law (`shell.law`) in its `shell.form`. The Skalak
     /// functions take (G_s, C) where Mooney–Rivlin takes (c1, c2): same signature.
     pub fn for_law(law: ShellLaw, form: MembraneForm) -> Self {
-        use membrane::skalak;
         match (law, form) {
             (ShellLaw::MooneyRivlin, form) => Self::new(form),
-            (ShellLaw::Skalak { .. }, MembraneForm::Paper) => Self {
-                s0: skalak::paper::s0,
-                s1: skalak::paper::s1,
-                s2: skalak::paper::s2,
-                s11: skalak::paper::s11,
-                s12: skalak::paper::s12,
-                s0_dr: skalak::paper::s0_dr,
-                s1_dr: skalak::paper::s1_dr,
-                s2_dr: skalak::paper::s2_dr,
-                s11_dr: skalak::paper::s11_dr,
-                s12_dr: skalak::paper::s12_dr,
-            },
-            (ShellLaw::Skalak { .. }, MembraneForm::Tension) => Self {
-                s0: skalak::tension::s0,
-                s1: skalak::tension::s1,
-                s2: skalak::tension::s2,
-                s11: skalak::tension::s11,
-                s12: skalak::tension::s12,
-                s0_dr: skalak::tension::s0_dr,
-                s1_dr: skalak::tension::s1_dr,
-                s2_dr: skalak::tension::s2_dr,
-                s11_dr: skalak::tension::s11_dr,
-                s12_dr: skalak::tension::s12_dr,
-            },
+            (ShellLaw::Skalak { .. }, MembraneForm::Paper) => tables!(membrane::skalak::paper),
+            (ShellLaw::Skalak { .. }, MembraneForm::Tension) => tables!(membrane::skalak::tension),
         }
     }
 
     /// The paper's Mooney–Rivlin tables in `form`.
     pub fn new(form: MembraneForm) -> Self {
         match form {
-            MembraneForm::Paper => Self {
-                s0: membrane::paper::s0,
-                s1: membrane::paper::s1,
-                s2: membrane::paper::s2,
-                s11: membrane::paper::s11,
-                s12: membrane::paper::s12,
-                s0_dr: membrane::paper::s0_dr,
-                s1_dr: membrane::paper::s1_dr,
-                s2_dr: membrane::paper::s2_dr,
-                s11_dr: membrane::paper::s11_dr,
-                s12_dr: membrane::paper::s12_dr,
-            },
-            MembraneForm::Tension => Self {
-                s0: membrane::tension::s0,
-                s1: membrane::tension::s1,
-                s2: membrane::tension::s2,
-                s11: membrane::tension::s11,
-                s12: membrane::tension::s12,
-                s0_dr: membrane::tension::s0_dr,
-                s1_dr: membrane::tension::s1_dr,
-                s2_dr: membrane::tension::s2_dr,
-                s11_dr: membrane::tension::s11_dr,
-                s12_dr: membrane::tension::s12_dr,
-            },
+            MembraneForm::Paper => tables!(membrane::paper),
+            MembraneForm::Tension => tables!(membrane::tension),
         }
     }
 }

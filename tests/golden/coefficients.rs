@@ -720,58 +720,68 @@ pub mod membrane {
         pub mod paper {
             /// S0 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0(r: f64, r0: f64, kb: f64) -> f64 {
                 0.0
             }
             /// ∂S0/∂R, S0 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0_dr(r: f64, r0: f64, kb: f64) -> f64 {
                 0.0
             }
             /// S1 = (n^2 - 2*n)*kb/R^4
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0) * n + (1.0) * n.powi(2)) * r.powi(-4) * kb.powi(1)
             }
             /// ∂S1/∂R, S1 = (n^2 - 2*n)*kb/R^4
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0) * n + (1.0) * n.powi(2)) * (-4.0) * r.powi(-5) * kb.powi(1)
             }
             /// S2 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// ∂S2/∂R, S2 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// S11 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// ∂S11/∂R, S11 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// S12 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// ∂S12/∂R, S12 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
@@ -781,58 +791,68 @@ pub mod membrane {
         pub mod tension {
             /// S0 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0(r: f64, r0: f64, kb: f64) -> f64 {
                 0.0
             }
             /// ∂S0/∂R, S0 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0_dr(r: f64, r0: f64, kb: f64) -> f64 {
                 0.0
             }
             /// S1 = (n^2 - 2*n)*kb/R^4
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0) * n + (1.0) * n.powi(2)) * r.powi(-4) * kb.powi(1)
             }
             /// ∂S1/∂R, S1 = (n^2 - 2*n)*kb/R^4
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-2.0) * n + (1.0) * n.powi(2)) * (-4.0) * r.powi(-5) * kb.powi(1)
             }
             /// S2 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// ∂S2/∂R, S2 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// S11 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// ∂S11/∂R, S11 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// S12 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
             }
             /// ∂S12/∂R, S12 = 0
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12_dr(r: f64, r0: f64, kb: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 0.0
@@ -851,18 +871,21 @@ pub mod membrane {
         pub mod paper {
             /// S0 = (-4)*C1*R0^6/R^7 + (4)*C1/R
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0(r: f64, r0: f64, c1: f64) -> f64 {
                 ((-4.0)) * c1.powi(1) * r.powi(-7) * r0.powi(6)
                     + ((4.0)) * c1.powi(1) * r.powi(-1)
             }
             /// ∂S0/∂R, S0 = (-4)*C1*R0^6/R^7 + (4)*C1/R
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0_dr(r: f64, r0: f64, c1: f64) -> f64 {
                 ((-4.0)) * (-7.0) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                     + ((4.0)) * (-1.0) * c1.powi(1) * r.powi(-2)
             }
             /// S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((28.0) + (-2.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
@@ -870,6 +893,7 @@ pub mod membrane {
             }
             /// ∂S1/∂R, S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((28.0) + (-2.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
@@ -877,18 +901,21 @@ pub mod membrane {
             }
             /// S2 = (-12*n)*C1*R0^6/R^8
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-12.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
             }
             /// ∂S2/∂R, S2 = (-12*n)*C1*R0^6/R^8
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-12.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
             }
             /// S11 = (-8)*C1*R0^6/R^8 + (-4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-8.0)) * c1.powi(1) * r.powi(-8) * r0.powi(6)
@@ -896,6 +923,7 @@ pub mod membrane {
             }
             /// ∂S11/∂R, S11 = (-8)*C1*R0^6/R^8 + (-4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-8.0)) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
@@ -903,6 +931,7 @@ pub mod membrane {
             }
             /// S12 = (4*n)*C1*R0^6/R^8 + (4*n - 4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((4.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
@@ -910,6 +939,7 @@ pub mod membrane {
             }
             /// ∂S12/∂R, S12 = (4*n)*C1*R0^6/R^8 + (4*n - 4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((4.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
@@ -920,18 +950,21 @@ pub mod membrane {
         pub mod tension {
             /// S0 = (-4)*C1*R0^6/R^7 + (4)*C1/R
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0(r: f64, r0: f64, c1: f64) -> f64 {
                 ((-4.0)) * c1.powi(1) * r.powi(-7) * r0.powi(6)
                     + ((4.0)) * c1.powi(1) * r.powi(-1)
             }
             /// ∂S0/∂R, S0 = (-4)*C1*R0^6/R^7 + (4)*C1/R
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0_dr(r: f64, r0: f64, c1: f64) -> f64 {
                 ((-4.0)) * (-7.0) * c1.powi(1) * r.powi(-8) * r0.powi(6)
                     + ((4.0)) * (-1.0) * c1.powi(1) * r.powi(-2)
             }
             /// S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((28.0) + (-2.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
@@ -939,6 +972,7 @@ pub mod membrane {
             }
             /// ∂S1/∂R, S1 = (-2*n + 28)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((28.0) + (-2.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
@@ -946,30 +980,35 @@ pub mod membrane {
             }
             /// S2 = (-12*n)*C1*R0^6/R^8
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-12.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
             }
             /// ∂S2/∂R, S2 = (-12*n)*C1*R0^6/R^8
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-12.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
             }
             /// S11 = (-12)*C1*R0^6/R^8
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-12.0)) * c1.powi(1) * r.powi(-8) * r0.powi(6)
             }
             /// ∂S11/∂R, S11 = (-12)*C1*R0^6/R^8
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-12.0)) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
             }
             /// S12 = (6*n)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((6.0) * n) * c1.powi(1) * r.powi(-8) * r0.powi(6)
@@ -977,6 +1016,7 @@ pub mod membrane {
             }
             /// ∂S12/∂R, S12 = (6*n)*C1*R0^6/R^8 + (2*n - 4)*C1/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12_dr(r: f64, r0: f64, c1: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((6.0) * n) * (-8.0) * c1.powi(1) * r.powi(-9) * r0.powi(6)
@@ -996,22 +1036,26 @@ pub mod membrane {
         pub mod paper {
             /// S0 = (4)*Rd*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64) -> f64 {
                 ((4.0)) * r.powi(-2) * rd.powi(1) * kappa_s.powi(1)
             }
             /// ∂S0/∂R, S0 = (4)*Rd*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0_dr(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64) -> f64 {
                 ((4.0)) * (-2.0) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
             }
             /// S1 = (2*n - 8)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-8.0) + (2.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
             }
             /// ∂S1/∂R, S1 = (2*n - 8)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1_dr(
                 r: f64,
                 r0: f64,
@@ -1025,12 +1069,14 @@ pub mod membrane {
             }
             /// S2 = (2*n)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((2.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
             }
             /// ∂S2/∂R, S2 = (2*n)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2_dr(
                 r: f64,
                 r0: f64,
@@ -1044,6 +1090,7 @@ pub mod membrane {
             }
             /// S11 = (-2)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11(
                 r: f64,
                 r0: f64,
@@ -1057,6 +1104,7 @@ pub mod membrane {
             }
             /// ∂S11/∂R, S11 = (-2)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11_dr(
                 r: f64,
                 r0: f64,
@@ -1070,6 +1118,7 @@ pub mod membrane {
             }
             /// S12 = (n)*Rd*kappa_s/R^3 + (-n + 2)*Rd*mu_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12(
                 r: f64,
                 r0: f64,
@@ -1084,6 +1133,7 @@ pub mod membrane {
             }
             /// ∂S12/∂R, S12 = (n)*Rd*kappa_s/R^3 + (-n + 2)*Rd*mu_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12_dr(
                 r: f64,
                 r0: f64,
@@ -1099,6 +1149,7 @@ pub mod membrane {
             }
             /// S1D = (4)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1d(
                 r: f64,
                 r0: f64,
@@ -1112,6 +1163,7 @@ pub mod membrane {
             }
             /// ∂S1D/∂R, S1D = (4)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1d_dr(
                 r: f64,
                 r0: f64,
@@ -1125,6 +1177,7 @@ pub mod membrane {
             }
             /// S2D = (-2*n)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2d(
                 r: f64,
                 r0: f64,
@@ -1138,6 +1191,7 @@ pub mod membrane {
             }
             /// ∂S2D/∂R, S2D = (-2*n)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2d_dr(
                 r: f64,
                 r0: f64,
@@ -1151,6 +1205,7 @@ pub mod membrane {
             }
             /// S11D = (-2)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11d(
                 r: f64,
                 r0: f64,
@@ -1164,6 +1219,7 @@ pub mod membrane {
             }
             /// ∂S11D/∂R, S11D = (-2)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11d_dr(
                 r: f64,
                 r0: f64,
@@ -1177,6 +1233,7 @@ pub mod membrane {
             }
             /// S12D = (n)*kappa_s/R^2 + (n - 2)*mu_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12d(
                 r: f64,
                 r0: f64,
@@ -1191,6 +1248,7 @@ pub mod membrane {
             }
             /// ∂S12D/∂R, S12D = (n)*kappa_s/R^2 + (n - 2)*mu_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12d_dr(
                 r: f64,
                 r0: f64,
@@ -1208,22 +1266,26 @@ pub mod membrane {
         pub mod tension {
             /// S0 = (4)*Rd*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64) -> f64 {
                 ((4.0)) * r.powi(-2) * rd.powi(1) * kappa_s.powi(1)
             }
             /// ∂S0/∂R, S0 = (4)*Rd*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s0_dr(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64) -> f64 {
                 ((4.0)) * (-2.0) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
             }
             /// S1 = (2*n - 8)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((-8.0) + (2.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
             }
             /// ∂S1/∂R, S1 = (2*n - 8)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1_dr(
                 r: f64,
                 r0: f64,
@@ -1237,12 +1299,14 @@ pub mod membrane {
             }
             /// S2 = (2*n)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2(r: f64, r0: f64, rd: f64, mu_s: f64, kappa_s: f64, k: f64) -> f64 {
                 let n = k * (k + 1.0);
                 ((2.0) * n) * r.powi(-3) * rd.powi(1) * kappa_s.powi(1)
             }
             /// ∂S2/∂R, S2 = (2*n)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2_dr(
                 r: f64,
                 r0: f64,
@@ -1256,6 +1320,7 @@ pub mod membrane {
             }
             /// S11 = (2)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11(
                 r: f64,
                 r0: f64,
@@ -1269,6 +1334,7 @@ pub mod membrane {
             }
             /// ∂S11/∂R, S11 = (2)*Rd*kappa_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11_dr(
                 r: f64,
                 r0: f64,
@@ -1282,6 +1348,7 @@ pub mod membrane {
             }
             /// S12 = (-n)*Rd*kappa_s/R^3 + (-n + 2)*Rd*mu_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12(
                 r: f64,
                 r0: f64,
@@ -1296,6 +1363,7 @@ pub mod membrane {
             }
             /// ∂S12/∂R, S12 = (-n)*Rd*kappa_s/R^3 + (-n + 2)*Rd*mu_s/R^3
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12_dr(
                 r: f64,
                 r0: f64,
@@ -1311,6 +1379,7 @@ pub mod membrane {
             }
             /// S1D = (4)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1d(
                 r: f64,
                 r0: f64,
@@ -1324,6 +1393,7 @@ pub mod membrane {
             }
             /// ∂S1D/∂R, S1D = (4)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s1d_dr(
                 r: f64,
                 r0: f64,
@@ -1337,6 +1407,7 @@ pub mod membrane {
             }
             /// S2D = (-2*n)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2d(
                 r: f64,
                 r0: f64,
@@ -1350,6 +1421,7 @@ pub mod membrane {
             }
             /// ∂S2D/∂R, S2D = (-2*n)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s2d_dr(
                 r: f64,
                 r0: f64,
@@ -1363,6 +1435,7 @@ pub mod membrane {
             }
             /// S11D = (-2)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11d(
                 r: f64,
                 r0: f64,
@@ -1376,6 +1449,7 @@ pub mod membrane {
             }
             /// ∂S11D/∂R, S11D = (-2)*kappa_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s11d_dr(
                 r: f64,
                 r0: f64,
@@ -1389,6 +1463,7 @@ pub mod membrane {
             }
             /// S12D = (n)*kappa_s/R^2 + (n - 2)*mu_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12d(
                 r: f64,
                 r0: f64,
@@ -1403,6 +1478,7 @@ pub mod membrane {
             }
             /// ∂S12D/∂R, S12D = (n)*kappa_s/R^2 + (n - 2)*mu_s/R^2
             #[allow(unused_variables)]
+            #[inline]
             pub fn s12d_dr(
                 r: f64,
                 r0: f64,

@@ -1,7 +1,8 @@
 //! The lipid shell (Mooney–Rivlin, ε-scaled: FORMULATION §2, §4.1, audit 1): −Ŝ0(R) in the
 //! radial balance and Ŝ1 a_k + Ŝ2 b_k, Ŝ11 a_k + Ŝ12 b_k in G_n,k, G_t,k. The coefficients and
 //! their R-derivatives are the generated ones (`coefficients::membrane`, from derivations/),
-//! chosen by `shell.form`; they depend on R and k only and are evaluated once per mode per call.
+//! chosen by `shell.form`; they depend on R and k only and are evaluated once per mode per call,
+//! all modes in one call of `Membrane::modes` in the right-hand side.
 
 use super::{a_index, At, LoadJacobian, Loads, PressureRate, Term};
 use crate::model::params::Membrane;
@@ -57,11 +58,19 @@ impl Term for MembraneTerm {
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
         let r = at.r();
         loads.pressure -= (self.law.s0)(r, self.r0, self.c1, self.c2);
-        for m in 0..loads.gn.len() {
-            let s = self.stiffness(r, self.orders[m]);
-            let (a, b) = (at.a(m), at.b(m));
-            loads.gn[m] += s.s1 * a + s.s2 * b;
-            loads.gt[m] += s.s11 * a + s.s12 * b;
+        let nm = loads.gn.len();
+        // the modes' Ŝ1, Ŝ2, Ŝ11, Ŝ12 eight at a time (`Membrane::modes`: the powers of R once
+        // per call; a small stack buffer)
+        const CHUNK: usize = 8;
+        for (c, ks) in self.orders[..nm].chunks(CHUNK).enumerate() {
+            let mut s = [[0.0; 4]; CHUNK];
+            (self.law.modes)(r, self.r0, self.c1, self.c2, ks, &mut s[..ks.len()]);
+            for (j, s) in s[..ks.len()].iter().enumerate() {
+                let m = c * CHUNK + j;
+                let (a, b) = (at.a(m), at.b(m));
+                loads.gn[m] += s[0] * a + s[1] * b;
+                loads.gt[m] += s[2] * a + s[3] * b;
+            }
         }
     }
     fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
