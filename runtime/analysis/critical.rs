@@ -3,8 +3,9 @@
 //! or the time-series criterion. Definitions in docs/stability.md.
 //!
 //! **Cost** (issue 16, rows 3–5). A Floquet evaluation first finds the radial orbit once
-//! ([`prepare`]); the monodromy is then computed on a ladder of n/32 (when ≥ 12), n/16, n/8, n/4
-//! and n/2 Magnus steps per drive period (n = `magnus_steps`, 400: 12, 25, 50, 100, 200). The
+//! ([`prepare`]); the monodromy is then computed on the ladder of [`ladder::climb`] with the
+//! [`ladder::verdict`] judge, the same as the figures' (n/64, n/32, n/16, n/8, n/4 and n/2 Magnus
+//! steps per drive period, n = `magnus_steps`, 400: 6, 12, 25, 50, 100, 200). The
 //! fourth-order scheme's error at a rung m is ≈ d·r, d = |μ(m) − μ(previous rung m')|,
 //! r = 1/((m/m')⁴ − 1) (1/15 for doubled rungs); the first rung where |max|μ| − 1| exceeds 8d
 //! (≈ 120 × that error) and d is below 1e-3 relative decides the verdict, and the Richardson
@@ -13,16 +14,18 @@
 //! rungs still differ) takes the Richardson value of n/4 and n/2, whose distance to the n-step
 //! value is ≈ d/240 (from the O(h⁴) error; measured at 0.5 MHz near ε_c: 2e-8 with the coil at k ≤ 16, 2.2e-7 without a field at k ≤ 32).
 //! The margin ln max|μ| feeds the regula-falsi bracket search. The multipliers reported at the
-//! two ends of the final bracket are recomputed with n steps (on the orbit already found) when
+//! two ends of the final bracket are computed further (on the orbit already found) when
 //! their estimated distance to the n-step value exceeds 1e-7 (d·r, or for a value kept at n/4
-//! or n/2 steps the three-rung estimate of [`kept_error`]), so the CSV is that of an n-step
-//! computation to ≤ 1e-6.
+//! or n/2 steps the three-rung estimate of [`kept_error`]): up the ladder to the first rung
+//! with that estimate ≤ 1e-7, or with n steps where no rung can reach it ([`end_judge`]), so
+//! the CSV is that of an n-step computation to ≤ 1e-6.
 //!
 //! **No orbit**: where no stable periodic radial orbit exists (collapse, non-finite state, none
 //! of period m·T for the tried m), the point is [`Verdict::Undefined`]; the search reports
 //! `no_orbit` when stability ends that way — it is never counted as unstable.
 
 use super::bisect::{self, Eval, Outcome, Verdict};
+use super::ladder;
 use super::periodic::PeriodicOrbit;
 use super::stability::{base_model, prepare, prepare_on, series_unstable, Criterion, FloquetOptions, SeriesOptions, StabilityError};
 use crate::scene::Scene;
@@ -98,10 +101,6 @@ impl CriticalPoint {
     }
 }
 
-/// The smallest first rung of the cheap-first ladder when it starts at n/32 (12 of 400 steps;
-/// with fewer steps, e.g. the figures' `--quick` 100, the ladder starts at n/16 as before).
-const MIN_FIRST_RUNG: usize = 12;
-
 /// The estimated distance of a kept Richardson value `mu` (rungs mc < m) to the n-step value,
 /// for the decision to recompute a bracket end's multipliers with n steps (module doc).
 /// `e4` = d·r is the estimated error of μ(m) itself. With only two rungs that is all there is
@@ -120,6 +119,29 @@ fn kept_error(e4: f64, m: usize, n: usize, previous: Option<(usize, f64)>, mu: f
             2.0 * e6 + e4 * (m as f64 / n as f64).powi(4)
         }
         None => e4,
+    }
+}
+
+/// Estimated distance to the n-step value above which a bracket end's multiplier is computed
+/// further (module doc).
+const END_TOLERANCE: f64 = 1e-7;
+
+/// The judge of a bracket end whose kept value is not within [`END_TOLERANCE`]: the first rung
+/// whose Richardson value [`kept_error`] estimates within it (the same estimate that keeps the
+/// values of the search itself), or the n-step value at once where the O(h⁴) decay of the
+/// error says the rungs up to n/2 cannot reach it (as [`ladder::converged`]). Before, every such
+/// end was recomputed with n steps: 33 of the 64 points of the coil curve, 40 % of its Magnus
+/// steps.
+fn end_judge(n: usize) -> impl Fn(&ladder::Rung) -> ladder::Next {
+    move |r: &ladder::Rung| {
+        let e = kept_error(r.error, r.steps, n, r.before.filter(|_| r.steps >= n / 4), r.value);
+        if e <= END_TOLERANCE {
+            ladder::Next::Accept
+        } else if r.steps >= n / 2 || r.error * (r.steps as f64 / (n / 2) as f64).powi(4) > END_TOLERANCE {
+            ladder::Next::Full
+        } else {
+            ladder::Next::Climb
+        }
     }
 }
 
@@ -148,41 +170,15 @@ fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, S
         Err(e) => return Err(e),
     };
     let n = opts.magnus_steps.max(1);
-    let mut chosen = None;
-    if n >= 64 {
-        // the ladder (n/32,) n/16, n/8, n/4, n/2 (module doc): stop at the first decided pair
-        // A cheap rung whose monodromy overflows (a coarse step on a fast-growing system) is
-        // skipped, not an error: the next rungs, or the n-step computation, decide.
-        let first = if n / 32 >= MIN_FIRST_RUNG { n / 32 } else { n / 16 };
-        let mut coarse = prep.spectrum(first).ok().map(|s| (first, s));
-        // the Richardson value of the previous rung pair (m, R), for the O(h⁶) error estimate
-        let mut previous: Option<(usize, f64)> = None;
-        for m in [n / 16, n / 8, n / 4, n / 2].into_iter().filter(|&m| m > first) {
-            let Ok(fine) = prep.spectrum(m) else {
-                (coarse, previous) = (None, None);
-                continue;
-            };
-            let Some((mc, coarse_spec)) = coarse.replace((m, fine.clone())) else { continue };
-            let d = (fine.max_modulus - coarse_spec.max_modulus).abs();
-            let decided = (fine.max_modulus - 1.0).abs() > 8.0 * d && d < 1e-3 * fine.max_modulus;
-            // Richardson for the fourth-order error: 1/((m/mc)⁴ − 1), = 1/15 for m = 2 mc
-            let r = 1.0 / ((m as f64 / mc as f64).powi(4) - 1.0);
-            let mu = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) * r;
-            if decided || m == n / 2 {
-                chosen = Some((fine, mu, kept_error(d * r, m, n, previous.filter(|p| p.0 == mc && m >= n / 4), mu)));
-                break;
-            }
-            previous = Some((m, mu));
-        }
-    }
-    let (spec, mu, mu_error) = match chosen {
-        Some(c) => c,
-        None => {
-            let s = prep.spectrum(n)?;
-            let mu = s.max_modulus;
-            (s, mu, 0.0)
-        }
+    // the ladder n/64, …, n/2 with the verdict judge, shared with the figures (ladder.rs)
+    let rung = ladder::climb(&prep, n, ladder::verdict(n))?;
+    let mu = rung.value;
+    let mu_error = if rung.steps == n {
+        0.0
+    } else {
+        kept_error(rung.error, rung.steps, n, rung.before.filter(|_| rung.steps >= n / 4), mu)
     };
+    let spec = rung.spectrum;
     let report = prep.report(&spec, n, None, opts.variant);
     let verdict = if mu > 1.0 { Verdict::Unstable } else { Verdict::Stable };
     let orbit = prep.orbit().cloned();
@@ -227,11 +223,13 @@ pub fn critical_point(
     let end = |p: Option<f64>| -> Result<Option<(String, f64, usize)>, StabilityError> {
         let Some(e) = p.and_then(|p| seen.iter().rev().find(|e| e.p == p)) else { return Ok(None) };
         let mut mu = e.mu;
-        if e.mu_error > 1e-7 {
-            // = floquet(scene).max_multiplier, on the orbit already found
+        if e.mu_error > END_TOLERANCE {
+            // = floquet(scene).max_multiplier to END_TOLERANCE, on the orbit already found
             let scene = scene_at(e.p)?;
             let model = base_model(&scene)?;
-            mu = prepare_on(&model, &scene, &opts.floquet, e.orbit.as_ref())?.spectrum(opts.floquet.magnus_steps)?.max_modulus;
+            let prep = prepare_on(&model, &scene, &opts.floquet, e.orbit.as_ref())?;
+            let n = opts.floquet.magnus_steps.max(1);
+            mu = ladder::climb(&prep, n, end_judge(n))?.value;
         }
         Ok(Some((e.mode.clone(), mu, e.multiple)))
     };

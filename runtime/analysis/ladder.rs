@@ -50,6 +50,10 @@ pub struct Rung {
     pub value: f64,
     /// The estimated error of μ(steps), d·r (0 for the n-step computation).
     pub error: f64,
+    /// The Richardson value of the pair offered just before this one, as (its `steps`, its
+    /// `value`), when that pair ended at this pair's `previous` rung (for an O(h⁶) estimate of
+    /// this value's own error, critical.rs `kept_error`); `None` otherwise.
+    pub before: Option<(usize, f64)>,
 }
 
 /// What a judge makes of a rung.
@@ -79,26 +83,27 @@ pub fn rungs(n: usize) -> Vec<usize> {
 pub fn climb(prep: &Prepared, n: usize, judge: impl Fn(&Rung) -> Next) -> Result<Rung, StabilityError> {
     let ladder = rungs(n);
     let mut coarse: Option<(usize, Spectrum)> = None;
+    let mut before: Option<(usize, f64)> = None;
     for &m in &ladder {
         let Ok(fine) = prep.spectrum(m) else {
-            coarse = None;
+            (coarse, before) = (None, None);
             continue;
         };
         let Some((mc, coarse_spec)) = coarse.replace((m, fine.clone())) else { continue };
         let d = (fine.max_modulus - coarse_spec.max_modulus).abs();
         let r = 1.0 / ((m as f64 / mc as f64).powi(4) - 1.0);
         let value = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) * r;
-        let rung = Rung { steps: m, previous: mc, spectrum: fine, difference: d, value, error: d * r };
+        let rung = Rung { steps: m, previous: mc, spectrum: fine, difference: d, value, error: d * r, before: before.filter(|b| b.0 == mc) };
         match judge(&rung) {
             Next::Accept => return Ok(rung),
-            Next::Climb => {}
+            Next::Climb => before = Some((m, value)),
             Next::Full => break,
         }
     }
     let n = n.max(1);
     let spectrum = prep.spectrum(n)?;
     let value = spectrum.max_modulus;
-    Ok(Rung { steps: n, previous: n, spectrum, difference: 0.0, value, error: 0.0 })
+    Ok(Rung { steps: n, previous: n, spectrum, difference: 0.0, value, error: 0.0, before: None })
 }
 
 /// The critical search's judge (module doc; critical.rs `floquet_eval`).
@@ -190,7 +195,7 @@ mod tests {
     fn rung(steps: usize, previous: usize, mu: f64, difference: f64) -> Rung {
         let r = 1.0 / ((steps as f64 / previous as f64).powi(4) - 1.0);
         let spectrum = Spectrum { multipliers: vec![Complex::new(mu, 0.0)], max_modulus: mu, block: 0, components: vec![(0, 1.0)] };
-        Rung { steps, previous, spectrum, difference, value: mu + difference * r, error: difference * r }
+        Rung { steps, previous, spectrum, difference, value: mu + difference * r, error: difference * r, before: None }
     }
 
     #[test]

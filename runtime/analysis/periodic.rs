@@ -102,7 +102,24 @@ impl RkFlow<'_> {
         phi: &mut DMatrix<f64>,
         periods: usize,
     ) -> Result<f64, PeriodicError> {
+        self.advance_variational_observed(t0, y, phi, periods, None)
+    }
+
+    /// As [`advance_variational`](Self::advance_variational), calling `obs(t, y, f(t, y))` at
+    /// every grid point (including the first and the last) as [`advance_observed`](Self::advance_observed)
+    /// does: the same RK4 steps, so the same values (one more rhs call at the end).
+    pub fn advance_variational_observed(
+        &self,
+        t0: f64,
+        y: &mut [f64],
+        phi: &mut DMatrix<f64>,
+        periods: usize,
+        mut obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+    ) -> Result<f64, PeriodicError> {
         let n = y.len();
+        if n == 2 {
+            return self.advance_variational_fixed::<2>(t0, y, phi, periods, obs);
+        }
         let h = self.period / self.steps_per_period as f64;
         let mut ws = VarWork::new(n);
         let total = periods * self.steps_per_period;
@@ -112,8 +129,7 @@ impl RkFlow<'_> {
         let mut ptmp = DMatrix::zeros(n, n);
         for s in 0..total {
             let t = t0 + s as f64 * h;
-            let nodes = [(0.0, 0usize), (0.5, 0), (0.5, 1), (1.0, 2)];
-            for (st, &(c, from)) in nodes.iter().enumerate() {
+            for (st, &(c, from)) in NODES.iter().enumerate() {
                 if st == 0 {
                     tmp.copy_from_slice(y);
                     ptmp.copy_from(phi);
@@ -129,6 +145,11 @@ impl RkFlow<'_> {
                 ws.jacobian(self.sys, t + c * h, &tmp);
                 self.sys.rhs(t + c * h, &tmp, &mut ky[st]);
                 kp[st].gemm(1.0, &ws.jac, &ptmp, 0.0);
+                if st == 0 {
+                    if let Some(o) = obs.as_mut() {
+                        o(t, y, &ky[0]);
+                    }
+                }
             }
             for i in 0..n {
                 y[i] += h / 6.0 * (ky[0][i] + 2.0 * ky[1][i] + 2.0 * ky[2][i] + ky[3][i]);
@@ -140,9 +161,93 @@ impl RkFlow<'_> {
                 return Err(PeriodicError::NonFinite { t: t + h });
             }
         }
-        Ok(t0 + total as f64 * h)
+        let t = t0 + total as f64 * h;
+        if let Some(o) = obs.as_mut() {
+            self.sys.rhs(t, y, &mut ky[0]);
+            o(t, y, &ky[0]);
+        }
+        Ok(t)
     }
 }
+
+impl RkFlow<'_> {
+    /// [`RkFlow::advance_variational_observed`] for N state components on stack arrays (the
+    /// radial orbit search, N = 2: the 2 × 2 products through `DMatrix` were about a quarter of
+    /// its variational cost). The same stages and sums; y, and so the observed grid, are the same
+    /// to the bit, Φ to rounding (the products' summation order).
+    fn advance_variational_fixed<const N: usize>(
+        &self,
+        t0: f64,
+        y: &mut [f64],
+        phi: &mut DMatrix<f64>,
+        periods: usize,
+        mut obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+    ) -> Result<f64, PeriodicError> {
+        let h = self.period / self.steps_per_period as f64;
+        let total = periods * self.steps_per_period;
+        let mut ws = VarWork::new(N);
+        let mut yv = [0.0; N];
+        yv.copy_from_slice(y);
+        let mut p: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| phi[(i, j)]));
+        let mut jac = [[0.0; N]; N];
+        let (mut ky, mut kp) = ([[0.0; N]; 4], [[[0.0; N]; N]; 4]);
+        for s in 0..total {
+            let t = t0 + s as f64 * h;
+            for (st, &(c, from)) in NODES.iter().enumerate() {
+                let (mut tmp, mut pt) = (yv, p);
+                if st > 0 {
+                    for i in 0..N {
+                        tmp[i] = yv[i] + c * h * ky[from][i];
+                        for j in 0..N {
+                            pt[i][j] += c * h * kp[from][i][j];
+                        }
+                    }
+                }
+                ws.jacobian_into(self.sys, t + c * h, &tmp, jac.as_flattened_mut());
+                self.sys.rhs(t + c * h, &tmp, &mut ky[st]);
+                for i in 0..N {
+                    for j in 0..N {
+                        kp[st][i][j] = (0..N).map(|k| jac[i][k] * pt[k][j]).sum();
+                    }
+                }
+                if st == 0 {
+                    if let Some(o) = obs.as_mut() {
+                        o(t, &yv, &ky[0]);
+                    }
+                }
+            }
+            for i in 0..N {
+                yv[i] += h / 6.0 * (ky[0][i] + 2.0 * ky[1][i] + 2.0 * ky[2][i] + ky[3][i]);
+            }
+            for (w, k) in [(1.0, 0), (2.0, 1), (2.0, 2), (1.0, 3)] {
+                for i in 0..N {
+                    for j in 0..N {
+                        p[i][j] += w * h / 6.0 * kp[k][i][j];
+                    }
+                }
+            }
+            if yv.iter().chain(p.as_flattened()).any(|v| !v.is_finite()) {
+                y.copy_from_slice(&yv);
+                return Err(PeriodicError::NonFinite { t: t + h });
+            }
+        }
+        y.copy_from_slice(&yv);
+        for i in 0..N {
+            for j in 0..N {
+                phi[(i, j)] = p[i][j];
+            }
+        }
+        let t = t0 + total as f64 * h;
+        if let Some(o) = obs.as_mut() {
+            self.sys.rhs(t, y, &mut ky[0]);
+            o(t, y, &ky[0]);
+        }
+        Ok(t)
+    }
+}
+
+/// The RK4 stages: (node c, stage whose slope the stage's point uses).
+const NODES: [(f64, usize); 4] = [(0.0, 0), (0.5, 0), (0.5, 1), (1.0, 2)];
 
 /// Jacobian workspace of [`RkFlow::advance_variational`].
 struct VarWork {
@@ -158,16 +263,25 @@ impl VarWork {
         Self { jac: DMatrix::zeros(n, n), row_major: vec![0.0; n * n], yp: vec![0.0; n], fp: vec![0.0; n], fm: vec![0.0; n] }
     }
 
+    /// J(t, y) into `self.jac`.
     fn jacobian(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64]) {
         let n = y.len();
-        if sys.jacobian(t, y, &mut self.row_major) {
-            for i in 0..n {
-                for j in 0..n {
-                    self.jac[(i, j)] = self.row_major[i * n + j];
-                }
+        let mut rm = std::mem::take(&mut self.row_major);
+        self.jacobian_into(sys, t, y, &mut rm);
+        for i in 0..n {
+            for j in 0..n {
+                self.jac[(i, j)] = rm[i * n + j];
             }
+        }
+        self.row_major = rm;
+    }
+
+    /// J(t, y) row-major into `out` (n²): the analytic one, else central differences.
+    fn jacobian_into(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], out: &mut [f64]) {
+        if sys.jacobian(t, y, out) {
             return;
         }
+        let n = y.len();
         let scale = y.iter().fold(1e-8f64, |m, v| m.max(v.abs()));
         self.yp.copy_from_slice(y);
         for j in 0..n {
@@ -178,7 +292,7 @@ impl VarWork {
             sys.rhs(t, &self.yp, &mut self.fm);
             self.yp[j] = y[j];
             for i in 0..n {
-                self.jac[(i, j)] = (self.fp[i] - self.fm[i]) / (2.0 * hj);
+                out[i * n + j] = (self.fp[i] - self.fm[i]) / (2.0 * hj);
             }
         }
     }

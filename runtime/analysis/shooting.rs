@@ -67,6 +67,10 @@ pub struct PeriodicOrbit {
     pub multipliers: Vec<Complex<f64>>,
     /// How the orbit was reached ("transient", "flip restart from the period-1 orbit …").
     pub found_by: String,
+    /// y and f(t, y) (2·dim values each) at every RK4 grid point t0 + j·T/steps, j = 0 …
+    /// multiple·steps, of the map evaluation that converged: the orbit sampled on the grid
+    /// (stability.rs reads it instead of integrating the orbit once more).
+    pub grid: Vec<f64>,
 }
 
 impl PeriodicOrbit {
@@ -242,9 +246,33 @@ fn newton(
     let coarse = RkFlow { sys: flow.sys, period: flow.period, steps_per_period: coarse_steps };
     let coarse_opts = ShootingOptions { tol: opts.tol.max(COARSE_TOL), ..opts.clone() };
     match newton_on(&coarse, t0, y_start, m, &coarse_opts, deflate) {
-        Ok(f) => newton_on(flow, t0, &f.orbit.y0, m, opts, deflate).or_else(|_| newton_on(flow, t0, y_start, m, opts, deflate)),
+        Ok(f) => chord_then_newton(flow, t0, &f, m, opts).or_else(|_| newton_on(flow, t0, y_start, m, opts, deflate)),
         Err(_) => newton_on(flow, t0, y_start, m, opts, deflate),
     }
+}
+
+/// The fine phase of [`newton`] from the coarse fixed point y_c: one chord step
+/// y₁ = y_c + (J_c − I)⁻¹ (y_c − P_m(y_c)) with the coarse map's Jacobian J_c (P_m here the fine
+/// map, evaluated without its derivative), then Newton on the fine map from y₁, whose first
+/// (variational) evaluation usually meets `opts.tol` already: |y₁ − y*| ≈ ‖J_f − J_c‖·|y_c − y*|,
+/// both factors of the order of the coarse map's RK4 error (issue 16: the fine Newton evaluated
+/// the variational map twice, the second time only to verify the residual). The multipliers are
+/// those of the fine map at the converged point, as before; the chord step counts as an iteration.
+fn chord_then_newton(flow: &RkFlow, t0: f64, coarse: &Found, m: usize, opts: &ShootingOptions) -> Result<Found, PeriodicError> {
+    let yc = &coarse.orbit.y0;
+    let n = yc.len();
+    let mut p = yc.clone();
+    flow.advance(t0, &mut p, m)?;
+    let mut a = coarse.jac.clone();
+    for i in 0..n {
+        a[(i, i)] -= 1.0;
+    }
+    let g = DVector::from_iterator(n, yc.iter().zip(&p).map(|(yi, pi)| yi - pi));
+    let delta = a.lu().solve(&g).ok_or(PeriodicError::SingularShooting { multiple: m })?;
+    let y1: Vec<f64> = yc.iter().zip(delta.iter()).map(|(a, d)| a + d).collect();
+    let mut f = newton_on(flow, t0, &y1, m, opts, &[])?;
+    f.orbit.newton_iterations += 1;
+    Ok(f)
 }
 
 /// Residual tolerance of the coarse phase of [`newton`] (relative, as `ShootingOptions::tol`).
@@ -263,11 +291,17 @@ fn newton_on(
     deflate: &[Vec<f64>],
 ) -> Result<Found, PeriodicError> {
     let n = y_start.len();
-    let eval = |y: &[f64]| -> Result<(Vec<f64>, DMatrix<f64>), PeriodicError> {
+    // P_m(y), DP_m(y) and the grid of the evaluation ([`PeriodicOrbit::grid`])
+    let eval = |y: &[f64]| -> Result<(Vec<f64>, DMatrix<f64>, Vec<f64>), PeriodicError> {
         let mut z = y.to_vec();
         let mut phi = DMatrix::identity(n, n);
-        flow.advance_variational(t0, &mut z, &mut phi, m)?;
-        Ok((z, phi))
+        let mut grid = Vec::with_capacity(2 * n * (m * flow.steps_per_period + 1));
+        let mut record = |_: f64, y: &[f64], f: &[f64]| {
+            grid.extend_from_slice(y);
+            grid.extend_from_slice(f);
+        };
+        flow.advance_variational_observed(t0, &mut z, &mut phi, m, Some(&mut record))?;
+        Ok((z, phi, grid))
     };
     // η(y) = Π (1/d_i² + 1), d_i = ‖y − y_i‖₂ / scale; the merit is η‖G‖∞.
     let d2 = |y: &[f64], yi: &[f64]| {
@@ -276,7 +310,7 @@ fn newton_on(
     };
     let eta = |y: &[f64]| deflate.iter().map(|yi| 1.0 / d2(y, yi) + 1.0).product::<f64>();
     let mut y = y_start.to_vec();
-    let (mut p, mut jac) = eval(&y)?;
+    let (mut p, mut jac, mut grid) = eval(&y)?;
     let mut r = distance(&y, &p);
     let mut iterations = 0;
     loop {
@@ -300,6 +334,7 @@ fn newton_on(
                 residual: r,
                 multipliers,
                 found_by: String::new(),
+                grid,
             };
             return Ok(Found { orbit, jac, points });
         }
@@ -333,10 +368,10 @@ fn newton_on(
             let trial: Vec<f64> = y.iter().zip(delta.iter()).map(|(a, d)| a + lambda * tau * d).collect();
             let last = lambda < 1.0 / 64.0;
             match eval(&trial) {
-                Ok((pt, jt)) => {
+                Ok((pt, jt, gt)) => {
                     let rt = distance(&trial, &pt);
                     if eta(&trial) * rt < merit || last {
-                        (y, p, jac, r) = (trial, pt, jt, rt);
+                        (y, p, jac, r, grid) = (trial, pt, jt, rt, gt);
                         break;
                     }
                 }

@@ -333,6 +333,21 @@ impl MagneticLoads {
         }
     }
 
+    /// ∂M0/∂R: entry 0 of [`add_row_gradient`](Self::add_row_gradient) of row 0 (normal,
+    /// scale 1) into a zeroed gradient, the same sums in the same order, without the buffer.
+    pub fn radial_gradient(&self, f: &Factors, y: &[f64]) -> f64 {
+        let r = y[0];
+        let mut g = 0.0;
+        for (i, c) in self.comps.iter().enumerate() {
+            let mut s = 0.0;
+            for (j, at) in self.band_sources(0) {
+                s += c.band_n[j] * y[at] + c.band_n[j + 1] * y[at + 2];
+            }
+            g += 1.0 * (c.zero_power as f64 * f.zero[i] * c.zero_n[0] + c.coupling_power as f64 * f.coupling[i] * s) / r;
+        }
+        g
+    }
+
     /// The time derivative of the prefactors, dK_c/dt times R^p (same layout as [`Factors`]).
     fn factors_dt(&self, t: f64, r: f64) -> Factors {
         let mut f = Factors { zero: [0.0; MAX_COMPONENTS], coupling: [0.0; MAX_COMPONENTS] };

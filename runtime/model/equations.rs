@@ -188,11 +188,11 @@ impl Equations {
     /// radial equation along a frozen shape, as [`radial_acceleration`](Self::radial_acceleration)):
     /// the terms' pressure gradients ([`Term::add_pressure_gradient`]) through the radial form.
     pub fn radial_gradient(&self, t: f64, z: &[f64]) -> (f64, [f64; 2]) {
-        let p = self.loads(t, z, &mut [], &mut []);
+        // P as `loads` sums it (the same order, the same value) and its gradient, one call per term
         let at = At { t, z };
-        let mut dp = [0.0; 2];
+        let (mut p, mut dp) = (0.0, [0.0; 2]);
         for term in &self.terms {
-            term.add_pressure_gradient(&at, &mut dp);
+            term.add_pressure_and_gradient(&at, &mut p, &mut dp);
         }
         let mut g = [0.0; 2];
         self.acceleration_gradient_at(t, z, p, &dp, &mut g);

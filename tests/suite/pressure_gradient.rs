@@ -6,7 +6,7 @@
 
 use magbubble::analysis::stability::Radial;
 use magbubble::integrate::OdeSystem;
-use magbubble::model::effects::{At, LoadJacobian};
+use magbubble::model::effects::{At, LoadJacobian, Loads};
 use magbubble::model::Model;
 use magbubble::scene::{load, Scene};
 use proptest::prelude::*;
@@ -81,6 +81,33 @@ proptest! {
                     (dp[j] - full.pressure[j]).abs() <= tol,
                     "scene {which}, term {}: ∂P/∂z_{j} = {} vs add_jacobian {}", term.name(), dp[j], full.pressure[j]
                 );
+            }
+        }
+    }
+
+    /// Per term: the one-call pressure and gradient (`Term::add_pressure_and_gradient`, the orbit
+    /// search's Jacobian) is `add` with no shape loads plus `add_pressure_gradient`, to the bit,
+    /// at a general state and at the radial one (a_k = b_k = 0).
+    #[test]
+    fn pressure_and_gradient_in_one_call_is_the_two_calls(which in 0usize..SCENES, (t, z) in state(), radial in any::<bool>()) {
+        let model = Model::from_scene(&scenes()[which]).unwrap();
+        let eq = model.boundary_layer().unwrap().equations();
+        let mut z = z;
+        if radial {
+            z[2..].fill(0.0);
+        }
+        let at = At { t, z: &z };
+        for term in eq.terms() {
+            let (p0, dp0) = (0.37, [0.11, -0.23]);
+            let mut loads = Loads { pressure: p0, gn: &mut [], gt: &mut [] };
+            term.add(&at, &mut loads);
+            let mut dp_two = dp0;
+            term.add_pressure_gradient(&at, &mut dp_two);
+            let (mut p_one, mut dp_one) = (p0, dp0);
+            term.add_pressure_and_gradient(&at, &mut p_one, &mut dp_one);
+            prop_assert_eq!(p_one.to_bits(), loads.pressure.to_bits(), "scene {}, term {}: P", which, term.name());
+            for j in 0..2 {
+                prop_assert_eq!(dp_one[j].to_bits(), dp_two[j].to_bits(), "scene {}, term {}: ∂P/∂z_{}", which, term.name(), j);
             }
         }
     }

@@ -84,7 +84,15 @@ pub(super) struct SampledOrbit {
 }
 
 impl SampledOrbit {
+    /// From the orbit's own grid ([`PeriodicOrbit::grid`], the same RK4 steps) when it has one
+    /// of this step count, else by integrating the orbit once.
     pub(super) fn new(sys: &dyn OdeSystem, orbit: &PeriodicOrbit, steps_per_period: usize) -> Result<Self, StabilityError> {
+        let h = orbit.drive_period / steps_per_period as f64;
+        if orbit.y0.len() == 2 && orbit.grid.len() == 4 * (orbit.multiple * steps_per_period + 1) {
+            let y = orbit.grid.chunks_exact(4).map(|c| [c[0], c[1]]).collect();
+            let f = orbit.grid.chunks_exact(4).map(|c| [c[2], c[3]]).collect();
+            return Ok(Self { t0: orbit.t0, h, period: orbit.period(), y, f });
+        }
         let flow = RkFlow { sys, period: orbit.drive_period, steps_per_period };
         let (mut y, mut f) = (Vec::new(), Vec::new());
         let mut state = orbit.y0.clone();
@@ -92,7 +100,7 @@ impl SampledOrbit {
             y.push([y_[0], y_[1]]);
             f.push([f_[0], f_[1]]);
         })?;
-        Ok(Self { t0: orbit.t0, h: orbit.drive_period / steps_per_period as f64, period: orbit.period(), y, f })
+        Ok(Self { t0: orbit.t0, h, period: orbit.period(), y, f })
     }
 
     /// (R, Ṙ) at t (periodic continuation).

@@ -29,6 +29,13 @@ impl Term for PolytropicGas {
         let r = at.r();
         dp[0] -= self.three_kappa * self.pg0 * (self.r0 / r).powf(self.three_kappa) / r;
     }
+    /// One power for both (the same expressions as `add` and `add_pressure_gradient`).
+    fn add_pressure_and_gradient(&self, at: &At<'_>, p: &mut f64, dp: &mut [f64; 2]) {
+        let r = at.r();
+        let x = (self.r0 / r).powf(self.three_kappa);
+        *p += self.pg0 * x;
+        dp[0] -= self.three_kappa * self.pg0 * x / r;
+    }
     /// q = −3κ p_in Ṙ/R, s = 0.
     fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
         let (r, rd, n) = (at.r(), at.rdot(), self.three_kappa);

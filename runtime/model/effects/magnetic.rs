@@ -48,6 +48,14 @@ impl Term for MagneticTerm {
         dp[0] += g[0];
         dp[1] += g[1];
     }
+    /// The prefactors once for both; ∂M0/∂R without a gradient buffer
+    /// ([`MagneticLoads::radial_gradient`], the same sums; M0 does not depend on Ṙ).
+    fn add_pressure_and_gradient(&self, at: &At<'_>, p: &mut f64, dp: &mut [f64; 2]) {
+        let l = &self.loads;
+        let f = l.factors(at.t, at.r());
+        l.add_to_balances(&f, at.z, p, &mut [], &mut []);
+        dp[0] += l.radial_gradient(&f, at.z);
+    }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let l = &self.loads;
         let f = l.factors(at.t, at.r());

@@ -213,6 +213,18 @@ pub trait Term: std::fmt::Debug {
         dp[0] += jac.pressure[0];
         dp[1] += jac.pressure[1];
     }
+    /// [`add`](Term::add) of the radial pressure alone (no shape loads) into `p` and
+    /// [`add_pressure_gradient`](Term::add_pressure_gradient) into `dp` in one call, for the
+    /// orbit search's exact radial Jacobian ([`super::equations::Equations::radial_gradient`]),
+    /// which needs both at every stage. The default calls the two; a term whose value and
+    /// gradient share costly factors (the gas's power, the field's prefactors) overrides it with
+    /// the same expressions, so the sums are the same to the bit.
+    fn add_pressure_and_gradient(&self, at: &At<'_>, p: &mut f64, dp: &mut [f64; 2]) {
+        let mut loads = Loads { pressure: *p, gn: &mut [], gt: &mut [] };
+        self.add(at, &mut loads);
+        *p = loads.pressure;
+        self.add_pressure_gradient(at, dp);
+    }
     /// Half-width, in modes, of the coupling of the shape loads (0: mode k sees only itself;
     /// 1: k ± 2). Describes the Jacobian's band (docs/architecture.md, "Jacobian structure").
     fn band(&self) -> usize {
