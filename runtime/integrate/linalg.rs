@@ -15,6 +15,14 @@ pub(crate) trait Scalar:
     fn from_real(x: f64) -> Self;
     /// self · x for a real x (2 products for a complex self, not 4: the same value).
     fn scale(self, x: f64) -> Self;
+    /// The fastest dense LU of an owned n × n row-major matrix of this scalar, as
+    /// [`super::reduced`] factors its reduced matrix: [`ShiftedLu`] for f64, the split-storage
+    /// [`super::split_lu::SplitLu`] for complex (the same factors to the bit, vectorisable loops).
+    type DenseLu: std::fmt::Debug + 'static;
+    /// Factors `a` (n × n, row-major); `Err(column)` when singular.
+    fn dense_factor(n: usize, a: Vec<Self>) -> Result<Self::DenseLu, usize>;
+    /// Solves with the factors of [`dense_factor`](Self::dense_factor), in place.
+    fn dense_solve(lu: &Self::DenseLu, x: &mut [Self]);
 }
 
 impl Scalar for f64 {
@@ -28,6 +36,13 @@ impl Scalar for f64 {
     fn scale(self, x: f64) -> Self {
         self * x
     }
+    type DenseLu = ShiftedLu<f64>;
+    fn dense_factor(n: usize, a: Vec<f64>) -> Result<Self::DenseLu, usize> {
+        ShiftedLu::factor_owned(n, a)
+    }
+    fn dense_solve(lu: &Self::DenseLu, x: &mut [f64]) {
+        lu.solve(x);
+    }
 }
 
 impl Scalar for Complex<f64> {
@@ -40,6 +55,13 @@ impl Scalar for Complex<f64> {
     }
     fn scale(self, x: f64) -> Self {
         Complex { re: self.re * x, im: self.im * x }
+    }
+    type DenseLu = super::split_lu::SplitLu;
+    fn dense_factor(n: usize, a: Vec<Self>) -> Result<Self::DenseLu, usize> {
+        super::split_lu::SplitLu::factor(n, &a)
+    }
+    fn dense_solve(lu: &Self::DenseLu, x: &mut [Self]) {
+        lu.solve(x);
     }
 }
 

@@ -14,39 +14,9 @@
 //! A [`StructuredJacobian`] for [`super::linear`]: the boundary-layer model (n = 2 + 3M, m = 1 + M)
 //! factors a dense (1 + 2M)-square matrix instead of the (2 + 3M)-square one.
 
-use super::linalg::{Scalar, ShiftedLu};
-use super::linear::{Factorization, StructuredJacobian};
-use super::split_lu::SplitLu;
-use nalgebra::Complex;
+use super::linalg::Scalar;
+use super::linear::{AnalyticStructure, Factorization};
 use std::rc::Rc;
-
-/// The dense LU of the reduced matrix: `ShiftedLu` for the real one, the split-storage
-/// [`SplitLu`] for the complex one (the same factors to the bit, vectorisable loops).
-trait ReducedScalar: Scalar + 'static {
-    type Lu: std::fmt::Debug;
-    fn factor(n: usize, a: Vec<Self>) -> Result<Self::Lu, usize>;
-    fn solve(lu: &Self::Lu, x: &mut [Self]);
-}
-
-impl ReducedScalar for f64 {
-    type Lu = ShiftedLu<f64>;
-    fn factor(n: usize, a: Vec<f64>) -> Result<Self::Lu, usize> {
-        ShiftedLu::factor_owned(n, a)
-    }
-    fn solve(lu: &Self::Lu, x: &mut [f64]) {
-        lu.solve(x);
-    }
-}
-
-impl ReducedScalar for Complex<f64> {
-    type Lu = SplitLu;
-    fn factor(n: usize, a: Vec<Self>) -> Result<Self::Lu, usize> {
-        SplitLu::factor(n, &a)
-    }
-    fn solve(lu: &Self::Lu, x: &mut [Self]) {
-        lu.solve(x);
-    }
-}
 
 #[derive(Debug)]
 struct Parts {
@@ -104,7 +74,13 @@ impl PositionRows {
         Some(PositionRows(Rc::new(Parts { kept, pos, jkk, jkp, start })))
     }
 
-    fn factor_as<T: ReducedScalar>(&self, sigma: T) -> Option<ReducedLu<T>> {
+}
+
+/// Built from the system's analytic Jacobian: no rhs calls.
+impl AnalyticStructure for PositionRows {
+    type Lu<T: Scalar + 'static> = ReducedLu<T>;
+
+    fn factor_as<T: Scalar + 'static>(&self, sigma: T) -> Option<ReducedLu<T>> {
         let p = &self.0;
         let nr = p.kept.len();
         let inv_sigma = T::from_real(1.0) / sigma;
@@ -120,22 +96,22 @@ impl PositionRows {
                 row[v] = row[v] - inv_sigma.scale(jp);
             }
         }
-        let lu = T::factor(nr, a).ok()?;
+        let lu = T::dense_factor(nr, a).ok()?;
         let scratch = std::cell::RefCell::new(vec![T::ZERO; nr]);
         Some(ReducedLu { parts: Rc::clone(&self.0), inv_sigma, lu, scratch })
     }
 }
 
 /// The factorisation of σI − J (module doc).
-struct ReducedLu<T: ReducedScalar> {
+pub(crate) struct ReducedLu<T: Scalar> {
     parts: Rc<Parts>,
     inv_sigma: T,
-    lu: T::Lu,
+    lu: T::DenseLu,
     /// The kept part of the right-hand side and solution (no allocation per solve).
     scratch: std::cell::RefCell<Vec<T>>,
 }
 
-impl<T: ReducedScalar> Factorization<T> for ReducedLu<T> {
+impl<T: Scalar> Factorization<T> for ReducedLu<T> {
     fn solve(&self, b: &mut [T]) {
         let p = &*self.parts;
         let mut guard = self.scratch.borrow_mut();
@@ -147,7 +123,7 @@ impl<T: ReducedScalar> Factorization<T> for ReducedLu<T> {
             }
             *x = b[r] + s * self.inv_sigma;
         }
-        T::solve(&self.lu, xk);
+        T::dense_solve(&self.lu, xk);
         for (&x, &r) in xk.iter().zip(&p.kept) {
             b[r] = x;
         }
@@ -157,22 +133,11 @@ impl<T: ReducedScalar> Factorization<T> for ReducedLu<T> {
     }
 }
 
-impl StructuredJacobian for PositionRows {
-    /// Built from the system's analytic Jacobian: no rhs calls.
-    fn rhs_equivalents(&self) -> u64 {
-        0
-    }
-    fn factor(&self, sigma: f64) -> Option<Box<dyn Factorization<f64>>> {
-        self.factor_as(sigma).map(|f| Box::new(f) as Box<dyn Factorization<f64>>)
-    }
-    fn factor_complex(&self, sigma: Complex<f64>) -> Option<Box<dyn Factorization<Complex<f64>>>> {
-        self.factor_as(sigma).map(|f| Box::new(f) as Box<dyn Factorization<Complex<f64>>>)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrate::linear::{assert_solves_like_dense, StructuredJacobian};
+    use nalgebra::Complex;
 
     /// A 2 + 3·4 system laid out like the boundary-layer model (R, Ṙ, (a, ȧ, b)_k): the reduced
     /// solve agrees with the dense LU of σI − J, real and complex σ.
@@ -203,28 +168,13 @@ mod tests {
         let so = PositionRows::new(&jac, n).expect("position rows");
         assert_eq!(so.0.kept.len(), n - 5);
         let b: Vec<f64> = (0..n).map(|i| (i as f64).sin() + 1.0).collect();
+        let hook: &dyn StructuredJacobian = &so;
         for sigma in [0.3, -4.0] {
-            let mut x = b.clone();
-            so.factor(sigma).unwrap().solve(&mut x);
-            let mut dense = ShiftedLu::<f64>::new(n, None);
-            dense.factor(sigma, &jac, |v| v).unwrap();
-            let mut xd = b.clone();
-            dense.solve(&mut xd);
-            for (a, d) in x.iter().zip(&xd) {
-                assert!((a - d).abs() <= 1e-11 * d.abs().max(1.0), "{a} vs {d}");
-            }
+            assert_solves_like_dense(&*hook.factor(sigma).unwrap(), sigma, &jac, n, &b);
         }
         let sc = Complex::new(0.3, -2.0);
         let bc: Vec<Complex<f64>> = b.iter().map(|&v| Complex::new(v, -v)).collect();
-        let mut x = bc.clone();
-        so.factor_complex(sc).unwrap().solve(&mut x);
-        let mut dense = ShiftedLu::<Complex<f64>>::new(n, None);
-        dense.factor(sc, &jac, |v| Complex::new(v, 0.0)).unwrap();
-        let mut xd = bc;
-        dense.solve(&mut xd);
-        for (a, d) in x.iter().zip(&xd) {
-            assert!((a - d).mag() <= 1e-11 * d.mag().max(1.0), "{a} vs {d}");
-        }
+        assert_solves_like_dense(&*hook.factor_complex(sc).unwrap(), sc, &jac, n, &bc);
         // no unit row: nothing to eliminate
         let full: Vec<f64> = (0..n * n).map(|i| 1.0 + i as f64).collect();
         assert!(PositionRows::new(&full, n).is_none());
