@@ -19,6 +19,29 @@ pub struct Rows {
     pub upper: Vec<f64>,
 }
 
+/// The time-dependent factors (ν/R², Ṙ/R, |Ṙ|/R) in which the operator rows are affine
+/// ([`ModeOperator`]'s `affine`): one place for rows, their products and the shared rows.
+#[derive(Debug, Clone, Copy)]
+struct Weights {
+    nu_r2: f64,
+    rr: f64,
+    ra: f64,
+}
+
+impl Weights {
+    #[inline]
+    fn at(r: f64, rdot: f64, nu: f64) -> Self {
+        let rr = rdot / r;
+        Weights { nu_r2: nu / (r * r), rr, ra: rr.abs() }
+    }
+
+    /// The row entry with affine coefficients `k`: ν/R² k₀ + Ṙ/R k₁ + |Ṙ|/R k₂.
+    #[inline]
+    fn of(self, k: &[f64; 3]) -> f64 {
+        self.nu_r2 * k[0] + self.rr * k[1] + self.ra * k[2]
+    }
+}
+
 /// Per-grid geometric factors that do not change in time (set once per grid and mode).
 #[derive(Debug, Clone)]
 pub struct ModeOperator {
@@ -113,14 +136,12 @@ impl ModeOperator {
         out.lower.resize(m, 0.0);
         out.diag.resize(m, 0.0);
         out.upper.resize(m, 0.0);
-        let nu_r2 = nu / (r * r);
-        let rr = rdot / r;
-        let ra = rr.abs();
+        let w = Weights::at(r, rdot, nu);
         let (lower, diag, upper) = (&mut out.lower[..m], &mut out.diag[..m], &mut out.upper[..m]);
         for (i, [l, d, u]) in self.affine.iter().enumerate() {
-            lower[i] = nu_r2 * l[0] + rr * l[1] + ra * l[2];
-            diag[i] = nu_r2 * d[0] + rr * d[1] + ra * d[2];
-            upper[i] = nu_r2 * u[0] + rr * u[1] + ra * u[2];
+            lower[i] = w.of(l);
+            diag[i] = w.of(d);
+            upper[i] = w.of(u);
         }
     }
 
@@ -130,11 +151,8 @@ impl ModeOperator {
     pub fn apply(&self, r: f64, rdot: f64, nu: f64, tw: f64, t: &[f64], out: &mut [f64]) {
         let m = self.interior();
         let (t, out) = (&t[..m], &mut out[..m]);
-        let nu_r2 = nu / (r * r);
-        let rr = rdot / r;
-        let ra = rr.abs();
-        let c = |k: &[f64; 3]| nu_r2 * k[0] + rr * k[1] + ra * k[2];
-        let row = |a: &[[f64; 3]; 3], left: f64, mid: f64, right: f64| c(&a[0]) * left + c(&a[1]) * mid + c(&a[2]) * right;
+        let w = Weights::at(r, rdot, nu);
+        let row = |a: &[[f64; 3]; 3], left: f64, mid: f64, right: f64| w.of(&a[0]) * left + w.of(&a[1]) * mid + w.of(&a[2]) * right;
         if m < 2 {
             if m == 1 {
                 out[0] = row(&self.affine[0], tw, t[0], 0.0);
@@ -154,15 +172,13 @@ impl ModeOperator {
         out.lower.resize(m, 0.0);
         out.diag.resize(m, 0.0);
         out.upper.resize(m, 0.0);
-        let nu_r2 = nu / (r * r);
-        let rr = rdot / r;
-        let ra = rr.abs();
-        out.nu_r2 = nu_r2;
+        let w = Weights::at(r, rdot, nu);
+        out.nu_r2 = w.nu_r2;
         let it = out.lower.iter_mut().zip(out.diag.iter_mut()).zip(out.upper.iter_mut()).zip(&self.affine).zip(&self.diag0);
         for ((((l, d), u), [a, _, c]), d0) in it {
-            *l = nu_r2 * a[0] + rr * a[1] + ra * a[2];
-            *d = nu_r2 * d0[0] + rr * d0[1] + ra * d0[2];
-            *u = nu_r2 * c[0] + rr * c[1] + ra * c[2];
+            *l = w.of(a);
+            *d = w.of(d0);
+            *u = w.of(c);
         }
     }
 
