@@ -31,49 +31,101 @@ pub struct CsvWriter {
 /// shortest digits of `zmij` (Schubfach), several times faster than `fmt`. The value reads back
 /// exactly; when 17 digits are needed, the last digit may differ from std's choice.
 pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
-    if v.is_finite() {
+    let at = out.len();
+    out.resize(at + MAX_VALUE_BYTES, 0);
+    let end = put_exp(out, at, v);
+    out.truncate(end);
+}
+
+/// The longest text [`put_exp`] writes: `-d.dddddddddddddddde-324`.
+const MAX_VALUE_BYTES: usize = 24;
+
+/// Writes `v` as [`push_exp`] does at `out[at..]` (`out` holds at least [`MAX_VALUE_BYTES`]
+/// bytes from `at`); returns the end. The common shapes of zmij's output are rewritten in place:
+/// the exponent form (`+` of the exponent dropped) and the fixed form `0.0…0ddd` of 1e-5 ≤ |v| <
+/// 1e-1 (to `d.dde-x`); every other value takes the general path of [`exp_bytes`]. One copy per
+/// value into the row (issue 16: the CSV was 22 % of the boundary-layer run, two thirds of it
+/// the copies and searches around zmij's digits).
+#[inline]
+fn put_exp(out: &mut [u8], at: usize, v: f64) -> usize {
+    if v.is_finite() && v != 0.0 {
         let mut buf = zmij::Buffer::new();
         let s = buf.format_finite(v).as_bytes();
-        if let Some((head, exp)) = normalised_exponent_form(s) {
-            out.extend_from_slice(head);
-            out.extend_from_slice(exp);
-            return;
+        if let Some(end) = rewrite_common(s, &mut out[at..at + MAX_VALUE_BYTES]) {
+            return at + end;
         }
     }
     let mut o = [0u8; 32];
     let n = exp_bytes(v, &mut o);
-    out.extend_from_slice(&o[..n]);
+    out[at..at + n].copy_from_slice(&o[..n]);
+    at + n
 }
 
-/// zmij's output `[-]d[.dd…d]e[±]x` with a normalised mantissa (leading digit not 0, no
-/// trailing 0 after the point) is `{:e}` already, but for a `+` of the exponent: the text up to
-/// and including the `e`, and the exponent without the `+` (zmij writes no leading zeros in the
-/// exponent). `None` for any other shape (plain decimals: the general path of [`exp_bytes`]).
-/// This is the common case of a run's series (lengths in m, times in s), copied without
-/// re-parsing (issue 16: the CSV was 17 % of the boundary-layer run).
-#[inline]
-fn normalised_exponent_form(s: &[u8]) -> Option<(&[u8], &[u8])> {
-    // the exponent is at most "e-324": its 'e' is one of the last 5 bytes
+/// zmij's text `s` of a finite non-zero value in `{:e}` form into `o` when it is one of the two
+/// common shapes (see [`put_exp`]); `None` for any other (then nothing is promised about `o`).
+#[inline(always)]
+fn rewrite_common(s: &[u8], o: &mut [u8]) -> Option<usize> {
     let n = s.len();
-    let p = (n.saturating_sub(5)..n).rev().find(|&i| s[i] == b'e')?;
-    let mant = match s.first()? {
-        b'-' => &s[1..p],
-        _ => &s[..p],
+    if n < 3 || n > MAX_VALUE_BYTES {
+        return None;
+    }
+    let m0 = usize::from(s[0] == b'-');
+    // the exponent form: the 'e' is followed by a sign and 1–3 digits
+    let p = if s[n - 3] == b'e' {
+        n - 3
+    } else if n >= 4 && s[n - 4] == b'e' {
+        n - 4
+    } else if n >= 5 && s[n - 5] == b'e' {
+        n - 5
+    } else {
+        return rewrite_small_fixed(s, m0, o);
     };
-    let normalised = match mant {
-        [d] => *d != b'0',
-        [d, b'.', .., last] => *d != b'0' && *last != b'0',
-        _ => false,
-    };
+    // a normalised mantissa "d" or "d.dd…d" (no trailing 0), as `{:e}`
+    let normalised = s[m0] != b'0' && (p == m0 + 1 || (p > m0 + 2 && s[m0 + 1] == b'.' && s[p - 1] != b'0'));
     if !normalised {
         return None;
     }
-    let exp = &s[p + 1..];
-    let exp = match exp.first() {
-        Some(b'+') => &exp[1..],
-        _ => exp,
-    };
-    Some((&s[..=p], exp))
+    o[..n].copy_from_slice(s);
+    if s[p + 1] != b'+' {
+        return Some(n);
+    }
+    for i in p + 2..n {
+        o[i - 1] = s[i];
+    }
+    Some(n - 1)
+}
+
+/// zmij's fixed form `[-]0.0…0d…d` (at most 4 zeros after the point: 1e-5 ≤ |v| < 1e-1) as
+/// `[-]d.d…de-x`; `None` for another shape.
+#[inline(always)]
+fn rewrite_small_fixed(s: &[u8], m0: usize, o: &mut [u8]) -> Option<usize> {
+    let n = s.len();
+    if s[m0] != b'0' || s[m0 + 1] != b'.' {
+        return None;
+    }
+    let mut lead = m0 + 2;
+    while lead < n && s[lead] == b'0' {
+        lead += 1;
+    }
+    let zeros = lead - (m0 + 2);
+    if lead >= n || zeros > 4 || s[n - 1] == b'0' {
+        return None;
+    }
+    o[0] = b'-';
+    let mut k = m0;
+    o[k] = s[lead];
+    k += 1;
+    if n - lead > 1 {
+        o[k] = b'.';
+        k += 1;
+        let rest = &s[lead + 1..n];
+        o[k..k + rest.len()].copy_from_slice(rest);
+        k += rest.len();
+    }
+    o[k] = b'e';
+    o[k + 1] = b'-';
+    o[k + 2] = b'1' + zeros as u8;
+    Some(k + 3)
 }
 
 /// [`push_exp`] into a stack buffer (at most 24 bytes: `-d.dddddddddddddddde-324`); returns the
@@ -214,19 +266,28 @@ impl CsvWriter {
         if self.error.is_some() {
             return;
         }
-        self.line.clear();
-        self.line.reserve(24 * values.len() + 8 + label.map_or(0, str::len));
+        // the row is written into a buffer long enough for its widest text, then cut
+        let lab = label.map_or(0, str::len);
+        let need = lab + (MAX_VALUE_BYTES + 1) * values.len() + 1;
+        if self.line.len() < need {
+            self.line.resize(need, 0);
+        }
+        let line = &mut self.line[..];
+        let mut at = 0;
         if let Some(l) = label {
-            self.line.extend_from_slice(l.as_bytes());
+            line[..lab].copy_from_slice(l.as_bytes());
+            at = lab;
         }
         for (i, v) in values.iter().enumerate() {
             if i > 0 || label.is_some() {
-                self.line.push(b',');
+                line[at] = b',';
+                at += 1;
             }
-            push_exp(&mut self.line, *v);
+            at = put_exp(line, at, *v);
         }
-        self.line.push(b'\n');
-        if let Err(e) = self.file.write_all(&self.line) {
+        line[at] = b'\n';
+        at += 1;
+        if let Err(e) = self.file.write_all(&self.line[..at]) {
             self.error = Some(e);
         } else {
             self.rows += 1;
@@ -264,6 +325,11 @@ mod tests {
             x ^= x << 17;
             values.push(f64::from_bits(x));
             values.push((x % 1_000_000) as f64 * 1e-9);
+            // every decade of the fixed and exponent shapes, both signs, short and long digits
+            let e = (x >> 40) % 40;
+            let m = 1.0 + (x % 1_000_000_007) as f64 / 1e9;
+            let w = m * 10f64.powi(e as i32 - 25);
+            values.extend([w, -w, (w * 1e4).round() / 1e4, 1e-5 * m, 9.9999e-6 * m]);
         }
         let mut out = Vec::new();
         let mut differ = 0;
