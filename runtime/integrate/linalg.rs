@@ -16,8 +16,9 @@ pub(crate) trait Scalar:
     /// self · x for a real x (2 products for a complex self, not 4: the same value).
     fn scale(self, x: f64) -> Self;
     /// The fastest dense LU of an owned n × n row-major matrix of this scalar, as
-    /// [`super::reduced`] factors its reduced matrix: [`ShiftedLu`] for f64, the split-storage
-    /// [`super::split_lu::SplitLu`] for complex (the same factors to the bit, vectorisable loops).
+    /// [`super::reduced`] factors its reduced matrix: [`super::split_lu::RealLu`] for f64, the
+    /// split-storage [`super::split_lu::SplitLu`] for complex (both the same factors to the bit as
+    /// [`ShiftedLu`], vectorisable loops).
     type DenseLu: std::fmt::Debug + 'static;
     /// Factors `a` (n × n, row-major); `Err(column)` when singular.
     fn dense_factor(n: usize, a: Vec<Self>) -> Result<Self::DenseLu, usize>;
@@ -36,9 +37,9 @@ impl Scalar for f64 {
     fn scale(self, x: f64) -> Self {
         self * x
     }
-    type DenseLu = ShiftedLu<f64>;
+    type DenseLu = super::split_lu::RealLu;
     fn dense_factor(n: usize, a: Vec<f64>) -> Result<Self::DenseLu, usize> {
-        ShiftedLu::factor_owned(n, a)
+        super::split_lu::RealLu::factor(n, a)
     }
     fn dense_solve(lu: &Self::DenseLu, x: &mut [f64]) {
         lu.solve(x);

@@ -26,9 +26,9 @@ struct Parts {
     pos: Vec<(usize, usize)>,
     /// J on kept rows × kept columns, row-major (nr × nr).
     jkk: Vec<f64>,
-    /// The non-zero J_rp on kept rows × position columns, row after row: (index of p in
-    /// `pos`, J_rp); row a's entries are `jkp[start[a]..start[a + 1]]`.
-    jkp: Vec<(usize, f64)>,
+    /// The non-zero J_rp on kept rows × position columns, row after row: (p, the index of v(p)
+    /// among the kept unknowns, J_rp); row a's entries are `jkp[start[a]..start[a + 1]]`.
+    jkp: Vec<(usize, usize, f64)>,
     start: Vec<usize>,
 }
 
@@ -68,7 +68,7 @@ impl PositionRows {
             let row = &jac[r * n..(r + 1) * n];
             jkk.extend(kept.iter().map(|&c| row[c]));
             start.push(jkp.len());
-            jkp.extend(pos.iter().enumerate().filter(|(_, &(p, _))| row[p] != 0.0).map(|(q, &(p, _))| (q, row[p])));
+            jkp.extend(pos.iter().filter(|&&(p, _)| row[p] != 0.0).map(|&(p, v)| (p, v, row[p])));
         }
         start.push(jkp.len());
         Some(PositionRows(Rc::new(Parts { kept, pos, jkk, jkp, start })))
@@ -91,8 +91,7 @@ impl AnalyticStructure for PositionRows {
         for r in 0..nr {
             let row = &mut a[r * nr..(r + 1) * nr];
             row[r] = row[r] + sigma;
-            for &(q, jp) in &p.jkp[p.start[r]..p.start[r + 1]] {
-                let v = p.pos[q].1;
+            for &(_, v, jp) in &p.jkp[p.start[r]..p.start[r + 1]] {
                 row[v] = row[v] - inv_sigma.scale(jp);
             }
         }
@@ -116,10 +115,11 @@ impl<T: Scalar> Factorization<T> for ReducedLu<T> {
         let p = &*self.parts;
         let mut guard = self.scratch.borrow_mut();
         let xk = &mut guard[..];
-        for (a, (x, &r)) in xk.iter_mut().zip(&p.kept).enumerate() {
+        // one pass over the rows' position entries, in the order they were stored
+        for ((x, &r), w) in xk.iter_mut().zip(&p.kept).zip(p.start.windows(2)) {
             let mut s = T::ZERO;
-            for &(q, jp) in &p.jkp[p.start[a]..p.start[a + 1]] {
-                s = s + b[p.pos[q].0].scale(jp);
+            for &(pp, _, jp) in &p.jkp[w[0]..w[1]] {
+                s = s + b[pp].scale(jp);
             }
             *x = b[r] + s * self.inv_sigma;
         }

@@ -1,14 +1,15 @@
-//! Dense complex LU with partial pivoting in split storage (real parts and imaginary parts in two
-//! arrays) for Radau5's complex Newton matrix (α + iβ)/h I − J of the position-row reduction
-//! ([`super::reduced`]).
+//! The dense LUs of the position-row reduction ([`super::reduced`]): Radau5's complex Newton
+//! matrix (α + iβ)/h I − J with partial pivoting in split storage (real parts and imaginary
+//! parts in two arrays, [`SplitLu`]), and the real γ/h I − J ([`RealLu`]).
 //!
-//! The same algorithm as the dense [`super::linalg::ShiftedLu`] for `Complex<f64>` (LINPACK-style
-//! row swaps of columns k.., the multipliers kept in place, the columns of L and U copied for
-//! contiguous substitutions), with every complex product and difference written out in the same
+//! The same algorithm as the dense [`super::linalg::ShiftedLu`] (LINPACK-style row swaps of
+//! columns k.., the multipliers kept in place, the columns of L and U copied for contiguous
+//! substitutions), with every complex product and difference written out in the same
 //! operations in the same order as `num_complex` forms them (re = a.re b.re − a.im b.im,
 //! im = a.re b.im + a.im b.re), so the factors and solutions are the same to the bit. What
 //! changes is the layout: the inner loops become real axpys over contiguous slices, which the
-//! compiler vectorises (two lanes with SSE2) where the interleaved `Complex` loops stayed scalar.
+//! compiler vectorises where the interleaved `Complex` loops stayed scalar — with AVX (4 lanes)
+//! when the processor has it (runtime check; no FMA, so lane for lane the same operations).
 
 use super::linalg::Scalar;
 use nalgebra::Complex;
@@ -59,6 +60,23 @@ impl SplitLu {
     /// Factors the row-major n × n matrix `a`; `Err(k)` when singular at column k.
     pub(crate) fn factor(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
         assert_eq!(a.len(), n * n, "SplitLu: n × n");
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor has AVX (checked above).
+            return unsafe { Self::factor_avx(n, a) };
+        }
+        Self::factor_body(n, a)
+    }
+
+    /// [`factor`](Self::factor) compiled with AVX (4-lane loops, no FMA: the same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn factor_avx(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
+        Self::factor_body(n, a)
+    }
+
+    #[inline(always)]
+    fn factor_body(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
         let mut ar: Vec<f64> = a.iter().map(|z| z.re).collect();
         let mut ai: Vec<f64> = a.iter().map(|z| z.im).collect();
         let mut piv = vec![0; n];
@@ -107,6 +125,23 @@ impl SplitLu {
 
     /// Solves A x = b in place (the substitutions of `ShiftedLu::solve`, dense branch).
     pub(crate) fn solve(&self, b: &mut [Complex<f64>]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor has AVX (checked above).
+            return unsafe { self.solve_avx(b) };
+        }
+        self.solve_body(b)
+    }
+
+    /// [`solve`](Self::solve) compiled with AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn solve_avx(&self, b: &mut [Complex<f64>]) {
+        self.solve_body(b)
+    }
+
+    #[inline(always)]
+    fn solve_body(&self, b: &mut [Complex<f64>]) {
         let n = self.n;
         let mut guard = self.scratch.borrow_mut();
         let (br, bi) = &mut *guard;
@@ -132,6 +167,119 @@ impl SplitLu {
         }
         for (j, z) in b[..n].iter_mut().enumerate() {
             *z = Complex::new(br[j], bi[j]);
+        }
+    }
+}
+
+/// The real dense LU of [`super::reduced`]: the algorithm of the dense [`super::linalg::ShiftedLu`]
+/// for f64, operation for operation (so the same factors and solutions to the bit), with its
+/// loops compiled with AVX when the processor has it.
+#[derive(Debug)]
+pub(crate) struct RealLu {
+    n: usize,
+    /// Column k of L below the diagonal and of U above it, contiguous (`l[k * n + i]`).
+    l: Vec<f64>,
+    inv_diag: Vec<f64>,
+    piv: Vec<usize>,
+}
+
+impl RealLu {
+    /// Factors the row-major n × n matrix `a` (taken over); `Err(k)` when singular at column k.
+    pub(crate) fn factor(n: usize, a: Vec<f64>) -> Result<Self, usize> {
+        assert_eq!(a.len(), n * n, "RealLu: n × n");
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor has AVX (checked above).
+            return unsafe { Self::factor_avx(n, a) };
+        }
+        Self::factor_body(n, a)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn factor_avx(n: usize, a: Vec<f64>) -> Result<Self, usize> {
+        Self::factor_body(n, a)
+    }
+
+    #[inline(always)]
+    fn factor_body(n: usize, mut a: Vec<f64>) -> Result<Self, usize> {
+        let mut piv = vec![0; n];
+        for k in 0..n {
+            let mut p = k;
+            let mut best = a[k * n + k].abs();
+            for i in k + 1..n {
+                let m = a[i * n + k].abs();
+                if m > best {
+                    best = m;
+                    p = i;
+                }
+            }
+            piv[k] = p;
+            if !(best > 0.0) || !best.is_finite() {
+                return Err(k);
+            }
+            if p != k {
+                for j in k..n {
+                    a.swap(k * n + j, p * n + j);
+                }
+            }
+            let pivot = a[k * n + k];
+            let (top, bottom) = a.split_at_mut((k + 1) * n);
+            let rk = &top[k * n + k + 1..(k + 1) * n];
+            for row in bottom.chunks_exact_mut(n) {
+                let m = row[k] / pivot;
+                row[k] = m;
+                if m != 0.0 {
+                    for (x, &y) in row[k + 1..].iter_mut().zip(rk) {
+                        *x -= m * y;
+                    }
+                }
+            }
+        }
+        let inv_diag = (0..n).map(|k| 1.0 / a[k * n + k]).collect();
+        let mut l = Vec::with_capacity(n * n);
+        for k in 0..n {
+            l.extend((0..n).map(|i| a[i * n + k]));
+        }
+        Ok(RealLu { n, l, inv_diag, piv })
+    }
+
+    /// Solves A x = b in place.
+    pub(crate) fn solve(&self, b: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor has AVX (checked above).
+            return unsafe { self.solve_avx(b) };
+        }
+        self.solve_body(b)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn solve_avx(&self, b: &mut [f64]) {
+        self.solve_body(b)
+    }
+
+    #[inline(always)]
+    fn solve_body(&self, b: &mut [f64]) {
+        let n = self.n;
+        let b = &mut b[..n];
+        let (l, piv, inv_diag) = (&self.l[..n * n], &self.piv[..n], &self.inv_diag[..n]);
+        for k in 0..n {
+            b.swap(k, piv[k]);
+            let (head, tail) = b.split_at_mut(k + 1);
+            let bk = head[k];
+            for (x, &m) in tail.iter_mut().zip(&l[k * n + k + 1..(k + 1) * n]) {
+                *x -= m * bk;
+            }
+        }
+        for k in (0..n).rev() {
+            let (head, tail) = b.split_at_mut(k);
+            let bk = tail[0] * inv_diag[k];
+            tail[0] = bk;
+            for (x, &u) in head.iter_mut().zip(&l[k * n..k * n + k]) {
+                *x -= u * bk;
+            }
         }
     }
 }
@@ -163,6 +311,20 @@ mod tests {
                 assert_eq!((s.re.to_bits(), s.im.to_bits()), (d.re.to_bits(), d.im.to_bits()), "n = {n}");
             }
         }
+        // the real LU against the dense ShiftedLu<f64>
+        for n in [1, 2, 5, 17, 25] {
+            let a: Vec<f64> = (0..n * n).map(|_| rnd()).collect();
+            let b: Vec<f64> = (0..n).map(|_| rnd()).collect();
+            let real = RealLu::factor(n, a.clone()).expect("regular");
+            let dense = ShiftedLu::<f64>::factor_owned(n, a).expect("regular");
+            let (mut xs, mut xd) = (b.clone(), b);
+            real.solve(&mut xs);
+            dense.solve(&mut xd);
+            for (s, d) in xs.iter().zip(&xd) {
+                assert_eq!(s.to_bits(), d.to_bits(), "real, n = {n}");
+            }
+        }
+        assert_eq!(RealLu::factor(2, vec![0.0; 4]).err(), Some(0));
         let singular = vec![Complex::new(0.0, 0.0); 4];
         assert_eq!(SplitLu::factor(2, &singular).err(), Some(0));
     }
