@@ -10,6 +10,7 @@ mod atomic;
 #[macro_use]
 mod console;
 mod csv;
+mod shortest;
 #[cfg(unix)]
 mod interrupt;
 mod progress;
