@@ -140,6 +140,7 @@ impl<T: Scalar> ShiftedLu<T> {
 
     /// A dense `ShiftedLu` factoring the row-major n × n matrix `a` itself (taken over, no
     /// zeroed buffers); `Err(k)` when singular at column k.
+    #[cfg(test)]
     pub(crate) fn factor_owned(n: usize, a: Vec<T>) -> Result<Self, usize> {
         assert_eq!(a.len(), n * n, "factor_owned: n × n");
         let mut lu = ShiftedLu { n, band: None, a, l: Vec::new(), inv_diag: Vec::new(), piv: vec![0; n] };
