@@ -304,11 +304,15 @@ mod tests {
             let b: Vec<Complex<f64>> = (0..n).map(|_| Complex::new(rnd(), rnd())).collect();
             let split = SplitLu::factor(n, &a).expect("regular");
             let dense = ShiftedLu::<Complex<f64>>::factor_owned(n, a.clone()).expect("regular");
-            let (mut xs, mut xd) = (b.clone(), b.clone());
+            // the portable loops too (`factor` and `solve` take the AVX ones when present)
+            let portable = SplitLu::factor_body(n, &a).expect("regular");
+            let (mut xs, mut xd, mut xp) = (b.clone(), b.clone(), b.clone());
             split.solve(&mut xs);
             dense.solve(&mut xd);
-            for (s, d) in xs.iter().zip(&xd) {
+            portable.solve_body(&mut xp);
+            for ((s, d), p) in xs.iter().zip(&xd).zip(&xp) {
                 assert_eq!((s.re.to_bits(), s.im.to_bits()), (d.re.to_bits(), d.im.to_bits()), "n = {n}");
+                assert_eq!((p.re.to_bits(), p.im.to_bits()), (d.re.to_bits(), d.im.to_bits()), "portable, n = {n}");
             }
         }
         // the real LU against the dense ShiftedLu<f64>
@@ -316,12 +320,15 @@ mod tests {
             let a: Vec<f64> = (0..n * n).map(|_| rnd()).collect();
             let b: Vec<f64> = (0..n).map(|_| rnd()).collect();
             let real = RealLu::factor(n, a.clone()).expect("regular");
+            let portable = RealLu::factor_body(n, a.clone()).expect("regular");
             let dense = ShiftedLu::<f64>::factor_owned(n, a).expect("regular");
-            let (mut xs, mut xd) = (b.clone(), b);
+            let (mut xs, mut xd, mut xp) = (b.clone(), b.clone(), b);
             real.solve(&mut xs);
             dense.solve(&mut xd);
-            for (s, d) in xs.iter().zip(&xd) {
+            portable.solve_body(&mut xp);
+            for ((s, d), p) in xs.iter().zip(&xd).zip(&xp) {
                 assert_eq!(s.to_bits(), d.to_bits(), "real, n = {n}");
+                assert_eq!(p.to_bits(), d.to_bits(), "real portable, n = {n}");
             }
         }
         assert_eq!(RealLu::factor(2, vec![0.0; 4]).err(), Some(0));

@@ -71,7 +71,7 @@ fn put_exp(out: &mut [u8], at: usize, v: f64) -> usize {
 #[inline(always)]
 fn rewrite_common(s: &[u8], o: &mut [u8]) -> Option<usize> {
     let n = s.len();
-    if n < 3 || n > MAX_VALUE_BYTES {
+    if !(3..=MAX_VALUE_BYTES).contains(&n) {
         return None;
     }
     let m0 = usize::from(s[0] == b'-');
@@ -94,9 +94,7 @@ fn rewrite_common(s: &[u8], o: &mut [u8]) -> Option<usize> {
     if s[p + 1] != b'+' {
         return Some(n);
     }
-    for i in p + 2..n {
-        o[i - 1] = s[i];
-    }
+    o[p + 1..n - 1].copy_from_slice(&s[p + 2..n]);
     Some(n - 1)
 }
 

@@ -94,7 +94,7 @@ fn count_digits(x: u64) -> usize {
         t
     };
     // ⌊log10 x⌋ from the bit length (1233/4096 ≈ log10 2), then one correction
-    let guess = ((64 - x.leading_zeros()) * 1233 >> 12) as usize;
+    let guess = (((64 - x.leading_zeros()) * 1233) >> 12) as usize;
     guess + usize::from(x >= P10[guess])
 }
 
