@@ -42,17 +42,13 @@ pub(crate) fn push_exp(out: &mut Vec<u8>, v: f64) {
 const MAX_VALUE_BYTES: usize = 24;
 
 /// Writes `v` as [`push_exp`] does at `out[at..]` (`out` holds at least [`MAX_VALUE_BYTES`]
-/// bytes from `at`); returns the end. Normal values (not powers of two) straight from their
-/// shortest digits ([`super::shortest`]); for the others, the common shapes of zmij's output are rewritten in place:
+/// bytes from `at`); returns the end. The common shapes of zmij's output are rewritten in place:
 /// the exponent form (`+` of the exponent dropped) and the fixed form `0.0…0ddd` of 1e-5 ≤ |v| <
 /// 1e-1 (to `d.dde-x`); every other value takes the general path of [`exp_bytes`]. One copy per
 /// value into the row (issue 16: the CSV was 22 % of the boundary-layer run, two thirds of it
 /// the copies and searches around zmij's digits).
 #[inline]
 fn put_exp(out: &mut [u8], at: usize, v: f64) -> usize {
-    if let Some(n) = super::shortest::write_exp(v, &mut out[at..at + MAX_VALUE_BYTES]) {
-        return at + n;
-    }
     if v.is_finite() && v != 0.0 {
         let mut buf = zmij::Buffer::new();
         let s = buf.format_finite(v).as_bytes();
@@ -317,38 +313,6 @@ impl CsvWriter {
 #[cfg(test)]
 mod tests {
     use super::{exp_bytes, push_exp, rewrite_common};
-
-    /// The digits written straight ([`super::super::shortest`]) are zmij's, in the text of the
-    /// general path, on a million random bit patterns (every exponent, both signs) and on
-    /// values near the shapes' boundaries.
-    #[test]
-    fn direct_digits_are_zmijs() {
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-        let (mut direct, mut o, mut w) = (0, [0u8; 32], [0u8; 32]);
-        let mut check = |v: f64| {
-            if let Some(m) = crate::output::shortest::write_exp(v, &mut w) {
-                let n = exp_bytes(v, &mut o);
-                assert_eq!(std::str::from_utf8(&w[..m]).unwrap(), std::str::from_utf8(&o[..n]).unwrap(), "{v:e}");
-                direct += 1;
-            }
-        };
-        for _ in 0..1_000_000 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            check(f64::from_bits(x));
-            // short and long digits around 1e-30 … 1e30
-            let e = (x >> 50) as i32 % 61 - 30;
-            let m = 1.0 + (x % 1_000_000_007) as f64 / 1e9;
-            check(m * 10f64.powi(e));
-            check(((x % 100_000) as f64) * 10f64.powi(e));
-        }
-        for v in [1e-5, 9.999999999999999e-6, 1e16, 9.999999999999998e15, 0.1, 1.0, 5e-324, f64::MAX, f64::MIN_POSITIVE, 3e-8, 1.0000000000000002] {
-            check(v);
-            check(-v);
-        }
-        assert!(direct > 2_000_000, "{direct} values took the direct path");
-    }
 
     #[test]
     fn fast_exponent_format_is_the_std_one() {

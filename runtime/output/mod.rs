@@ -10,7 +10,6 @@ mod atomic;
 #[macro_use]
 mod console;
 mod csv;
-mod shortest;
 #[cfg(unix)]
 mod interrupt;
 mod progress;
