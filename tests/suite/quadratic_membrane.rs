@@ -112,3 +112,44 @@ fn skalak_second_order_loads_match_the_finite_amplitude_oracle() {
     let worst = check(Law::Skalak { gs: 0.8, c: 1.7 }, "skalak", (0.8, 1.7));
     eprintln!("Skalak: worst relative difference {worst:.2e}");
 }
+
+/// The rhs sums by Gauss–Legendre quadrature (effects/gauss_product.rs) against the pair rows'
+/// sums of the same table (C · N per row and slot): every law and form the term takes, k ≤ 16 and
+/// k ≤ 32, at a finite state. They differ by rounding only: ≤ 1e-13 of the largest load.
+#[test]
+fn quadrature_sums_are_the_row_sums() {
+    use magbubble::coefficients::quadratic_membrane::LAWS;
+    let mut checked = 0;
+    for law in LAWS {
+        for form in [Form::Paper, Form::Tension] {
+            for modes in [8usize, 16] {
+                let orders: Vec<f64> = (1..=modes).map(|i| 2.0 * i as f64).collect();
+                let Some(t) = QuadraticMembrane::new(law, form, R0, (0.9, 0.25), &orders) else { continue };
+                let mut z = vec![0.0; 2 + 3 * modes];
+                z[0] = R;
+                for (i, v) in z.iter_mut().enumerate().skip(2) {
+                    *v = 0.02 * ((i as f64) * 0.91).sin() / (1.0 + (i / 3) as f64).sqrt();
+                }
+                let at = At { t: 0.0, z: &z };
+                let eval = |f: &dyn Fn(&mut Loads<'_>)| {
+                    let (mut gn, mut gt) = (vec![0.0; modes], vec![0.0; modes]);
+                    let mut loads = Loads { pressure: 0.0, gn: &mut gn, gt: &mut gt };
+                    f(&mut loads);
+                    let mut v = vec![loads.pressure];
+                    v.extend(gn);
+                    v.extend(gt);
+                    v
+                };
+                let quad = eval(&|l| t.add(&at, l));
+                let rows = eval(&|l| t.add_by_rows(&at, l));
+                let scale = rows.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                assert!(scale > 0.0, "{} {form:?}: no load", law.name);
+                let worst = quad.iter().zip(&rows).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / scale;
+                eprintln!("{} {form:?} k ≤ {}: worst |quadrature − rows| / max load = {worst:.1e}", law.name, 2 * modes);
+                assert!(worst <= 1e-13, "{} {form:?} k ≤ {}: {worst:e}", law.name, 2 * modes);
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 8, "only {checked} law/form/mode sets checked");
+}

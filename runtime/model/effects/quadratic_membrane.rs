@@ -89,7 +89,8 @@ impl QuadraticMembrane {
 
     /// `orders`: k of each mode index; `args`: the law's two symbols (ε-scaled, nondimensional),
     /// as the linear membrane term takes them. None if the law has rate amplitudes (ȧ, ḃ, Ṙ: the viscous shell) or the table has more than [`MAXP`] distinct
-    /// prefactors for this form (the rhs keeps them on the stack).
+    /// prefactors for this form (the rhs keeps them on the stack), or the modes go beyond the
+    /// quadrature's k ≤ 64 ([`GaussProduct::new`]).
     pub fn new(law: &'static Law, form: Form, r0: f64, args: (f64, f64), orders: &[f64]) -> Option<Self> {
         let rate = |a: Ab| matches!(a, Ab::Ad | Ab::Bd);
         if law.terms.iter().any(|t| rate(t.first) || rate(t.second) || t.prefactor.iter().any(|(s, _)| *s == "Rd")) {
@@ -158,7 +159,7 @@ impl QuadraticMembrane {
             }
         }
         let outputs: Vec<(usize, usize)> = std::iter::once((0, 0)).chain(ks.iter().map(|&k| (0, k))).chain(ks.iter().map(|&k| (1, k))).collect();
-        let product = GaussProduct::new(&ks, &outputs, 2, np, &monomials);
+        let product = GaussProduct::new(&ks, &outputs, 2, np, &monomials)?;
         let consts = [r0, args.0, args.1];
         let mut constant = [0.0; MAXP];
         for (c, e) in constant.iter_mut().zip(&monos) {
