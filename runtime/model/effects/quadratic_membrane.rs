@@ -196,7 +196,11 @@ impl Term for QuadraticMembrane {
         self.modes
     }
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
-        let (p, _) = self.prefactors(at.r());
+        // the prefactor values only (the Jacobian's `prefactors` also forms their derivatives)
+        let (r, mut p) = (at.r(), [0.0; MAXP]);
+        for ((pi, e), c) in p.iter_mut().zip(&self.monos).zip(&self.constant) {
+            *pi = c * r.powi(e[0]);
+        }
         let n = self.modes;
         let mut amp = [0.0; 2 * super::MAX_MODES];
         for k in 0..n {

@@ -26,13 +26,14 @@
 
 use std::cell::RefCell;
 
-mod project;
+mod kernels;
 #[cfg(test)]
 mod tests;
 
 /// Nodes per block (one AVX-512 register, two AVX, four SSE2).
 const LANES: usize = 8;
-/// Most blocks of a rule: 13 · 8 ≥ 97 nodes, the rule of k, j ≤ KMAX = 64 of any parity.
+/// Most blocks of a rule: 13 · 8 ≥ 97 nodes, the rule of k, j ≤ KMAX = 64 of any parity
+/// (the kernels are instantiated per block count, `steps`).
 const MAX_BLOCKS: usize = 13;
 
 /// One monomial of one table term: `value` · p_mono · L_l^a L_m^b L_j^power on output `set`,
@@ -212,6 +213,9 @@ impl GaussProduct {
             }
             out_start.push(out_group.len());
         }
+        // the kernels index the rows through these without checks
+        let (nf, ng) = (sums.len(), groups.len());
+        assert!(combo_sums.iter().all(|&(x, y)| x < nf && y < nf) && out_group.iter().all(|&g| g < ng), "GaussProduct indices");
         Some(Self { modes: n, kinds, blocks, prefactors, legendre: legendre_nodes, sums, lpow, group_start, combo_sums, combo_value, out_start, out_group, out_weight })
     }
 
@@ -224,123 +228,65 @@ impl GaussProduct {
             if buf.len() < len {
                 buf.resize(len, 0.0);
             }
-            let s = &mut buf[..len];
-            let at = self.groups_at();
-            #[cfg(target_arch = "x86_64")]
-            {
-                if std::arch::is_x86_feature_detected!("avx512f") {
-                    // SAFETY: the processor has AVX-512F (checked just above); the group values
-                    // are the scratch's tail, as `project` asserts.
-                    return unsafe {
-                        self.kernel_avx512(p, amp, s);
-                        self.project_avx512(&s[at..], out)
-                    };
-                }
-                if std::arch::is_x86_feature_detected!("avx") {
-                    // SAFETY: the processor has AVX (checked just above); as above.
-                    return unsafe {
-                        self.kernel_avx(p, amp, s);
-                        self.project_avx(&s[at..], out)
-                    };
-                }
-            }
-            self.kernel(p, amp, s);
-            self.project(&s[at..], out)
+            let (k, coef, rows) = self.split(&mut buf[..len]);
+            self.steps(p, amp, k, coef, rows, out)
         })
     }
 
-    /// Scratch length: K, the sums' mode coefficients, the sums and the groups at the nodes.
+    /// The scratch (length [`scratch_len`](Self::scratch_len)) as K, the sums' mode
+    /// coefficients, and the rows at the nodes (the sums', then the groups').
+    fn split<'s>(&self, s: &'s mut [f64]) -> (&'s mut [f64], &'s mut [f64], &'s mut [f64]) {
+        let (k, rest) = s.split_at_mut(self.combo_sums.len());
+        let (coef, rows) = rest.split_at_mut(self.sums.len() * self.modes);
+        (k, coef, rows)
+    }
+
     fn scratch_len(&self) -> usize {
-        self.groups_at() + (self.group_start.len() - 1) * self.blocks * LANES
+        let rows = self.sums.len() + self.group_start.len() - 1;
+        self.combo_sums.len() + self.sums.len() * self.modes + rows * self.blocks * LANES
     }
 
-    /// Where the group values start in the scratch.
-    fn groups_at(&self) -> usize {
-        let (nc, nf) = (self.combo_sums.len(), self.sums.len());
-        nc + nf * self.modes + nf * self.blocks * LANES
-    }
-
-    /// [`kernel`](Self::kernel) compiled for AVX (the same operations: bit for bit its result).
-    ///
-    /// # Safety
-    /// AVX available.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn kernel_avx(&self, p: &[f64], amp: &[f64], s: &mut [f64]) {
-        self.kernel(p, amp, s)
-    }
-
-    /// [`kernel`](Self::kernel) compiled for AVX-512F.
-    ///
-    /// # Safety
-    /// AVX-512F available.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn kernel_avx512(&self, p: &[f64], amp: &[f64], s: &mut [f64]) {
-        self.kernel(p, amp, s)
-    }
-
-    /// Steps 1–3 for this rule's node count (a multiple of LANES, ≤ [`MAX_BLOCKS`] blocks).
+    /// Step 1, K_c = Σ_i value_{c,i} p_i (i in order), and the mode sums' coefficients L_l^a x_l
+    /// (inlined into each kernel: lane-wise, so vectorised alike).
     #[inline(always)]
-    fn kernel(&self, p: &[f64], amp: &[f64], s: &mut [f64]) {
-        macro_rules! widths {
-            ($($b:literal)*) => {
-                match self.blocks {
-                    $($b => self.kernel_w::<{ $b * LANES }>(p, amp, s),)*
-                    _ => unreachable!("GaussProduct::new bounds the blocks"),
-                }
-            };
-        }
-        widths!(1 2 3 4 5 6 7 8 9 10 11 12 13)
-    }
-
-    /// Steps 1–3 of the module doc with `W` nodes (padding included); `s` the scratch, the
-    /// group values left at its tail (step 4: [`project`](Self::project)). Every loop is over
-    /// lanes or in a fixed order, so the compiler's vectorisation of it changes no rounding.
-    #[inline(always)]
-    fn kernel_w<const W: usize>(&self, p: &[f64], amp: &[f64], s: &mut [f64]) {
-        assert_eq!(W, self.blocks * LANES, "GaussProduct nodes");
-        let n = self.modes;
-        let (nc, nf) = (self.combo_sums.len(), self.sums.len());
-        let (k, rest) = s.split_at_mut(nc);
-        let (coef, rest) = rest.split_at_mut(nf * n);
-        let (f, g) = rest.split_at_mut(nf * W);
-        // 1. K_c = Σ_i value_{c,i} p_i (i in order)
+    fn prepare(&self, p: &[f64], amp: &[f64], k: &mut [f64], coef: &mut [f64]) {
+        let (n, nc) = (self.modes, self.combo_sums.len());
         k.fill(0.0);
         for (&pi, v) in p[..self.prefactors].iter().zip(self.combo_value.chunks_exact(nc)) {
             for (kc, v) in k.iter_mut().zip(v) {
                 *kc += v * pi;
             }
         }
-        // 2. the mode sums X_a = Σ_l (L_l^a x_l) P_l at the nodes (l in order)
         for ((c, lp), &(kind, _)) in coef.chunks_exact_mut(n).zip(self.lpow.chunks_exact(n)).zip(&self.sums) {
             for ((ci, li), x) in c.iter_mut().zip(lp).zip(&amp[kind * n..(kind + 1) * n]) {
                 *ci = li * x;
             }
         }
-        for (fv, c) in f.chunks_exact_mut(W).zip(coef.chunks_exact(n)) {
-            let mut acc = [0.0; W];
-            for (&cl, pl) in c.iter().zip(self.legendre.chunks_exact(W)) {
-                let pl: &[f64; W] = pl.try_into().expect("W nodes");
-                for i in 0..W {
-                    acc[i] += cl * pl[i];
-                }
+    }
+
+    /// Steps 1–4 by the widest kernel the processor has (all three the same operations).
+    fn steps(&self, p: &[f64], amp: &[f64], k: &mut [f64], coef: &mut [f64], rows: &mut [f64], out: &mut [f64]) {
+        self.check(k, coef, rows, out);
+        #[cfg(target_arch = "x86_64")]
+        {
+            macro_rules! blocks {
+                ($kernel:ident, $per:literal, $($b:literal)*) => {
+                    match self.blocks {
+                        // SAFETY: the feature is the one detected below; the lengths are
+                        // the ones `check` asserted.
+                        $($b => unsafe { self.$kernel::<$b, { $b * $per }>(p, amp, k, coef, rows, out) },)*
+                        _ => unreachable!("GaussProduct::new bounds the blocks"),
+                    }
+                };
             }
-            fv.copy_from_slice(&acc);
-        }
-        let f: &[f64] = f;
-        // 3. g = Σ K_c X Y per group (combinations in order)
-        for (gv, r) in g.chunks_exact_mut(W).zip(self.group_start.windows(2)) {
-            let mut acc = [0.0; W];
-            for (&(x, y), &kc) in self.combo_sums[r[0]..r[1]].iter().zip(&k[r[0]..r[1]]) {
-                let xv: &[f64; W] = f[x * W..(x + 1) * W].try_into().expect("W nodes");
-                let yv: &[f64; W] = f[y * W..(y + 1) * W].try_into().expect("W nodes");
-                for i in 0..W {
-                    acc[i] += kc * (xv[i] * yv[i]);
-                }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return blocks!(steps_avx512, 1, 1 2 3 4 5 6 7 8 9 10 11 12 13);
             }
-            gv.copy_from_slice(&acc);
+            if std::arch::is_x86_feature_detected!("avx") {
+                return blocks!(steps_avx, 2, 1 2 3 4 5 6 7 8 9 10 11 12 13);
+            }
         }
+        self.prepare(p, amp, k, coef);
+        self.steps_portable(k, coef, rows, out)
     }
 }
-

@@ -92,51 +92,60 @@ fn eval_is_the_plain_sum() {
     }
 }
 
-/// The AVX and AVX-512 kernels give the portable ones' result bit for bit.
+/// The AVX and AVX-512 kernels give the portable one's result bit for bit (k ≤ 16: 2 blocks of
+/// nodes, k ≤ 32: 4 blocks).
 #[test]
 fn the_clones_are_the_portable_kernel_bit_for_bit() {
-    let orders: Vec<usize> = (1..=16).map(|i| 2 * i).collect();
-    let n = orders.len();
-    let outputs: Vec<(usize, usize)> = std::iter::once(0).chain(orders.iter().copied()).map(|j| (0, j)).chain(orders.iter().map(|&j| (1, j))).collect();
-    let terms: Vec<Monomial> = (0..24)
-        .map(|i| Monomial { set: i % 2, power: (i % 4) as i32 - 1, first: (i % 2, (i % 3) as u32), second: ((i / 2) % 2, (i % 4) as u32), mono: i % 2, value: ((i as f64) * 1.3).cos() })
-        .collect();
-    let g = GaussProduct::new(&orders, &outputs, 2, 2, &terms).expect("k ≤ 32");
-    let amp: Vec<f64> = (0..2 * n).map(|i| ((i as f64) * 0.41).cos() * 1e-3).collect();
-    let p = [0.9, -1.7];
-    let at = g.groups_at();
-    let mut dispatched = vec![0.5; outputs.len()];
-    g.eval(&p, &amp, &mut dispatched);
-    let mut s = vec![0.0; g.scratch_len()];
-    let mut portable = vec![0.5; outputs.len()];
-    g.kernel(&p, &amp, &mut s);
-    g.project(&s[at..], &mut portable);
-    #[allow(unused_mut)]
-    let mut clones = vec![("dispatched", dispatched)];
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx") {
-            let (mut s, mut avx) = (vec![0.0; g.scratch_len()], vec![0.5; outputs.len()]);
-            // SAFETY: AVX checked just above; the scratch as `eval` lays it out.
-            unsafe {
-                g.kernel_avx(&p, &amp, &mut s);
-                g.project_avx(&s[at..], &mut avx);
+    for kmax in [16usize, 32] {
+        let orders: Vec<usize> = (1..=kmax / 2).map(|i| 2 * i).collect();
+        let n = orders.len();
+        let outputs: Vec<(usize, usize)> = std::iter::once(0).chain(orders.iter().copied()).map(|j| (0, j)).chain(orders.iter().map(|&j| (1, j))).collect();
+        let terms: Vec<Monomial> = (0..24)
+            .map(|i| Monomial { set: i % 2, power: (i % 4) as i32 - 1, first: (i % 2, (i % 3) as u32), second: ((i / 2) % 2, (i % 4) as u32), mono: i % 2, value: ((i as f64) * 1.3).cos() })
+            .collect();
+        let g = GaussProduct::new(&orders, &outputs, 2, 2, &terms).expect("k ≤ 32");
+        assert_eq!(g.blocks, kmax / 8, "k ≤ {kmax}: 3k/2 + 1 nodes, half of them");
+        let amp: Vec<f64> = (0..2 * n).map(|i| ((i as f64) * 0.41).cos() * 1e-3).collect();
+        let p = [0.9, -1.7];
+        let mut dispatched = vec![0.5; outputs.len()];
+        g.eval(&p, &amp, &mut dispatched);
+        let mut s = vec![0.0; g.scratch_len()];
+        let (k, coef, rows) = g.split(&mut s);
+        g.prepare(&p, &amp, k, coef);
+        let mut portable = vec![0.5; outputs.len()];
+        g.steps_portable(k, coef, rows, &mut portable);
+        #[allow(unused_mut)]
+        let mut clones = vec![("dispatched", dispatched)];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx") {
+                let mut avx = vec![0.5; outputs.len()];
+                // SAFETY: AVX checked just above; the slices as `eval` lays them out.
+                unsafe {
+                    match g.blocks {
+                        2 => g.steps_avx::<2, 4>(&p, &amp, k, coef, rows, &mut avx),
+                        _ => g.steps_avx::<4, 8>(&p, &amp, k, coef, rows, &mut avx),
+                    }
+                }
+                clones.push(("AVX", avx));
             }
-            clones.push(("AVX", avx));
-        }
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            let (mut s, mut avx) = (vec![0.0; g.scratch_len()], vec![0.5; outputs.len()]);
-            // SAFETY: AVX-512F checked just above; as above.
-            unsafe {
-                g.kernel_avx512(&p, &amp, &mut s);
-                g.project_avx512(&s[at..], &mut avx);
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                let mut avx = vec![0.5; outputs.len()];
+                // SAFETY: AVX-512F checked just above; as above.
+                unsafe {
+                    match g.blocks {
+                        2 => g.steps_avx512::<2, 2>(&p, &amp, k, coef, rows, &mut avx),
+                        _ => g.steps_avx512::<4, 4>(&p, &amp, k, coef, rows, &mut avx),
+                    }
+                }
+                clones.push(("AVX-512", avx));
             }
-            clones.push(("AVX-512", avx));
         }
-    }
-    for (name, c) in &clones {
-        for (a, b) in portable.iter().zip(c) {
-            assert_eq!(a.to_bits(), b.to_bits(), "{name}: {a} against {b}");
+        assert!(portable.iter().any(|&x| x != 0.5), "k ≤ {kmax}: no load");
+        for (name, c) in &clones {
+            for (a, b) in portable.iter().zip(c) {
+                assert_eq!(a.to_bits(), b.to_bits(), "k ≤ {kmax} {name}: {a} against {b}");
+            }
         }
     }
 }
