@@ -448,7 +448,7 @@ fn quadratic_membrane_term(scene: &Scene, params: &Params, kf: &[f64]) -> Result
         crate::scene::MembraneForm::Tension => Form::Tension,
     };
     effects::quadratic_membrane::QuadraticMembrane::new(law, form, params.r0, params.membrane_args, kf)
-        .ok_or_else(|| refuse("the law's second-order table has more prefactors, or the scene more modes (k > 64), than the runtime term holds"))
+        .ok_or_else(|| refuse("the law's second-order table has more prefactors than the runtime term holds"))
 }
 
 fn eq_of(system: &System) -> &Equations {

@@ -32,7 +32,6 @@ pub mod shell;
 pub mod vapour;
 pub mod viscosity;
 
-mod gauss_product;
 mod pair_rows;
 
 /// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.

@@ -11,14 +11,11 @@
 //! from the radial balance P (as Ŝ0), on P_j (j ≥ 2) added to G_n,j (as Ŝ1 a + Ŝ2 b); the
 //! tangential load on P¹_j is added to G_t,j (as Ŝ11 a + Ŝ12 b). The Jacobian is exact.
 //!
-//! Cost (issue 12, docs/performance.md): the rhs sums by Gauss–Legendre quadrature
-//! ([`super::gauss_product`]: the mode sums Σ L_l^a a_l P_l, Σ L_m^b b_m P_m at the nodes, their
-//! products per L_j power, projected on P_j). The Jacobian walks the (load, pair l ≤ m) rows the
-//! selection rules allow ([`super::pair_rows`]: a pair's slots are the four products a_l a_m,
-//! a_l b_m, a_m b_l, b_l b_m, symmetric ones folded, times each distinct prefactor), which also
-//! give the rhs a second evaluation ([`QuadraticMembrane::add_by_rows`], the tests' reference).
+//! Cost (issue 12, docs/performance.md): only the (load, pair l ≤ m) rows the selection rules
+//! allow are stored ([`super::pair_rows`]); a pair's slots are the four products a_l a_m,
+//! a_l b_m, a_m b_l, b_l b_m (symmetric ones folded) times each distinct prefactor, formed once
+//! per rhs. The Jacobian walks the same rows.
 
-use super::gauss_product::{GaussProduct, Monomial};
 use super::pair_rows::PairRows;
 use super::{a_index, At, LoadJacobian, Loads, Term};
 use crate::coefficients::quadratic_lookup::ppp;
@@ -40,8 +37,6 @@ pub struct QuadraticMembrane {
     constant: [f64; MAXP],
     /// outputs: 0 = −P, 1 + j = G_n,j, 1 + M + j = G_t,j
     rows: PairRows,
-    /// the same outputs by quadrature (the rhs)
-    product: GaussProduct,
     modes: usize,
 }
 
@@ -89,8 +84,7 @@ impl QuadraticMembrane {
 
     /// `orders`: k of each mode index; `args`: the law's two symbols (ε-scaled, nondimensional),
     /// as the linear membrane term takes them. None if the law has rate amplitudes (ȧ, ḃ, Ṙ: the viscous shell) or the table has more than [`MAXP`] distinct
-    /// prefactors for this form (the rhs keeps them on the stack), or the modes go beyond the
-    /// quadrature's k ≤ 64 ([`GaussProduct::new`]).
+    /// prefactors for this form (the rhs keeps them on the stack).
     pub fn new(law: &'static Law, form: Form, r0: f64, args: (f64, f64), orders: &[f64]) -> Option<Self> {
         let rate = |a: Ab| matches!(a, Ab::Ad | Ab::Bd);
         if law.terms.iter().any(|t| rate(t.first) || rate(t.second) || t.prefactor.iter().any(|(s, _)| *s == "Rd")) {
@@ -148,24 +142,12 @@ impl QuadraticMembrane {
             }
             true
         });
-        // the same terms for the quadrature: kinds 0 = a, 1 = b; sets 0 = normal, 1 = tangential
-        // (N/L_j: the power of L_j one less)
-        let kind = |a: Ab| usize::from(a == Ab::B);
-        let mut monomials = Vec::new();
-        for (t, mono) in &kinds {
-            let (set, shift) = if t.load == Load::Normal { (0, 0) } else { (1, 1) };
-            for (e, v) in t.numerator {
-                monomials.push(Monomial { set, power: e[2] as i32 - shift, first: (kind(t.first), e[0]), second: (kind(t.second), e[1]), mono: *mono, value: *v });
-            }
-        }
-        let outputs: Vec<(usize, usize)> = std::iter::once((0, 0)).chain(ks.iter().map(|&k| (0, k))).chain(ks.iter().map(|&k| (1, k))).collect();
-        let product = GaussProduct::new(&ks, &outputs, 2, np, &monomials)?;
         let consts = [r0, args.0, args.1];
         let mut constant = [0.0; MAXP];
         for (c, e) in constant.iter_mut().zip(&monos) {
             *c = consts.iter().zip(&e[1..]).fold(1.0, |acc, (v, k)| if *k == 0 { acc } else { acc * v.powi(*k) });
         }
-        Some(Self { law: law.name, monos, constant, rows, product, modes: n })
+        Some(Self { law: law.name, monos, constant, rows, modes: n })
     }
 
     /// Number of stored (load, pair) rows.
@@ -196,40 +178,6 @@ impl Term for QuadraticMembrane {
         self.modes
     }
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
-        // the prefactor values only (the Jacobian's `prefactors` also forms their derivatives)
-        let (r, mut p) = (at.r(), [0.0; MAXP]);
-        for ((pi, e), c) in p.iter_mut().zip(&self.monos).zip(&self.constant) {
-            *pi = c * r.powi(e[0]);
-        }
-        let n = self.modes;
-        let mut amp = [0.0; 2 * super::MAX_MODES];
-        for k in 0..n {
-            (amp[k], amp[n + k]) = (at.a(k), at.b(k));
-        }
-        let mut out = [0.0; 1 + 2 * super::MAX_MODES];
-        self.product.eval(&p[..self.monos.len()], &amp[..2 * n], &mut out[..1 + 2 * n]);
-        Self::scatter(&out, n, loads);
-    }
-    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
-        self.jacobian(at, jac)
-    }
-}
-
-impl QuadraticMembrane {
-    /// −P, G_n, G_t from the outputs.
-    fn scatter(out: &[f64], n: usize, loads: &mut Loads<'_>) {
-        loads.pressure -= out[0];
-        for (j, g) in loads.gn.iter_mut().enumerate().take(n) {
-            *g += out[1 + j];
-        }
-        for (j, g) in loads.gt.iter_mut().enumerate().take(n) {
-            *g += out[1 + n + j];
-        }
-    }
-
-    /// The loads of [`Term::add`] summed over the pair rows instead (C · N per row and slot):
-    /// the same sums in another order, for the tests.
-    pub fn add_by_rows(&self, at: &At<'_>, loads: &mut Loads<'_>) {
         let (p, _) = self.prefactors(at.r());
         let n = self.modes;
         let np = self.monos.len();
@@ -245,11 +193,15 @@ impl QuadraticMembrane {
                 }
             }
         });
-        Self::scatter(&out, n, loads);
+        loads.pressure -= out[0];
+        for (j, g) in loads.gn.iter_mut().enumerate().take(n) {
+            *g += out[1 + j];
+        }
+        for (j, g) in loads.gt.iter_mut().enumerate().take(n) {
+            *g += out[1 + n + j];
+        }
     }
-
-    /// The exact Jacobian of the loads, from the pair rows.
-    fn jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let (p, d) = self.prefactors(at.r());
         let np = self.monos.len();
         let n = jac.n;
