@@ -14,7 +14,9 @@
 //! l ≤ m (symmetric products folded), each with one coefficient per *slot* — a table term's
 //! product first(l)·second(m), or for an asymmetric term also first(m)·second(l)
 //! ([`super::pair_rows`]: the slot products once per pair, prefactor included, then one
-//! contiguous dot product per output). No allocation. The radial-only terms (the gas at the
+//! contiguous dot product per output); a mode's left and right factors are two lane
+//! permutations each of one register [a, ȧ, ä⁽¹⁾, 0] (AVX2; the sides planned once). No
+//! allocation. The radial-only terms (the gas at the
 //! exact volume) are a short scalar list. The Jacobian is exact (chain rule through R̈⁽¹⁾, ä⁽¹⁾
 //! and p_g(R)) and walks the same rows: per output the derivatives with respect to the 3M
 //! amplitudes and the prefactor symbols, then the chain rule once.

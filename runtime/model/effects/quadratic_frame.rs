@@ -28,9 +28,11 @@
 //! material-frame terms' share of its first pass ([`FirstOrder::material`], model/material.rs)
 //! — so the rhs evaluates the linear loads once, at z^L. K is symmetric in (l, m), so the three
 //! sums Σ K a_l b_m, Σ K (ȧ_l b_m + a_l ḃ_m), Σ K F_l b_m over ordered pairs are one sweep over
-//! the (target, unordered pair l ≤ m) rows the selection rules allow, each pair's three symmetric
-//! products formed once (a 4-lane vector per pair, the diagonal pairs' K halved). The
-//! Jacobian's work space is kept per thread (no allocation per refresh).
+//! the (target, unordered pair l ≤ m) rows the selection rules allow, planned once pair by pair
+//! as runs of consecutive targets (effects/frame_sweep.rs: each pair's three symmetric products
+//! formed once in one 4-lane register, the diagonal pairs' K halved, no per-row index). The
+//! rhs's factors, z^L and L(z^L) and the Jacobian's work space are kept per thread (no
+//! allocation, no MAX_MODES arrays zeroed per call).
 
 use std::cell::RefCell;
 
