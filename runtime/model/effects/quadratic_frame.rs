@@ -74,7 +74,27 @@ struct Scratch {
     v: Vec<f64>,
     df: Vec<f64>,
     dfr: Vec<f64>,
+    /// the non-zero columns of each row of df: `nzc[nz_start[l]..nz_start[l + 1]]`
+    nzc: Vec<usize>,
+    nz_start: Vec<usize>,
     jl: Option<LoadJacobian>,
+}
+
+/// out += w · ∂ḃ⁽¹⁾_k/∂x (`dbd` row k of `rows`, columns beyond it zero; `at` reads one entry so).
+fn add_scaled(out: &mut [f64], w: f64, rows: &[f64], k: usize, at: &impl Fn(usize, usize) -> f64) {
+    let nc = out.len();
+    match rows.get(k * nc..(k + 1) * nc) {
+        Some(g) => {
+            for (o, x) in out.iter_mut().zip(g) {
+                *o += w * x;
+            }
+        }
+        None => {
+            for (col, o) in out.iter_mut().enumerate() {
+                *o += w * at(k, col);
+            }
+        }
+    }
 }
 
 /// The rhs's work space (per thread, grown once): the sweep's per-mode factors and sums, z^L
@@ -323,9 +343,7 @@ impl FrameMap {
             for k in 0..m {
                 let w = v[n * m + k];
                 if w != 0.0 {
-                    for col in 0..nc {
-                        dsh[q * nc + col] += w * dbd(k, col);
-                    }
+                    add_scaled(&mut dsh[q * nc..(q + 1) * nc], w, grad.dbd, k, &dbd);
                 }
             }
         }
@@ -362,10 +380,19 @@ impl FrameMap {
             let row = &mut df[l * nc..(l + 1) * nc];
             row[..nz].copy_from_slice(j0.gn_row(l));
             row[0] += cn_r[l] * bd[l];
-            for (col, x) in row.iter_mut().enumerate() {
-                *x += cn[l] * dbd(l, col);
+            // cn = 0 (no ḃ loads) adds zeros only
+            if cn[l] != 0.0 {
+                add_scaled(row, cn[l], grad.dbd, l, &dbd);
             }
         }
+        // the non-zero columns of each ∂F_l (the rest add zeros only)
+        ws.nzc.clear();
+        ws.nz_start.clear();
+        for l in 0..m {
+            ws.nz_start.push(ws.nzc.len());
+            ws.nzc.extend(df[l * nc..(l + 1) * nc].iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(c, _)| c));
+        }
+        ws.nz_start.push(ws.nzc.len());
         // ∂fr_n = −(K/R)(b_k ∂F_l + F_l ∂b_k) + (K F_l b_k/R²) ∂R, per entry
         let dfr = zeroed(&mut ws.dfr, (m + 1) * nc);
         for &(n, l, k, c) in &self.entries {
@@ -373,8 +400,9 @@ impl FrameMap {
             let row = &mut dfr[n * nc..(n + 1) * nc];
             row[a_index(k) + 2] -= c * f / r;
             row[0] += c * f * bk / (r * r);
-            for (o, x) in row.iter_mut().zip(&df[l * nc..(l + 1) * nc]) {
-                *o -= c * bk / r * x;
+            let (dl, w) = (&df[l * nc..(l + 1) * nc], c * bk / r);
+            for &col in &ws.nzc[ws.nz_start[l]..ws.nz_start[l + 1]] {
+                row[col] -= w * dl[col];
             }
         }
         for col in 0..nc {
