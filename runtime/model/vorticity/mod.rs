@@ -21,6 +21,7 @@ pub mod equations;
 pub mod grid;
 pub mod linear;
 pub mod monolithic;
+mod nodes;
 pub mod operator;
 pub mod staggered;
 pub mod structured;

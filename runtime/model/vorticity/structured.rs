@@ -16,6 +16,7 @@
 use super::batch::{add, cmul, dots2, mul, per_node, Lane, Split, TriBatch, L, V};
 use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
+use super::nodes::{self, per_q};
 use super::operator::Rows;
 use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
@@ -323,23 +324,13 @@ impl<T: Lane> StructuredLu<T> {
     #[inline(always)]
     fn solve_body(&self, b: &mut [T]) {
         let j = &*self.jac;
-        let (m, nz, nb, ni) = (j.m, j.nz, j.nb, j.ni);
+        let (m, nz, nb) = (j.m, j.nz, j.nb);
         let q = per_node(m);
         let mut guard = self.scratch.borrow_mut();
         let Scratch { xt, rhs, d, s } = &mut *guard;
         // D_k⁻¹ b_T,k, all modes at once on the node-major copy (mode after mode: contiguous
         // loads from b, strided stores into the copy)
-        for k in 0..m {
-            let src = &b[5 + k * nb..5 + k * nb + ni];
-            let (v, lane) = (k / L, k % L);
-            for (i, &x) in src.iter().enumerate() {
-                let (re, im) = x.parts();
-                xt.re[i * q + v][lane] = re;
-                if T::CPLX {
-                    xt.im[i * q + v][lane] = im;
-                }
-            }
-        }
+        per_q!(q, Q => copy_in::<Q, T>(b, nb, m, xt), _ => copy_in_any(b, nb, m, xt));
         self.tri.solve_body(xt);
         rhs[0] = b[0];
         rhs[1] = b[1];
@@ -384,34 +375,124 @@ impl<T: Lane> StructuredLu<T> {
         // x_T = D⁻¹b_T + u_c s + u_R x_R + u_Ṙ x_Ṙ on the node-major copy, node after node (the
         // modes as lanes; per entry the products and sums of `xv + (c·s + r·x0 + rd·x1)`)
         let (sr, si) = s.split_at(q);
-        let q1 = q.max(1);
         if T::CPLX {
-            let lanes = xt.re.chunks_exact_mut(q1).zip(xt.im.chunks_exact_mut(q1));
-            let us = uc.re.chunks_exact(q1).zip(uc.im.chunks_exact(q1)).zip(ur.re.chunks_exact(q1).zip(ur.im.chunks_exact(q1))).zip(urd.re.chunks_exact(q1).zip(urd.im.chunks_exact(q1)));
-            for ((xr, xi), (((cr, ci), (rr, ri)), (dr, di))) in lanes.zip(us) {
-                let it = xr.iter_mut().zip(xi.iter_mut()).zip(cr.iter().zip(ci)).zip(rr.iter().zip(ri)).zip(dr.iter().zip(di)).zip(sr.iter().zip(si));
-                for (((((xr, xi), (&cr, &ci)), (&rr, &ri)), (&dr, &di)), (&sr, &si)) in it {
-                    let (csr, csi) = cmul(cr, ci, sr, si);
-                    let (rxr, rxi) = cmul(rr, ri, x0r, x0i);
-                    let (dxr, dxi) = cmul(dr, di, x1r, x1i);
-                    *xr = add(*xr, add(add(csr, rxr), dxr));
-                    *xi = add(*xi, add(add(csi, rxi), dxi));
-                }
+            let u = [[&uc.re[..], &uc.im[..]], [&ur.re[..], &ur.im[..]], [&urd.re[..], &urd.im[..]]];
+            per_q!(q, Q => nodes::combine_complex::<Q>([&mut xt.re, &mut xt.im], u, [sr, si], [x0r, x0i], [x1r, x1i]),
+                   _ => combine_complex_any(q, [&mut xt.re, &mut xt.im], u, [sr, si], [x0r, x0i], [x1r, x1i]));
+        } else {
+            let u = [&uc.re[..], &ur.re[..], &urd.re[..]];
+            per_q!(q, Q => nodes::combine_real::<Q>(&mut xt.re, u, sr, x0r, x1r), _ => combine_real_any(q, &mut xt.re, u, sr, x0r, x1r));
+        }
+        per_q!(q, Q => copy_out::<Q, T>(xt, nb, m, b), _ => copy_out_any(xt, nb, m, b));
+    }
+}
+
+/// b_T,k (mode-major in the state `b`) into the node-major split copy `xt`, with the nodes as
+/// `[V; Q]` ([`nodes`]).
+#[inline(always)]
+fn copy_in<const Q: usize, T: Lane>(b: &[T], nb: usize, m: usize, xt: &mut Split) {
+    let xr = nodes::view_mut::<Q>(&mut xt.re);
+    let ni = xr.len();
+    let xi = nodes::view_mut::<Q>(&mut xt.im);
+    for k in 0..m {
+        let src = &b[5 + k * nb..5 + k * nb + ni];
+        let (v, lane) = (k / L, k % L);
+        if T::CPLX {
+            for ((r, i), &x) in xr.iter_mut().zip(xi.iter_mut()).zip(src) {
+                (r[v][lane], i[v][lane]) = x.parts();
             }
         } else {
-            let us = uc.re.chunks_exact(q1).zip(ur.re.chunks_exact(q1)).zip(urd.re.chunks_exact(q1));
-            for (xr, ((cr, rr), dr)) in xt.re.chunks_exact_mut(q1).zip(us) {
-                for ((((x, &c), &r), &d), &sv) in xr.iter_mut().zip(cr).zip(rr).zip(dr).zip(sr) {
-                    *x = add(*x, add(add(mul(c, sv), mul(r, x0r)), mul(d, x1r)));
-                }
+            for (r, &x) in xr.iter_mut().zip(src) {
+                r[v][lane] = x.parts().0;
             }
         }
-        for k in 0..m {
-            let dst = &mut b[5 + k * nb..5 + k * nb + ni];
-            let (v, lane) = (k / L, k % L);
-            for (i, o) in dst.iter_mut().enumerate() {
-                *o = T::from_parts(xt.re[i * q + v][lane], if T::CPLX { xt.im[i * q + v][lane] } else { 0.0 });
+    }
+}
+
+/// [`copy_in`] for any number of vectors per node.
+#[inline(always)]
+fn copy_in_any<T: Lane>(b: &[T], nb: usize, m: usize, xt: &mut Split) {
+    let q = xt.q;
+    let ni = xt.re.len() / q.max(1);
+    for k in 0..m {
+        let src = &b[5 + k * nb..5 + k * nb + ni];
+        let (v, lane) = (k / L, k % L);
+        for (i, &x) in src.iter().enumerate() {
+            let (re, im) = x.parts();
+            xt.re[i * q + v][lane] = re;
+            if T::CPLX {
+                xt.im[i * q + v][lane] = im;
             }
+        }
+    }
+}
+
+/// The node-major `xt` back into b_T,k.
+#[inline(always)]
+fn copy_out<const Q: usize, T: Lane>(xt: &Split, nb: usize, m: usize, b: &mut [T]) {
+    let xr = nodes::view::<Q>(&xt.re);
+    let ni = xr.len();
+    let xi = nodes::view::<Q>(&xt.im);
+    for k in 0..m {
+        let dst = &mut b[5 + k * nb..5 + k * nb + ni];
+        let (v, lane) = (k / L, k % L);
+        if T::CPLX {
+            for ((o, r), i) in dst.iter_mut().zip(xr).zip(xi) {
+                *o = T::from_parts(r[v][lane], i[v][lane]);
+            }
+        } else {
+            for (o, r) in dst.iter_mut().zip(xr) {
+                *o = T::from_parts(r[v][lane], 0.0);
+            }
+        }
+    }
+}
+
+/// [`copy_out`] for any number of vectors per node.
+#[inline(always)]
+fn copy_out_any<T: Lane>(xt: &Split, nb: usize, m: usize, b: &mut [T]) {
+    let q = xt.q;
+    let ni = xt.re.len() / q.max(1);
+    for k in 0..m {
+        let dst = &mut b[5 + k * nb..5 + k * nb + ni];
+        let (v, lane) = (k / L, k % L);
+        for (i, o) in dst.iter_mut().enumerate() {
+            *o = T::from_parts(xt.re[i * q + v][lane], if T::CPLX { xt.im[i * q + v][lane] } else { 0.0 });
+        }
+    }
+}
+
+/// x_T = D⁻¹b_T + u_c s + u_R x_R + u_Ṙ x_Ṙ on the node-major copy, node after node (the modes
+/// as lanes; per entry the products and sums of `xv + (c·s + r·x0 + rd·x1)`), for any q.
+#[inline(always)]
+pub(super) fn combine_complex_any(q: usize, x: [&mut [V]; 2], u: [[&[V]; 2]; 3], s: [&[V]; 2], x0: [V; 2], x1: [V; 2]) {
+    let [[cr, ci], [rr, ri], [dr, di]] = u;
+    let ([sr, si], [x0r, x0i], [x1r, x1i]) = (s, x0, x1);
+    let [xr, xi] = x;
+    let q1 = q.max(1);
+    let lanes = xr.chunks_exact_mut(q1).zip(xi.chunks_exact_mut(q1));
+    let us = cr.chunks_exact(q1).zip(ci.chunks_exact(q1)).zip(rr.chunks_exact(q1).zip(ri.chunks_exact(q1))).zip(dr.chunks_exact(q1).zip(di.chunks_exact(q1)));
+    for ((xr, xi), (((cr, ci), (rr, ri)), (dr, di))) in lanes.zip(us) {
+        let it = xr.iter_mut().zip(xi.iter_mut()).zip(cr.iter().zip(ci)).zip(rr.iter().zip(ri)).zip(dr.iter().zip(di)).zip(sr.iter().zip(si));
+        for (((((xr, xi), (&cr, &ci)), (&rr, &ri)), (&dr, &di)), (&sr, &si)) in it {
+            let (csr, csi) = cmul(cr, ci, sr, si);
+            let (rxr, rxi) = cmul(rr, ri, x0r, x0i);
+            let (dxr, dxi) = cmul(dr, di, x1r, x1i);
+            *xr = add(*xr, add(add(csr, rxr), dxr));
+            *xi = add(*xi, add(add(csi, rxi), dxi));
+        }
+    }
+}
+
+/// [`combine_complex_any`] for real values.
+#[inline(always)]
+pub(super) fn combine_real_any(q: usize, x: &mut [V], u: [&[V]; 3], s: &[V], x0: V, x1: V) {
+    let [cr, rr, dr] = u;
+    let q1 = q.max(1);
+    let us = cr.chunks_exact(q1).zip(rr.chunks_exact(q1)).zip(dr.chunks_exact(q1));
+    for (xr, ((cr, rr), dr)) in x.chunks_exact_mut(q1).zip(us) {
+        for ((((x, &c), &r), &d), &sv) in xr.iter_mut().zip(cr).zip(rr).zip(dr).zip(s) {
+            *x = add(*x, add(add(mul(c, sv), mul(r, x0)), mul(d, x1)));
         }
     }
 }
