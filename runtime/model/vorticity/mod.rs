@@ -17,6 +17,7 @@
 //! the nondimensional form of FORMULATION §4.5 with ρ = 1, η = 1/Re); nothing here assumes either.
 
 pub mod batch;
+mod dense;
 pub mod equations;
 pub mod grid;
 pub mod linear;

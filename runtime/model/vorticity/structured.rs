@@ -14,13 +14,14 @@
 //! [`super::operator::ModeOperator::rows_derivatives`]. Nothing is differenced.
 
 use super::batch::{add, cmul, dots2, mul, per_node, Lane, Split, TriBatch, L, V};
+use super::dense::DenseLu;
 use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
 use super::nodes::{self, per_q};
 use super::operator::Rows;
 use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
-use nalgebra::{Complex, ComplexField, DMatrix};
+use nalgebra::{Complex, DMatrix};
 use std::rc::Rc;
 
 /// J at one (t, y), in structured form.
@@ -42,85 +43,6 @@ pub struct StructuredJacobian {
     pw: [Vec<V>; 2],
 }
 
-/// LU with partial pivoting (largest |re| + |im| in the column, whole rows swapped) of the
-/// small dense (z, π) system, row-major: own code instead of nalgebra's `LU` (issue 16: its
-/// factorisation and solve were 12 % of the monolithic run at 42 × 42), no allocation per solve.
-struct DenseLu<T> {
-    n: usize,
-    /// U on and above the diagonal, the multipliers of L below it (unit diagonal implied).
-    a: Vec<T>,
-    /// 1 / U_ii
-    inv_diag: Vec<T>,
-    /// At step k, row k was swapped with row `piv[k]` ≥ k.
-    piv: Vec<usize>,
-}
-
-impl<T: ComplexField<RealField = f64> + Copy> DenseLu<T> {
-    /// Factors the row-major n × n `a`; `None` when a pivot is zero or not finite.
-    fn new(n: usize, mut a: Vec<T>) -> Option<Self> {
-        let mut piv = vec![0; n];
-        let mut inv_diag = vec![T::zero(); n];
-        for k in 0..n {
-            let (mut p, mut best) = (k, a[k * n + k].norm1());
-            for i in k + 1..n {
-                let v = a[i * n + k].norm1();
-                if v > best {
-                    best = v;
-                    p = i;
-                }
-            }
-            if !(best > 0.0 && best.is_finite()) {
-                return None;
-            }
-            piv[k] = p;
-            if p != k {
-                for j in 0..n {
-                    a.swap(k * n + j, p * n + j);
-                }
-            }
-            let (top, bottom) = a.split_at_mut((k + 1) * n);
-            let rk = &top[k * n + k..(k + 1) * n];
-            let inv = T::one() / rk[0];
-            inv_diag[k] = inv;
-            for row in bottom.chunks_exact_mut(n) {
-                let l = row[k] * inv;
-                row[k] = l;
-                if l != T::zero() {
-                    for (x, &u) in row[k + 1..].iter_mut().zip(&rk[1..]) {
-                        *x -= l * u;
-                    }
-                }
-            }
-        }
-        Some(Self { n, a, inv_diag, piv })
-    }
-
-    /// x ← A⁻¹ x.
-    fn solve(&self, x: &mut [T]) {
-        let n = self.n;
-        let x = &mut x[..n];
-        for (k, &p) in self.piv.iter().enumerate() {
-            x.swap(k, p);
-        }
-        for i in 1..n {
-            let (done, rest) = x.split_at_mut(i);
-            let mut s = rest[0];
-            for (&l, &xj) in self.a[i * n..i * n + i].iter().zip(done.iter()) {
-                s -= l * xj;
-            }
-            rest[0] = s;
-        }
-        for i in (0..n).rev() {
-            let (head, tail) = x.split_at_mut(i + 1);
-            let mut s = head[i];
-            for (&u, &xj) in self.a[i * n + i + 1..(i + 1) * n].iter().zip(tail.iter()) {
-                s -= u * xj;
-            }
-            head[i] = s * self.inv_diag[i];
-        }
-    }
-}
-
 /// The factorisation of σI − J (shares the Jacobian it was built from).
 pub struct StructuredLu<T: Lane> {
     jac: Rc<StructuredJacobian>,
@@ -132,14 +54,15 @@ pub struct StructuredLu<T: Lane> {
     /// (contiguous copies of the gz / gp rows, for s_k = δT_w,k in [`StructuredLu::solve`]).
     tw_rows: Vec<f64>,
     /// Scratch of [`StructuredLu::solve`] (no allocation per solve).
-    scratch: std::cell::RefCell<Scratch<T>>,
+    scratch: std::cell::RefCell<Scratch>,
 }
 
-struct Scratch<T: Lane> {
+struct Scratch {
     /// node-major T part
     xt: Split,
-    /// right-hand side and solution of the small dense system
-    rhs: Vec<T>,
+    /// right-hand side and solution of the small dense system, split (`rhs_i` empty for a real T)
+    rhs_r: Vec<f64>,
+    rhs_i: Vec<f64>,
     /// the 2M functionals P·xt in lanes: real parts of the two kinds, then imaginary parts
     d: Vec<V>,
     /// per mode s_k = δT_w,k in lanes: real parts, then imaginary parts
@@ -287,7 +210,7 @@ impl StructuredJacobian {
                 s[row * ns + row] += T::one();
             }
         }
-        let small = DenseLu::new(ns, s)?;
+        let small = DenseLu::new(ns, &s)?;
         let mut tw_rows = vec![0.0; m * ns];
         for (k, r) in tw_rows.chunks_exact_mut(ns.max(1)).enumerate() {
             for j in 0..nz {
@@ -297,7 +220,7 @@ impl StructuredJacobian {
                 r[nz + q] = self.gp[(nz + k, q)];
             }
         }
-        let scratch = std::cell::RefCell::new(Scratch { xt: Split::zeros::<T>(ni, m), rhs: vec![T::zero(); ns], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] });
+        let scratch = std::cell::RefCell::new(Scratch { xt: Split::zeros::<T>(ni, m), rhs_r: vec![0.0; ns], rhs_i: vec![0.0; if T::CPLX { ns } else { 0 }], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] });
         Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, tw_rows, scratch })
     }
 }
@@ -327,16 +250,23 @@ impl<T: Lane> StructuredLu<T> {
         let (m, nz, nb) = (j.m, j.nz, j.nb);
         let q = per_node(m);
         let mut guard = self.scratch.borrow_mut();
-        let Scratch { xt, rhs, d, s } = &mut *guard;
+        let Scratch { xt, rhs_r, rhs_i, d, s } = &mut *guard;
         // D_k⁻¹ b_T,k, all modes at once on the node-major copy (mode after mode: contiguous
         // loads from b, strided stores into the copy)
         per_q!(q, Q => copy_in::<Q, T>(b, nb, m, xt), _ => copy_in_any(b, nb, m, xt));
         self.tri.solve_body(xt);
-        rhs[0] = b[0];
-        rhs[1] = b[1];
+        let mut put = |i: usize, v: T| {
+            let (re, im) = v.parts();
+            rhs_r[i] = re;
+            if T::CPLX {
+                rhs_i[i] = im;
+            }
+        };
+        put(0, b[0]);
+        put(1, b[1]);
         for k in 0..m {
             for c in 0..3 {
-                rhs[2 + 3 * k + c] = b[2 + k * nb + c];
+                put(2 + 3 * k + c, b[2 + k * nb + c]);
             }
         }
         {
@@ -348,29 +278,38 @@ impl<T: Lane> StructuredLu<T> {
         for kind in 0..2 {
             for k in 0..m {
                 let (v, lane) = ((kind * q) + k / L, k % L);
-                rhs[nz + kind * m + k] = T::from_parts(d[v][lane], if T::CPLX { d[2 * q + v][lane] } else { 0.0 });
+                rhs_r[nz + kind * m + k] = d[v][lane];
+                if T::CPLX {
+                    rhs_i[nz + kind * m + k] = d[2 * q + v][lane];
+                }
             }
         }
-        self.small.solve(rhs);
-        let x = &rhs[..];
-        b[0] = x[0];
-        b[1] = x[1];
-        let ns = x.len();
+        self.small.solve(rhs_r, rhs_i);
+        let (xr, xi) = (&rhs_r[..], &rhs_i[..]);
+        let x = |i: usize| T::from_parts(xr[i], if T::CPLX { xi[i] } else { 0.0 });
+        b[0] = x(0);
+        b[1] = x(1);
+        let ns = xr.len();
         for (k, row) in self.tw_rows.chunks_exact(ns.max(1)).enumerate() {
             for c in 0..3 {
-                b[2 + k * nb + c] = x[2 + 3 * k + c];
+                b[2 + k * nb + c] = x(2 + 3 * k + c);
             }
             // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
-            let mut sk = T::zero();
-            for (&xj, &g) in x.iter().zip(row) {
-                sk += xj.scale(g);
+            let mut re = 0.0;
+            for (&xj, &g) in xr.iter().zip(row) {
+                re += xj * g;
             }
-            let (re, im) = sk.parts();
             s[k / L][k % L] = re;
-            s[q + k / L][k % L] = im;
+            if T::CPLX {
+                let mut im = 0.0;
+                for (&xj, &g) in xi.iter().zip(row) {
+                    im += xj * g;
+                }
+                s[q + k / L][k % L] = im;
+            }
         }
         let [uc, ur, urd] = &self.u;
-        let ((x0r, x0i), (x1r, x1i)) = (x[0].parts(), x[1].parts());
+        let ((x0r, x0i), (x1r, x1i)) = (x(0).parts(), x(1).parts());
         let ([x0r, x0i], [x1r, x1i]) = ([[x0r; L], [x0i; L]], [[x1r; L], [x1i; L]]);
         // x_T = D⁻¹b_T + u_c s + u_R x_R + u_Ṙ x_Ṙ on the node-major copy, node after node (the
         // modes as lanes; per entry the products and sums of `xv + (c·s + r·x0 + rd·x1)`)
@@ -539,34 +478,4 @@ pub fn dense_jacobian(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> DMatrix<f64> {
         }
     }
     jac
-}
-
-#[cfg(test)]
-mod tests {
-    use super::DenseLu;
-    use nalgebra::Complex;
-
-    /// The small dense LU solves A x = b for a complex matrix that needs pivoting (zero diagonal),
-    /// and reports a singular one.
-    #[test]
-    fn dense_lu_solves_with_pivoting() {
-        let n = 7;
-        let a: Vec<Complex<f64>> = (0..n * n)
-            .map(|i| {
-                let (r, c) = (i / n, i % n);
-                if r == c { Complex::new(0.0, 0.0) } else { Complex::new(((r * 7 + c * 13) % 11) as f64 - 5.0, (r + 2 * c) as f64 * 0.1) }
-            })
-            .collect();
-        let b: Vec<Complex<f64>> = (0..n).map(|i| Complex::new((i as f64).sin(), 1.0)).collect();
-        let lu = DenseLu::new(n, a.clone()).expect("invertible");
-        let mut x = b.clone();
-        lu.solve(&mut x);
-        for r in 0..n {
-            let ax: Complex<f64> = (0..n).map(|c| a[r * n + c] * x[c]).sum();
-            assert!((ax - b[r]).norm() < 1e-12, "row {r}: {ax} vs {}", b[r]);
-        }
-        let mut sing = vec![1.0f64; 9];
-        sing[8] = 1.0;
-        assert!(DenseLu::new(3, sing).is_none(), "rank 1");
-    }
 }
