@@ -245,21 +245,20 @@ impl ModeOperator {
         let n = t.len().min(self.wi.len() - 1);
         let (t, wi, wj) = (&t[..n], &self.wi[1..n + 1], &self.wj[1..n + 1]);
         use super::batch::{add, mul, V};
-        // one weight at a time (two passes over t): each pass one 4-lane accumulator, which
-        // the compiler keeps in one register (both in one loop, it interleaved them in halves)
+        let (mut si, mut sj): (V, V) = ([0.0; 4], [0.0; 4]);
+        let chunks = t.chunks_exact(4).zip(wi.chunks_exact(4)).zip(wj.chunks_exact(4));
+        for ((c, a), b) in chunks {
+            let (c, a, b): (&V, &V, &V) = (c.try_into().unwrap_or(&[0.0; 4]), a.try_into().unwrap_or(&[0.0; 4]), b.try_into().unwrap_or(&[0.0; 4]));
+            si = add(si, mul(*c, *a));
+            sj = add(sj, mul(*c, *b));
+        }
         let tail = n - n % 4;
-        let dot = |w: &[f64]| {
-            let mut acc: V = [0.0; 4];
-            for (c, a) in t.as_chunks::<4>().0.iter().zip(w.as_chunks::<4>().0) {
-                acc = add(acc, mul(*c, *a));
-            }
-            let mut r = (acc[0] + acc[1]) + (acc[2] + acc[3]);
-            for q in tail..n {
-                r += t[q] * w[q];
-            }
-            r
-        };
-        (dot(wi), dot(wj))
+        let (mut ri, mut rj) = ((si[0] + si[1]) + (si[2] + si[3]), (sj[0] + sj[1]) + (sj[2] + sj[3]));
+        for q in tail..n {
+            ri += t[q] * wi[q];
+            rj += t[q] * wj[q];
+        }
+        (ri, rj)
     }
 
     /// The exact ∂/∂R and ∂/∂Ṙ of [`rows`](Self::rows) (for the structured Jacobian). |Ṙ| in the

@@ -14,7 +14,7 @@
 //! [`super::operator::ModeOperator::rows_derivatives`]. Nothing is differenced.
 
 use super::batch::{add, cmul, dots2, mul, per_node, Lane, Split, TriBatch, L, V};
-use super::dense::Eliminated;
+use super::dense::DenseLu;
 use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
 use super::nodes::{self, per_q};
@@ -41,9 +41,6 @@ pub struct StructuredJacobian {
     /// P rows per mode: weights of Ĩ_int and of ∫(y⁻³−1)y^{−k}T dy on the interior nodes
     /// node-major in lanes, as [`TriBatch`]
     pw: [Vec<V>; 2],
-    /// The position rows (i, j) of the (z, π) system: J's row i a single 1 in column j
-    /// ([`position_rows`]).
-    pos: Vec<(usize, usize)>,
 }
 
 /// The factorisation of σI − J (shares the Jacobian it was built from).
@@ -52,7 +49,7 @@ pub struct StructuredLu<T: Lane> {
     tri: TriBatch,
     /// D_k⁻¹ c_k, D_k⁻¹ r_R,k, D_k⁻¹ r_Ṙ,k, node-major and split like [`TriBatch`]
     u: [Split; 3],
-    small: Eliminated<T>,
+    small: DenseLu<T>,
     /// The T_w,k rows of J in (z, π), row-major M × (nz + 2M): ∂T_w,k/∂z then ∂T_w,k/∂p
     /// (contiguous copies of the gz / gp rows, for s_k = δT_w,k in [`StructuredLu::solve`]).
     tw_rows: Vec<f64>,
@@ -66,9 +63,6 @@ struct Scratch {
     /// right-hand side and solution of the small dense system, split (`rhs_i` empty for a real T)
     rhs_r: Vec<f64>,
     rhs_i: Vec<f64>,
-    /// scratch of the reduced system ([`Eliminated::solve`])
-    w_r: Vec<f64>,
-    w_i: Vec<f64>,
     /// the 2M functionals P·xt in lanes: real parts of the two kinds, then imaginary parts
     d: Vec<V>,
     /// per mode s_k = δT_w,k in lanes: real parts, then imaginary parts
@@ -101,7 +95,6 @@ impl StructuredJacobian {
         }
         j.r_r.fill([0.0; L]);
         j.r_rd.fill([0.0; L]);
-        j.pos = position_rows(&j.gz, &j.gp);
         Rc::new(j)
     }
 
@@ -155,8 +148,7 @@ impl StructuredJacobian {
                 pw[1][i * q + mi / L][mi % L] = op.wj[1 + i];
             }
         }
-        let pos = position_rows(&gz, &gp);
-        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw, pos }
+        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw }
     }
 
     /// Factors σI − J. `None` if singular.
@@ -218,7 +210,7 @@ impl StructuredJacobian {
                 s[row * ns + row] += T::one();
             }
         }
-        let small = Eliminated::new(ns, &s, sigma, self.pos.clone())?;
+        let small = DenseLu::new(ns, &s)?;
         let mut tw_rows = vec![0.0; m * ns];
         for (k, r) in tw_rows.chunks_exact_mut(ns.max(1)).enumerate() {
             for j in 0..nz {
@@ -228,7 +220,7 @@ impl StructuredJacobian {
                 r[nz + q] = self.gp[(nz + k, q)];
             }
         }
-        let scratch = std::cell::RefCell::new(Scratch { xt: Split::zeros::<T>(ni, m), rhs_r: vec![0.0; ns], rhs_i: vec![0.0; if T::CPLX { ns } else { 0 }], w_r: vec![0.0; ns], w_i: vec![0.0; if T::CPLX { ns } else { 0 }], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] });
+        let scratch = std::cell::RefCell::new(Scratch { xt: Split::zeros::<T>(ni, m), rhs_r: vec![0.0; ns], rhs_i: vec![0.0; if T::CPLX { ns } else { 0 }], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] });
         Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, tw_rows, scratch })
     }
 }
@@ -258,7 +250,7 @@ impl<T: Lane> StructuredLu<T> {
         let (m, nz, nb) = (j.m, j.nz, j.nb);
         let q = per_node(m);
         let mut guard = self.scratch.borrow_mut();
-        let Scratch { xt, rhs_r, rhs_i, w_r, w_i, d, s } = &mut *guard;
+        let Scratch { xt, rhs_r, rhs_i, d, s } = &mut *guard;
         // D_k⁻¹ b_T,k, all modes at once on the node-major copy (mode after mode: contiguous
         // loads from b, strided stores into the copy)
         per_q!(q, Q => copy_in::<Q, T>(b, nb, m, xt), _ => copy_in_any(b, nb, m, xt));
@@ -292,7 +284,7 @@ impl<T: Lane> StructuredLu<T> {
                 }
             }
         }
-        self.small.solve(rhs_r, rhs_i, w_r, w_i);
+        self.small.solve(rhs_r, rhs_i);
         let (xr, xi) = (&rhs_r[..], &rhs_i[..]);
         let x = |i: usize| T::from_parts(xr[i], if T::CPLX { xi[i] } else { 0.0 });
         b[0] = x(0);
@@ -442,29 +434,6 @@ pub(super) fn combine_real_any(q: usize, x: &mut [V], u: [&[V]; 3], s: &[V], x0:
             *x = add(*x, add(add(mul(c, sv), mul(r, x0)), mul(d, x1)));
         }
     }
-}
-
-/// The rows i < nz of J's (z, π) part that hold a single 1 in a column j ≠ i and nothing else
-/// (R' = Ṙ and a_k' = ȧ_k, eq. 2.62), j not itself such a row: the rows σ e_i − e_j of σI − J
-/// that [`Eliminated`] solves first.
-fn position_rows(gz: &DMatrix<f64>, gp: &DMatrix<f64>) -> Vec<(usize, usize)> {
-    let nz = gz.ncols();
-    let single = |i: usize| -> Option<usize> {
-        if (0..gp.ncols()).any(|q| gp[(i, q)] != 0.0) {
-            return None;
-        }
-        let mut one = None;
-        for j in 0..nz {
-            match gz[(i, j)] {
-                0.0 => {}
-                1.0 if j != i && one.is_none() => one = Some(j),
-                _ => return None,
-            }
-        }
-        one
-    };
-    let cand: Vec<Option<usize>> = (0..nz).map(single).collect();
-    (0..nz).filter_map(|i| cand[i].filter(|&j| cand[j].is_none()).map(|j| (i, j))).collect()
 }
 
 /// The structured Jacobian as the integrators' linear-solver hook
