@@ -16,7 +16,8 @@ pub struct DenseLu<T> {
     /// U on and above the diagonal, row-major (the multipliers of L below it, not read).
     ur: Vec<f64>,
     ui: Vec<f64>,
-    /// L's multipliers column-major: column j holds rows j+1 … n−1 at `j·n + i`.
+    /// L's multipliers column by column, packed: column j (rows j+1 … n−1) from
+    /// `j·n − j(j+1)/2` on.
     lr: Vec<f64>,
     li: Vec<f64>,
     /// 1 / U_ii
@@ -81,8 +82,13 @@ impl<T: Lane> DenseLu<T> {
             eliminate::<T>(n, k, inv, &mut ur, &mut ui);
         }
         // L's multipliers column-major (for the column-oriented forward substitution)
-        // (every entry written once; those on and above the diagonal are not read)
-        let lower = |a: &[f64]| -> Vec<f64> { (0..n * n).map(|at| if at % n > at / n { a[(at % n) * n + at / n] } else { 0.0 }).collect() };
+        let lower = |a: &[f64]| -> Vec<f64> {
+            let mut l = Vec::with_capacity(n * n.saturating_sub(1) / 2);
+            for j in 0..n {
+                l.extend((j + 1..n).map(|i| a[i * n + j]));
+            }
+            l
+        };
         let (lr, li) = (lower(&ur), if T::CPLX { lower(&ui) } else { Vec::new() });
         Some(Self { n, ur, ui, lr, li, dr, di, piv, _t: PhantomData })
     }
@@ -184,7 +190,8 @@ fn eliminate<T: Lane>(n: usize, k: usize, inv: T, ur: &mut [f64], ui: &mut [f64]
 #[inline(always)]
 fn forward<T: Lane>(n: usize, lr: &[f64], li: &[f64], xr: &mut [f64], xi: &mut [f64]) {
     for j in 0..n.saturating_sub(1) {
-        let col = j * n + j + 1..(j + 1) * n;
+        let start = j * n - j * (j + 1) / 2;
+        let col = start..start + (n - j - 1);
         let (head_r, tail_r) = xr.split_at_mut(j + 1);
         let xjr = head_r[j];
         if T::CPLX {
