@@ -41,6 +41,17 @@ pub struct StructuredJacobian {
     /// P rows per mode: weights of Ĩ_int and of ∫(y⁻³−1)y^{−k}T dy on the interior nodes
     /// node-major in lanes, as [`TriBatch`]
     pw: [Vec<V>; 2],
+    /// [gz | gp] row-major, (nz + M) × (nz + 2M) (the rows of the (z, π) system, contiguous)
+    g: Vec<f64>,
+}
+
+/// [gz | gp] row-major.
+fn row_major(gz: &DMatrix<f64>, gp: &DMatrix<f64>) -> Vec<f64> {
+    let mut g = Vec::with_capacity(gz.nrows() * (gz.ncols() + gp.ncols()));
+    for i in 0..gz.nrows() {
+        g.extend(gz.row(i).iter().chain(gp.row(i).iter()));
+    }
+    g
 }
 
 /// The factorisation of σI − J (shares the Jacobian it was built from).
@@ -95,6 +106,7 @@ impl StructuredJacobian {
         }
         j.r_r.fill([0.0; L]);
         j.r_rd.fill([0.0; L]);
+        j.g = row_major(&j.gz, &j.gp);
         Rc::new(j)
     }
 
@@ -148,7 +160,8 @@ impl StructuredJacobian {
                 pw[1][i * q + mi / L][mi % L] = op.wj[1 + i];
             }
         }
-        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw }
+        let g = row_major(&gz, &gp);
+        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw, g }
     }
 
     /// Factors σI − J. `None` if singular.
@@ -158,14 +171,9 @@ impl StructuredJacobian {
         // row-major ns × ns (the own dense LU below), built row after row (every entry written
         // once: no zeroed buffer); the π rows are written below
         let mut s = Vec::with_capacity(ns * ns);
-        for i in 0..nz {
-            for j in 0..nz {
-                s.push(-T::from_real(self.gz[(i, j)]));
-            }
+        for (i, row) in self.g.chunks_exact(ns.max(1)).take(nz).enumerate() {
+            s.extend(row.iter().map(|&v| -T::from_real(v)));
             s[i * ns + i] += sigma;
-            for q in 0..2 * m {
-                s.push(-T::from_real(self.gp[(i, q)]));
-            }
         }
         s.resize(ns * ns, T::zero());
         let tri = TriBatch::new(sigma, &self.rows, ni)?;
@@ -198,28 +206,17 @@ impl StructuredJacobian {
                 let q = kind * m + k; // π ordering = p ordering
                 let (pu, pr, prd) = (at(&pu_all, kind, k), at(&pr_all, kind, k), at(&prd_all, kind, k));
                 let row = nz + q;
-                let tw_row = nz + k; // row of T_w,k in gz/gp
-                for j in 0..nz {
-                    s[row * ns + j] = -pu.scale(self.gz[(tw_row, j)]);
+                let tw_row = &self.g[(nz + k) * ns..(nz + k + 1) * ns]; // row of T_w,k in [gz | gp]
+                for (x, &g) in s[row * ns..(row + 1) * ns].iter_mut().zip(tw_row) {
+                    *x = -pu.scale(g);
                 }
                 s[row * ns] -= pr;
                 s[row * ns + 1] -= prd;
-                for q2 in 0..2 * m {
-                    s[row * ns + nz + q2] = -pu.scale(self.gp[(tw_row, q2)]);
-                }
                 s[row * ns + row] += T::one();
             }
         }
         let small = DenseLu::new(ns, &s)?;
-        let mut tw_rows = vec![0.0; m * ns];
-        for (k, r) in tw_rows.chunks_exact_mut(ns.max(1)).enumerate() {
-            for j in 0..nz {
-                r[j] = self.gz[(nz + k, j)];
-            }
-            for q in 0..2 * m {
-                r[nz + q] = self.gp[(nz + k, q)];
-            }
-        }
+        let tw_rows = self.g[nz * ns..(nz + m) * ns].to_vec();
         let scratch = std::cell::RefCell::new(Scratch { xt: Split::zeros::<T>(ni, m), rhs_r: vec![0.0; ns], rhs_i: vec![0.0; if T::CPLX { ns } else { 0 }], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] });
         Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, tw_rows, scratch })
     }
