@@ -80,6 +80,40 @@ struct Scratch {
     s: Vec<V>,
 }
 
+thread_local! {
+    /// Scratch of dropped factorisations, for the next ones (Radau5 refactors σI − J 561 times
+    /// in the monolithic run: no zeroed node-major buffer per factorisation).
+    static SPARE: std::cell::RefCell<Vec<Scratch>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+impl Scratch {
+    /// A spare scratch of the right shape (every entry a solve reads is written by that solve
+    /// first: `xt` by the copy in, the lanes past M stay zero), else a zeroed one.
+    fn take<T: Lane>(ni: usize, m: usize, ns: usize) -> Self {
+        let q = per_node(m);
+        let fits = |s: &Scratch| s.xt.q == q && s.xt.re.len() == ni * q && s.xt.im.len() == if T::CPLX { ni * q } else { 0 } && s.rhs_r.len() == ns && s.rhs_i.len() == if T::CPLX { ns } else { 0 };
+        let spare = SPARE.with(|p| {
+            let mut p = p.borrow_mut();
+            let at = p.iter().position(fits)?;
+            Some(p.swap_remove(at))
+        });
+        spare.unwrap_or_else(|| Scratch { xt: Split::zeros::<T>(ni, m), rhs_r: vec![0.0; ns], rhs_i: vec![0.0; if T::CPLX { ns } else { 0 }], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] })
+    }
+}
+
+impl<T: Lane> Drop for StructuredLu<T> {
+    fn drop(&mut self) {
+        let s = std::mem::replace(self.scratch.get_mut(), Scratch { xt: Split { q: 0, re: Vec::new(), im: Vec::new() }, rhs_r: Vec::new(), rhs_i: Vec::new(), d: Vec::new(), s: Vec::new() });
+        // at most a few kept (a real and a complex factorisation alive at once, one of each spare)
+        let _ = SPARE.try_with(|p| {
+            let mut p = p.borrow_mut();
+            if p.len() < 4 {
+                p.push(s);
+            }
+        });
+    }
+}
+
 impl StructuredJacobian {
     /// Builds J of `sys` at (t, y) by structured differencing.
     pub fn new(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> Rc<Self> {
@@ -217,7 +251,7 @@ impl StructuredJacobian {
         }
         let small = DenseLu::new(ns, &s)?;
         let tw_rows = self.g[nz * ns..(nz + m) * ns].to_vec();
-        let scratch = std::cell::RefCell::new(Scratch { xt: Split::zeros::<T>(ni, m), rhs_r: vec![0.0; ns], rhs_i: vec![0.0; if T::CPLX { ns } else { 0 }], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] });
+        let scratch = std::cell::RefCell::new(Scratch::take::<T>(ni, m, ns));
         Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, tw_rows, scratch })
     }
 }
