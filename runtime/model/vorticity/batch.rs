@@ -205,6 +205,40 @@ impl TriBatch {
     }
 }
 
+impl TriBatch {
+    /// [`solve`](Self::solve) of a real right-hand side `x.re` (`x.im` empty): for complex
+    /// factors the imaginary parts are written by the sweep (no zeroed buffer first).
+    pub fn solve_real_rhs(&self, x: &mut Split) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor supports AVX (checked just above); the kernel is safe code.
+            unsafe { self.solve_real_rhs_avx(x) };
+            return;
+        }
+        self.solve_real_rhs_body(x);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn solve_real_rhs_avx(&self, x: &mut Split) {
+        self.solve_real_rhs_body(x);
+    }
+
+    #[inline(always)]
+    fn solve_real_rhs_body(&self, x: &mut Split) {
+        let (q, ib, gm) = (self.q, &self.inv_beta, &self.gamma);
+        if q == 0 || ib.im.is_empty() {
+            return self.solve_body(x);
+        }
+        per_q!(q, Q => nodes::sweep_complex_real_rhs::<Q>(&self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], &mut x.re, &mut x.im),
+               _ => {
+                   x.im.clear();
+                   x.im.resize(x.re.len(), [0.0; L]);
+                   self.solve_body(x)
+               });
+    }
+}
+
 #[inline(always)]
 pub(super) fn sweep_real(q: usize, lower: &[V], ib: &[V], gamma: &[V], x: &mut [V]) {
     let nodes = x.len() / q;

@@ -112,6 +112,53 @@ pub fn sweep_complex<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2
     }
 }
 
+/// [`sweep_complex`] of a real right-hand side: `xi` comes empty (any capacity) and the
+/// imaginary parts are pushed node after node by the forward sweep, with the same operations on
+/// a zero imaginary input (`0 − p·l`, the literal zero as the stored one would be: the same bits)
+/// — no zeroed buffer to read.
+#[inline(always)]
+pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], xr: &mut [V], xi: &mut Vec<V>) {
+    let xr = view_mut::<Q>(xr);
+    let n = xr.len();
+    xi.clear();
+    xi.reserve(n * Q);
+    if n == 0 {
+        return;
+    }
+    let lower = &view::<Q>(lower)[..n];
+    let (br, bi) = (&view::<Q>(ib[0])[..n], &view::<Q>(ib[1])[..n]);
+    let zero = [0.0; super::batch::L];
+    let (mut pr, mut pi) = (xr[0], [zero; Q]);
+    for j in 0..Q {
+        (pr[j], pi[j]) = cmul(pr[j], pi[j], br[0][j], bi[0][j]);
+    }
+    xr[0] = pr;
+    xi.extend_from_slice(&pi);
+    for i in 1..n {
+        let (mut cr, mut ci) = (xr[i], [zero; Q]);
+        for j in 0..Q {
+            let l = lower[i][j];
+            let (a, b) = (sub(cr[j], mul(pr[j], l)), sub(ci[j], mul(pi[j], l)));
+            (cr[j], ci[j]) = cmul(a, b, br[i][j], bi[i][j]);
+        }
+        xr[i] = cr;
+        xi.extend_from_slice(&ci);
+        (pr, pi) = (cr, ci);
+    }
+    let xi = &mut view_mut::<Q>(xi)[..n];
+    let (gr, gi) = (&view::<Q>(gamma[0])[..n], &view::<Q>(gamma[1])[..n]);
+    for i in (0..n - 1).rev() {
+        let (mut cr, mut ci) = (xr[i], xi[i]);
+        for j in 0..Q {
+            let (qr, qi) = cmul(gr[i + 1][j], gi[i + 1][j], pr[j], pi[j]);
+            cr[j] = sub(cr[j], qr);
+            ci[j] = sub(ci[j], qi);
+        }
+        (xr[i], xi[i]) = (cr, ci);
+        (pr, pi) = (cr, ci);
+    }
+}
+
 /// Per mode (Σ_i v(i, k) w0(i, k), Σ_i v(i, k) w1(i, k)), summed in the order of i from zero.
 #[inline(always)]
 pub fn dots2<const Q: usize>(v: &[V], w0: &[V], w1: &[V]) -> [N<Q>; 2] {
@@ -210,6 +257,10 @@ mod tests {
                 sweep_complex::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], [&mut ar, &mut ai]);
                 batch::sweep_complex(q, &lower, [&ibr, &ibi], [&gr, &gi], [&mut br, &mut bi]);
                 assert_eq!((bits(&ar), bits(&ai)), (bits(&br), bits(&bi)), "complex sweep, q = {q}");
+                let (mut ar, mut ai, mut br, mut bi) = (xr.clone(), vec![[0.0; L]; n], xr.clone(), Vec::new());
+                sweep_complex::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], [&mut ar, &mut ai]);
+                sweep_complex_real_rhs::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], &mut br, &mut bi);
+                assert_eq!((bits(&ar), bits(&ai)), (bits(&br), bits(&bi)), "complex sweep of a real rhs, q = {q}");
                 let v = Split { q, re: xr.clone(), im: xi.clone() };
                 let mut acc = vec![[0.0; L]; 4 * q];
                 let (p, r) = acc.split_at_mut(2 * q);

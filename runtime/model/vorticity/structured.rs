@@ -212,17 +212,18 @@ impl StructuredJacobian {
         s.resize(ns * ns, T::zero());
         let tri = TriBatch::new(sigma, &self.rows, ni)?;
         let q = per_node(m);
-        let mut uc = Split::zeros::<T>(ni, m);
+        // c_k, r_R,k, r_Ṙ,k are real: their imaginary parts are written by the sweeps
+        let mut uc = Split::zeros::<f64>(ni, m);
         if ni > 0 {
             for k in 0..m {
                 uc.re[k / L][k % L] = self.rows[k].lower[0];
             }
         }
-        let real = |v: &Vec<V>| Split { q, re: v.clone(), im: if T::CPLX { vec![[0.0; L]; v.len()] } else { Vec::new() } };
+        let real = |v: &Vec<V>| Split { q, re: v.clone(), im: Vec::new() };
         let (mut ur, mut urd) = (real(&self.r_r), real(&self.r_rd));
-        tri.solve(&mut uc);
-        tri.solve(&mut ur);
-        tri.solve(&mut urd);
+        tri.solve_real_rhs(&mut uc);
+        tri.solve_real_rhs(&mut ur);
+        tri.solve_real_rhs(&mut urd);
         // P·u for the two kinds of functional at once: [kind 0 re, kind 1 re, kind 0 im, kind 1 im]
         let pw = [&self.pw[0][..], &self.pw[1][..]];
         let dot = |v: &Split| {
