@@ -32,6 +32,7 @@ pub mod shell;
 pub mod vapour;
 pub mod viscosity;
 
+mod frame_sweep;
 mod pair_rows;
 
 /// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.

@@ -28,12 +28,15 @@
 //! material-frame terms' share of its first pass ([`FirstOrder::material`], model/material.rs)
 //! — so the rhs evaluates the linear loads once, at z^L. K is symmetric in (l, m), so the three
 //! sums Σ K a_l b_m, Σ K (ȧ_l b_m + a_l ḃ_m), Σ K F_l b_m over ordered pairs are one sweep over
-//! the (target, unordered pair l ≤ m) rows the selection rules allow, each pair's three symmetric
-//! products formed once (a 4-lane vector per pair, the diagonal pairs' K halved). The
-//! Jacobian's work space is kept per thread (no allocation per refresh).
+//! the (target, unordered pair l ≤ m) rows the selection rules allow, planned once pair by pair
+//! as runs of consecutive targets (effects/frame_sweep.rs: each pair's three symmetric products
+//! formed once in one 4-lane register, the diagonal pairs' K halved, no per-row index). The
+//! rhs's factors, z^L and L(z^L) and the Jacobian's work space are kept per thread (no
+//! allocation, no MAX_MODES arrays zeroed per call).
 
 use std::cell::RefCell;
 
+use super::frame_sweep::{Factors, FrameRows};
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
 use super::{a_index, At, BdotLoads, LoadJacobian, Loads, Term, MAX_MODES};
 use crate::coefficients::quadratic::P1P1P;
@@ -54,13 +57,8 @@ pub struct FrameMap {
     /// (target n: 0 = P_0, 1 + i = mode index i; l; m; K(n, l, m)) over ordered mode pairs
     /// (the Jacobian's list).
     entries: Vec<(usize, usize, usize, f64)>,
-    /// The unordered pairs l ≤ m (mode indices) with a row.
-    pairs: Vec<(usize, usize)>,
-    /// Rows of target n: `row_start[n]..row_start[n + 1]`; per row its pair and K(n, l, m)
-    /// (halved for l = m: the pair's symmetric products count l = m twice).
-    row_start: Vec<usize>,
-    row_pair: Vec<u32>,
-    row_k: Vec<f64>,
+    /// The three sums' rows, planned once (effects/frame_sweep.rs).
+    rows: FrameRows,
     modes: usize,
 }
 
@@ -76,14 +74,45 @@ struct Scratch {
     v: Vec<f64>,
     df: Vec<f64>,
     dfr: Vec<f64>,
+    /// the non-zero columns of each row of df: `nzc[nz_start[l]..nz_start[l + 1]]`
+    nzc: Vec<usize>,
+    nz_start: Vec<usize>,
     jl: Option<LoadJacobian>,
+}
+
+/// out += w · ∂ḃ⁽¹⁾_k/∂x (`dbd` row k of `rows`, columns beyond it zero; `at` reads one entry so).
+fn add_scaled(out: &mut [f64], w: f64, rows: &[f64], k: usize, at: &impl Fn(usize, usize) -> f64) {
+    let nc = out.len();
+    match rows.get(k * nc..(k + 1) * nc) {
+        Some(g) => {
+            for (o, x) in out.iter_mut().zip(g) {
+                *o += w * x;
+            }
+        }
+        None => {
+            for (col, o) in out.iter_mut().enumerate() {
+                *o += w * at(k, col);
+            }
+        }
+    }
+}
+
+/// The rhs's work space (per thread, grown once): the sweep's per-mode factors and sums, z^L
+/// and L(z^L).
+#[derive(Default)]
+struct Work {
+    u: Vec<[f64; 4]>,
+    v: Vec<[f64; 4]>,
+    /// [d_n, s_n, f_n, ·] per target
+    sums: Vec<[f64; 4]>,
+    zl: Vec<f64>,
+    gn: Vec<f64>,
+    gt: Vec<f64>,
 }
 
 thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
-    /// The pairs' symmetric products of [`FrameMap::sums`] (a stack array for every possible
-    /// pair would be zeroed on each rhs).
-    static PAIRS: RefCell<Vec<[f64; 4]>> = const { RefCell::new(Vec::new()) };
+    static WORK: RefCell<Work> = RefCell::new(Work::default());
 }
 
 /// `v` resized to `n` zeros.
@@ -99,8 +128,6 @@ struct Sums {
     d: [f64; MAX_MODES + 1],
     /// Σ K (ȧ_l b_m + a_l ḃ_m)
     s: [f64; MAX_MODES + 1],
-    /// Σ K F_l b_m
-    f: [f64; MAX_MODES + 1],
 }
 
 impl FrameMap {
@@ -125,21 +152,14 @@ impl FrameMap {
                 }
             }
         }
-        let all: Vec<(usize, usize)> = (0..ks.len()).flat_map(|l| (l..ks.len()).map(move |m| (l, m))).collect();
-        let used: Vec<(usize, usize)> = all.into_iter().filter(|&(l, m)| (0..=ks.len()).any(|n| coef(n, l, m) != 0.0)).collect();
-        let (mut row_start, mut row_pair, mut row_k) = (vec![0], Vec::new(), Vec::new());
-        for n in 0..=ks.len() {
-            for (p, &(l, m)) in used.iter().enumerate() {
-                let c = coef(n, l, m);
-                if c != 0.0 {
-                    row_pair.push(p as u32);
-                    row_k.push(if l == m { c / 2.0 } else { c });
-                }
-            }
-            row_start.push(row_pair.len());
-        }
+        let rows = FrameRows::new(ks.len(), coef);
         let bdot = lagrangian.iter().any(|t| t.has_bdot_loads());
-        Some(Self { lagrangian, bdot, entries, pairs: used, row_start, row_pair, row_k, modes: ks.len() })
+        Some(Self { lagrangian, bdot, entries, rows, modes: ks.len() })
+    }
+
+    /// Number of (target, unordered pair) rows of the three sums.
+    pub fn sparse_rows(&self) -> usize {
+        self.rows.len()
     }
 
     /// Σ over the Lagrangian terms: (P, G_n, G_t) at z (the core hands over those at the state;
@@ -147,12 +167,19 @@ impl FrameMap {
     pub fn lagrangian_loads(&self, t: f64, z: &[f64]) -> (f64, [f64; MAX_MODES], [f64; MAX_MODES]) {
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
         let m = self.modes;
-        let mut l = Loads { pressure: 0.0, gn: &mut gn[..m], gt: &mut gt[..m] };
+        let p = self.lagrangian_into(t, z, &mut gn[..m], &mut gt[..m]);
+        (p, gn, gt)
+    }
+
+    /// [`lagrangian_loads`](Self::lagrangian_loads) into `gn`, `gt` (overwritten): P returned.
+    fn lagrangian_into(&self, t: f64, z: &[f64], gn: &mut [f64], gt: &mut [f64]) -> f64 {
+        gn.fill(0.0);
+        gt.fill(0.0);
+        let mut l = Loads { pressure: 0.0, gn, gt };
         for term in &self.lagrangian {
             term.add(&At { t, z }, &mut l);
         }
-        let p = l.pressure;
-        (p, gn, gt)
+        l.pressure
     }
 
     /// ∂/∂z of [`lagrangian_loads`](Self::lagrangian_loads) (`jac` overwritten).
@@ -177,48 +204,45 @@ impl FrameMap {
         (cn, cn_r)
     }
 
-    /// Per target, Σ K a_l b_m, Σ K (ȧ_l b_m + a_l ḃ_m) and Σ K F_l b_m over the ordered pairs:
-    /// one sweep over the rows, a pair's symmetric products [a_l b_m + a_m b_l, …] once.
-    fn sums(&self, z: &[f64], bd: &[f64; MAX_MODES], f: &[f64; MAX_MODES]) -> Sums {
-        // [a, ȧ, F, 0] and b, ḃ per mode
-        let mut u = [[0.0; 4]; MAX_MODES];
-        let (mut b, mut a) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-        for i in 0..self.modes {
-            let k = a_index(i);
-            u[i] = [z[k], z[k + 1], f[i], 0.0];
-            (a[i], b[i]) = (z[k], z[k + 2]);
+    /// Per target, Σ K a_l b_m, Σ K (ȧ_l b_m + a_l ḃ_m) and Σ K F_l b_m over the ordered pairs
+    /// into `w.sums` (F_l = G_n,l(z) + cn_l ḃ_l the first-order normal loads, ḃ = ḃ⁽¹⁾ padded
+    /// with zeros to the mode count), and the material state z^L into `w.zl`.
+    fn sums_into(&self, at: &At<'_>, first: &FirstOrder<'_>, w: &mut Work) {
+        let (z, m) = (at.z, self.modes);
+        if w.sums.len() <= m {
+            *w = Work { u: vec![[0.0; 4]; m], v: vec![[0.0; 4]; m], sums: vec![[0.0; 4]; m + 1], ..Work::default() };
         }
-        PAIRS.with(|cell| self.sweep(&u, &a, &b, bd, &mut cell.borrow_mut()))
+        let cn = if self.bdot { Some(self.bdot_normal(at).0) } else { None };
+        let g = first.material.gn;
+        for i in 0..m {
+            let k = a_index(i);
+            let bd = first.bd.get(i).copied().unwrap_or(0.0);
+            // F_l; without ḃ loads cn = 0 (the same sum)
+            let f = if i < g.len() { g[i] + cn.map_or(0.0, |c| c[i]) * bd } else { 0.0 };
+            (w.u[i], w.v[i]) = ([z[k], z[k + 1], f, z[k]], [z[k + 2], z[k + 2], z[k + 2], bd]);
+        }
+        self.rows.sweep(&Factors { u: &w.u, v: &w.v }, &mut w.sums);
+        let (r, rd) = (z[0], z[1]);
+        w.zl.clear();
+        w.zl.extend_from_slice(z);
+        for (n, o) in w.sums[..=m].iter().enumerate() {
+            let (p, v, d, s) = (rows(n).0, rows(n).1, o[0], o[1]);
+            w.zl[p] += d / r;
+            w.zl[v] += s / r - rd * d / (r * r);
+        }
     }
 
-    /// [`sums`](Self::sums) from the per-mode factors, `w` the pairs' scratch.
-    fn sweep(&self, u: &[[f64; 4]; MAX_MODES], a: &[f64; MAX_MODES], b: &[f64; MAX_MODES], bd: &[f64; MAX_MODES], w: &mut Vec<[f64; 4]>) -> Sums {
-        if w.len() < self.pairs.len() {
-            w.resize(self.pairs.len(), [0.0; 4]);
-        }
-        for (wp, &(l, m)) in w.iter_mut().zip(&self.pairs) {
-            let (ul, um, bl, bm) = (&u[l], &u[m], b[l], b[m]);
-            for ((x, p), q) in wp.iter_mut().zip(ul).zip(um) {
-                *x = p * bm + q * bl;
+    /// d_n and s_n of [`sums_into`](Self::sums_into) (for the Jacobian).
+    fn sums(&self, at: &At<'_>, first: &FirstOrder<'_>) -> Sums {
+        WORK.with(|cell| {
+            let w = &mut *cell.borrow_mut();
+            self.sums_into(at, first, w);
+            let mut out = Sums { d: [0.0; MAX_MODES + 1], s: [0.0; MAX_MODES + 1] };
+            for (n, o) in w.sums[..=self.modes].iter().enumerate() {
+                (out.d[n], out.s[n]) = (o[0], o[1]);
             }
-            wp[1] += a[l] * bd[m] + a[m] * bd[l];
-        }
-        let mut out = Sums { d: [0.0; MAX_MODES + 1], s: [0.0; MAX_MODES + 1], f: [0.0; MAX_MODES + 1] };
-        for n in 0..=self.modes {
-            let (r0, r1) = (self.row_start[n], self.row_start[n + 1]);
-            let (rp, rk) = (&self.row_pair[r0..r1], &self.row_k[r0..r1]);
-            #[cfg(target_arch = "x86_64")]
-            let acc = if std::arch::is_x86_feature_detected!("avx") {
-                // SAFETY: AVX is available (checked just above).
-                unsafe { rows_avx(rp, rk, w) }
-            } else {
-                rows_portable(rp, rk, w)
-            };
-            #[cfg(not(target_arch = "x86_64"))]
-            let acc = rows_portable(rp, rk, w);
-            (out.d[n], out.s[n], out.f[n]) = (acc[0], acc[1], acc[2]);
-        }
-        out
+            out
+        })
     }
 
     /// The material state z^L (R^L, Ṙ^L, a^L, ȧ^L, b) of z.
@@ -250,36 +274,6 @@ impl FrameMap {
     }
 }
 
-/// Σ_rows K · w[pair], lane by lane (mul, then add: no FMA).
-fn rows_portable(pairs: &[u32], ks: &[f64], w: &[[f64; 4]]) -> [f64; 4] {
-    let mut acc = [0.0; 4];
-    for (&p, &k) in pairs.iter().zip(ks) {
-        for (x, y) in acc.iter_mut().zip(&w[p as usize]) {
-            *x += k * y;
-        }
-    }
-    acc
-}
-
-/// [`rows_portable`] in one AVX register: the same products and sums per lane, so bit for bit
-/// its result.
-///
-/// # Safety
-/// AVX available.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn rows_avx(pairs: &[u32], ks: &[f64], w: &[[f64; 4]]) -> [f64; 4] {
-    use std::arch::x86_64::*;
-    let mut acc = _mm256_setzero_pd();
-    for (&p, &k) in pairs.iter().zip(ks) {
-        let wp = &w[p as usize];
-        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(k), _mm256_loadu_pd(wp.as_ptr())));
-    }
-    let mut out = [0.0; 4];
-    _mm256_storeu_pd(out.as_mut_ptr(), acc);
-    out
-}
-
 impl SecondOrderTerm for FrameMap {
     fn name(&self) -> &'static str {
         "quadratic frame"
@@ -291,19 +285,24 @@ impl SecondOrderTerm for FrameMap {
         self.modes
     }
     fn add(&self, at: &At<'_>, first: &FirstOrder<'_>, loads: &mut Loads<'_>) {
-        let (z, m, r) = (at.z, self.modes, at.z[0]);
-        let (bd, f1) = self.first(at, first);
-        let sums = self.sums(z, &bd, &f1);
-        let zl = self.material(z, &sums.d, &sums.s);
-        let (pl, gnl, gtl) = self.lagrangian_loads(at.t, &zl[..z.len()]);
-        let l0 = &first.material;
-        // L(z^L) − L(z), and the frame change −Σ K F_l b_m / R of the normal load on P_n: on
-        // P_0 subtracted from P (as Ŝ0), on P_j added to G_n,j
-        loads.pressure += pl - l0.pressure + sums.f[0] / r;
-        for i in 0..loads.gn.len().min(m) {
-            loads.gn[i] += gnl[i] - l0.gn[i] - sums.f[1 + i] / r;
-            loads.gt[i] += gtl[i] - l0.gt[i];
-        }
+        let (m, r) = (self.modes, at.z[0]);
+        WORK.with(|cell| {
+            let w = &mut *cell.borrow_mut();
+            self.sums_into(at, first, w);
+            let Work { sums, zl, gn, gt, .. } = w;
+            gn.resize(m, 0.0);
+            gt.resize(m, 0.0);
+            let (gnl, gtl) = (&mut gn[..m], &mut gt[..m]);
+            let pl = self.lagrangian_into(at.t, zl, gnl, gtl);
+            let l0 = &first.material;
+            // L(z^L) − L(z), and the frame change −Σ K F_l b_m / R of the normal load on P_n:
+            // on P_0 subtracted from P (as Ŝ0), on P_j added to G_n,j
+            loads.pressure += pl - l0.pressure + sums[0][2] / r;
+            for i in 0..loads.gn.len().min(m) {
+                loads.gn[i] += gnl[i] - l0.gn[i] - sums[1 + i][2] / r;
+                loads.gt[i] += gtl[i] - l0.gt[i];
+            }
+        });
     }
     fn add_jacobian(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
         SCRATCH.with(|s| self.jacobian_with(at, first, grad, jac, &mut s.borrow_mut()));
@@ -318,7 +317,7 @@ impl FrameMap {
         let (r, rd) = (z[0], z[1]);
         let (bd, f1) = self.first(at, first);
         let dbd = |i: usize, col: usize| grad.dbd.get(i * nc + col).copied().unwrap_or(0.0);
-        let sums = self.sums(z, &bd, &f1);
+        let sums = self.sums(at, first);
         let (d, s) = (&sums.d, &sums.s);
         let zl = self.material(z, d, s);
         // dsh[q][col] = ∂(z^L − z)_q/∂x_col
@@ -344,9 +343,7 @@ impl FrameMap {
             for k in 0..m {
                 let w = v[n * m + k];
                 if w != 0.0 {
-                    for col in 0..nc {
-                        dsh[q * nc + col] += w * dbd(k, col);
-                    }
+                    add_scaled(&mut dsh[q * nc..(q + 1) * nc], w, grad.dbd, k, &dbd);
                 }
             }
         }
@@ -383,10 +380,19 @@ impl FrameMap {
             let row = &mut df[l * nc..(l + 1) * nc];
             row[..nz].copy_from_slice(j0.gn_row(l));
             row[0] += cn_r[l] * bd[l];
-            for (col, x) in row.iter_mut().enumerate() {
-                *x += cn[l] * dbd(l, col);
+            // cn = 0 (no ḃ loads) adds zeros only
+            if cn[l] != 0.0 {
+                add_scaled(row, cn[l], grad.dbd, l, &dbd);
             }
         }
+        // the non-zero columns of each ∂F_l (the rest add zeros only)
+        ws.nzc.clear();
+        ws.nz_start.clear();
+        for l in 0..m {
+            ws.nz_start.push(ws.nzc.len());
+            ws.nzc.extend(df[l * nc..(l + 1) * nc].iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(c, _)| c));
+        }
+        ws.nz_start.push(ws.nzc.len());
         // ∂fr_n = −(K/R)(b_k ∂F_l + F_l ∂b_k) + (K F_l b_k/R²) ∂R, per entry
         let dfr = zeroed(&mut ws.dfr, (m + 1) * nc);
         for &(n, l, k, c) in &self.entries {
@@ -394,8 +400,9 @@ impl FrameMap {
             let row = &mut dfr[n * nc..(n + 1) * nc];
             row[a_index(k) + 2] -= c * f / r;
             row[0] += c * f * bk / (r * r);
-            for (o, x) in row.iter_mut().zip(&df[l * nc..(l + 1) * nc]) {
-                *o -= c * bk / r * x;
+            let (dl, w) = (&df[l * nc..(l + 1) * nc], c * bk / r);
+            for &col in &ws.nzc[ws.nz_start[l]..ws.nz_start[l + 1]] {
+                row[col] -= w * dl[col];
             }
         }
         for col in 0..nc {
