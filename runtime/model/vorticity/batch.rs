@@ -13,6 +13,7 @@
 //! baseline x86-64, SSE2) and inside an `avx` function chosen at run time when the processor has
 //! AVX (4 lanes of f64; no FMA, so the same roundings), as `model/effects/pair_rows.rs` does.
 
+use super::nodes::{self, per_q};
 use super::operator::Rows;
 use nalgebra::{Complex, ComplexField};
 
@@ -193,16 +194,53 @@ impl TriBatch {
         if q == 0 {
             return;
         }
+        let (ib, gm) = (&self.inv_beta, &self.gamma);
         if x.im.is_empty() {
-            sweep_real(q, &self.lower, &self.inv_beta.re, &self.gamma.re, &mut x.re);
+            per_q!(q, Q => nodes::sweep_real::<Q>(&self.lower, &ib.re, &gm.re, &mut x.re),
+                   _ => sweep_real(q, &self.lower, &ib.re, &gm.re, &mut x.re));
         } else {
-            sweep_complex(q, &self.lower, [&self.inv_beta.re, &self.inv_beta.im], [&self.gamma.re, &self.gamma.im], [&mut x.re, &mut x.im]);
+            per_q!(q, Q => nodes::sweep_complex::<Q>(&self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], [&mut x.re, &mut x.im]),
+                   _ => sweep_complex(q, &self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], [&mut x.re, &mut x.im]));
         }
     }
 }
 
+impl TriBatch {
+    /// [`solve`](Self::solve) of a real right-hand side `x.re` (`x.im` empty): for complex
+    /// factors the imaginary parts are written by the sweep (no zeroed buffer first).
+    pub fn solve_real_rhs(&self, x: &mut Split) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor supports AVX (checked just above); the kernel is safe code.
+            unsafe { self.solve_real_rhs_avx(x) };
+            return;
+        }
+        self.solve_real_rhs_body(x);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn solve_real_rhs_avx(&self, x: &mut Split) {
+        self.solve_real_rhs_body(x);
+    }
+
+    #[inline(always)]
+    fn solve_real_rhs_body(&self, x: &mut Split) {
+        let (q, ib, gm) = (self.q, &self.inv_beta, &self.gamma);
+        if q == 0 || ib.im.is_empty() {
+            return self.solve_body(x);
+        }
+        per_q!(q, Q => nodes::sweep_complex_real_rhs::<Q>(&self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], &mut x.re, &mut x.im),
+               _ => {
+                   x.im.clear();
+                   x.im.resize(x.re.len(), [0.0; L]);
+                   self.solve_body(x)
+               });
+    }
+}
+
 #[inline(always)]
-fn sweep_real(q: usize, lower: &[V], ib: &[V], gamma: &[V], x: &mut [V]) {
+pub(super) fn sweep_real(q: usize, lower: &[V], ib: &[V], gamma: &[V], x: &mut [V]) {
     let nodes = x.len() / q;
     if nodes == 0 {
         return;
@@ -233,7 +271,7 @@ pub fn cmul(ar: V, ai: V, br: V, bi: V) -> (V, V) {
 }
 
 #[inline(always)]
-fn sweep_complex(q: usize, lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], x: [&mut [V]; 2]) {
+pub(super) fn sweep_complex(q: usize, lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], x: [&mut [V]; 2]) {
     let [xr, xi] = x;
     let nodes = xr.len() / q;
     if nodes == 0 {
@@ -273,6 +311,25 @@ fn sweep_complex(q: usize, lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], x: [&mu
 /// q vectors (the imaginary ones untouched for a real `v`).
 #[inline(always)]
 pub fn dots2(v: &Split, w: [&[V]; 2], acc: [&mut [V]; 4]) {
+    per_q!(v.q, Q => {
+        let [a0r, a1r, a0i, a1i] = acc;
+        let [r0, r1] = nodes::dots2::<Q>(&v.re, w[0], w[1]);
+        a0r.copy_from_slice(&r0);
+        a1r.copy_from_slice(&r1);
+        if v.im.is_empty() {
+            a0i.fill([0.0; L]);
+            a1i.fill([0.0; L]);
+        } else {
+            let [i0, i1] = nodes::dots2::<Q>(&v.im, w[0], w[1]);
+            a0i.copy_from_slice(&i0);
+            a1i.copy_from_slice(&i1);
+        }
+    }, _ => dots2_any(v, w, acc))
+}
+
+/// [`dots2`] for any q (the kernels of [`nodes`] are for q ≤ 8).
+#[inline(always)]
+pub fn dots2_any(v: &Split, w: [&[V]; 2], acc: [&mut [V]; 4]) {
     let q = v.q;
     let [a0r, a1r, a0i, a1i] = acc;
     for a in [&mut *a0r, &mut *a1r, &mut *a0i, &mut *a1i] {

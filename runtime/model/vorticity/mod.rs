@@ -17,10 +17,12 @@
 //! the nondimensional form of FORMULATION §4.5 with ρ = 1, η = 1/Re); nothing here assumes either.
 
 pub mod batch;
+mod dense;
 pub mod equations;
 pub mod grid;
 pub mod linear;
 pub mod monolithic;
+mod nodes;
 pub mod operator;
 pub mod staggered;
 pub mod structured;

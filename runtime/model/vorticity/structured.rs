@@ -14,12 +14,14 @@
 //! [`super::operator::ModeOperator::rows_derivatives`]. Nothing is differenced.
 
 use super::batch::{add, cmul, dots2, mul, per_node, Lane, Split, TriBatch, L, V};
+use super::dense::DenseLu;
 use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
+use super::nodes::{self, per_q};
 use super::operator::Rows;
 use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
-use nalgebra::{Complex, ComplexField, DMatrix};
+use nalgebra::{Complex, DMatrix};
 use std::rc::Rc;
 
 /// J at one (t, y), in structured form.
@@ -39,85 +41,17 @@ pub struct StructuredJacobian {
     /// P rows per mode: weights of Ĩ_int and of ∫(y⁻³−1)y^{−k}T dy on the interior nodes
     /// node-major in lanes, as [`TriBatch`]
     pw: [Vec<V>; 2],
+    /// [gz | gp] row-major, (nz + M) × (nz + 2M) (the rows of the (z, π) system, contiguous)
+    g: Vec<f64>,
 }
 
-/// LU with partial pivoting (largest |re| + |im| in the column, whole rows swapped) of the
-/// small dense (z, π) system, row-major: own code instead of nalgebra's `LU` (issue 16: its
-/// factorisation and solve were 12 % of the monolithic run at 42 × 42), no allocation per solve.
-struct DenseLu<T> {
-    n: usize,
-    /// U on and above the diagonal, the multipliers of L below it (unit diagonal implied).
-    a: Vec<T>,
-    /// 1 / U_ii
-    inv_diag: Vec<T>,
-    /// At step k, row k was swapped with row `piv[k]` ≥ k.
-    piv: Vec<usize>,
-}
-
-impl<T: ComplexField<RealField = f64> + Copy> DenseLu<T> {
-    /// Factors the row-major n × n `a`; `None` when a pivot is zero or not finite.
-    fn new(n: usize, mut a: Vec<T>) -> Option<Self> {
-        let mut piv = vec![0; n];
-        let mut inv_diag = vec![T::zero(); n];
-        for k in 0..n {
-            let (mut p, mut best) = (k, a[k * n + k].norm1());
-            for i in k + 1..n {
-                let v = a[i * n + k].norm1();
-                if v > best {
-                    best = v;
-                    p = i;
-                }
-            }
-            if !(best > 0.0 && best.is_finite()) {
-                return None;
-            }
-            piv[k] = p;
-            if p != k {
-                for j in 0..n {
-                    a.swap(k * n + j, p * n + j);
-                }
-            }
-            let (top, bottom) = a.split_at_mut((k + 1) * n);
-            let rk = &top[k * n + k..(k + 1) * n];
-            let inv = T::one() / rk[0];
-            inv_diag[k] = inv;
-            for row in bottom.chunks_exact_mut(n) {
-                let l = row[k] * inv;
-                row[k] = l;
-                if l != T::zero() {
-                    for (x, &u) in row[k + 1..].iter_mut().zip(&rk[1..]) {
-                        *x -= l * u;
-                    }
-                }
-            }
-        }
-        Some(Self { n, a, inv_diag, piv })
+/// [gz | gp] row-major.
+fn row_major(gz: &DMatrix<f64>, gp: &DMatrix<f64>) -> Vec<f64> {
+    let mut g = Vec::with_capacity(gz.nrows() * (gz.ncols() + gp.ncols()));
+    for i in 0..gz.nrows() {
+        g.extend(gz.row(i).iter().chain(gp.row(i).iter()));
     }
-
-    /// x ← A⁻¹ x.
-    fn solve(&self, x: &mut [T]) {
-        let n = self.n;
-        let x = &mut x[..n];
-        for (k, &p) in self.piv.iter().enumerate() {
-            x.swap(k, p);
-        }
-        for i in 1..n {
-            let (done, rest) = x.split_at_mut(i);
-            let mut s = rest[0];
-            for (&l, &xj) in self.a[i * n..i * n + i].iter().zip(done.iter()) {
-                s -= l * xj;
-            }
-            rest[0] = s;
-        }
-        for i in (0..n).rev() {
-            let (head, tail) = x.split_at_mut(i + 1);
-            let mut s = head[i];
-            for (&u, &xj) in self.a[i * n + i + 1..(i + 1) * n].iter().zip(tail.iter()) {
-                s -= u * xj;
-            }
-            head[i] = s * self.inv_diag[i];
-        }
-    }
+    g
 }
 
 /// The factorisation of σI − J (shares the Jacobian it was built from).
@@ -131,18 +65,53 @@ pub struct StructuredLu<T: Lane> {
     /// (contiguous copies of the gz / gp rows, for s_k = δT_w,k in [`StructuredLu::solve`]).
     tw_rows: Vec<f64>,
     /// Scratch of [`StructuredLu::solve`] (no allocation per solve).
-    scratch: std::cell::RefCell<Scratch<T>>,
+    scratch: std::cell::RefCell<Scratch>,
 }
 
-struct Scratch<T: Lane> {
+struct Scratch {
     /// node-major T part
     xt: Split,
-    /// right-hand side and solution of the small dense system
-    rhs: Vec<T>,
+    /// right-hand side and solution of the small dense system, split (`rhs_i` empty for a real T)
+    rhs_r: Vec<f64>,
+    rhs_i: Vec<f64>,
     /// the 2M functionals P·xt in lanes: real parts of the two kinds, then imaginary parts
     d: Vec<V>,
     /// per mode s_k = δT_w,k in lanes: real parts, then imaginary parts
     s: Vec<V>,
+}
+
+thread_local! {
+    /// Scratch of dropped factorisations, for the next ones (Radau5 refactors σI − J 561 times
+    /// in the monolithic run: no zeroed node-major buffer per factorisation).
+    static SPARE: std::cell::RefCell<Vec<Scratch>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+impl Scratch {
+    /// A spare scratch of the right shape (every entry a solve reads is written by that solve
+    /// first: `xt` by the copy in, the lanes past M stay zero), else a zeroed one.
+    fn take<T: Lane>(ni: usize, m: usize, ns: usize) -> Self {
+        let q = per_node(m);
+        let fits = |s: &Scratch| s.xt.q == q && s.xt.re.len() == ni * q && s.xt.im.len() == if T::CPLX { ni * q } else { 0 } && s.rhs_r.len() == ns && s.rhs_i.len() == if T::CPLX { ns } else { 0 };
+        let spare = SPARE.with(|p| {
+            let mut p = p.borrow_mut();
+            let at = p.iter().position(fits)?;
+            Some(p.swap_remove(at))
+        });
+        spare.unwrap_or_else(|| Scratch { xt: Split::zeros::<T>(ni, m), rhs_r: vec![0.0; ns], rhs_i: vec![0.0; if T::CPLX { ns } else { 0 }], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] })
+    }
+}
+
+impl<T: Lane> Drop for StructuredLu<T> {
+    fn drop(&mut self) {
+        let s = std::mem::replace(self.scratch.get_mut(), Scratch { xt: Split { q: 0, re: Vec::new(), im: Vec::new() }, rhs_r: Vec::new(), rhs_i: Vec::new(), d: Vec::new(), s: Vec::new() });
+        // at most a few kept (a real and a complex factorisation alive at once, one of each spare)
+        let _ = SPARE.try_with(|p| {
+            let mut p = p.borrow_mut();
+            if p.len() < 4 {
+                p.push(s);
+            }
+        });
+    }
 }
 
 impl StructuredJacobian {
@@ -171,6 +140,7 @@ impl StructuredJacobian {
         }
         j.r_r.fill([0.0; L]);
         j.r_rd.fill([0.0; L]);
+        j.g = row_major(&j.gz, &j.gp);
         Rc::new(j)
     }
 
@@ -224,7 +194,8 @@ impl StructuredJacobian {
                 pw[1][i * q + mi / L][mi % L] = op.wj[1 + i];
             }
         }
-        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw }
+        let g = row_major(&gz, &gp);
+        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw, g }
     }
 
     /// Factors σI − J. `None` if singular.
@@ -234,29 +205,25 @@ impl StructuredJacobian {
         // row-major ns × ns (the own dense LU below), built row after row (every entry written
         // once: no zeroed buffer); the π rows are written below
         let mut s = Vec::with_capacity(ns * ns);
-        for i in 0..nz {
-            for j in 0..nz {
-                s.push(-T::from_real(self.gz[(i, j)]));
-            }
+        for (i, row) in self.g.chunks_exact(ns.max(1)).take(nz).enumerate() {
+            s.extend(row.iter().map(|&v| -T::from_real(v)));
             s[i * ns + i] += sigma;
-            for q in 0..2 * m {
-                s.push(-T::from_real(self.gp[(i, q)]));
-            }
         }
         s.resize(ns * ns, T::zero());
         let tri = TriBatch::new(sigma, &self.rows, ni)?;
         let q = per_node(m);
-        let mut uc = Split::zeros::<T>(ni, m);
+        // c_k, r_R,k, r_Ṙ,k are real: their imaginary parts are written by the sweeps
+        let mut uc = Split::zeros::<f64>(ni, m);
         if ni > 0 {
             for k in 0..m {
                 uc.re[k / L][k % L] = self.rows[k].lower[0];
             }
         }
-        let real = |v: &Vec<V>| Split { q, re: v.clone(), im: if T::CPLX { vec![[0.0; L]; v.len()] } else { Vec::new() } };
+        let real = |v: &Vec<V>| Split { q, re: v.clone(), im: Vec::new() };
         let (mut ur, mut urd) = (real(&self.r_r), real(&self.r_rd));
-        tri.solve(&mut uc);
-        tri.solve(&mut ur);
-        tri.solve(&mut urd);
+        tri.solve_real_rhs(&mut uc);
+        tri.solve_real_rhs(&mut ur);
+        tri.solve_real_rhs(&mut urd);
         // P·u for the two kinds of functional at once: [kind 0 re, kind 1 re, kind 0 im, kind 1 im]
         let pw = [&self.pw[0][..], &self.pw[1][..]];
         let dot = |v: &Split| {
@@ -274,29 +241,18 @@ impl StructuredJacobian {
                 let q = kind * m + k; // π ordering = p ordering
                 let (pu, pr, prd) = (at(&pu_all, kind, k), at(&pr_all, kind, k), at(&prd_all, kind, k));
                 let row = nz + q;
-                let tw_row = nz + k; // row of T_w,k in gz/gp
-                for j in 0..nz {
-                    s[row * ns + j] = -pu.scale(self.gz[(tw_row, j)]);
+                let tw_row = &self.g[(nz + k) * ns..(nz + k + 1) * ns]; // row of T_w,k in [gz | gp]
+                for (x, &g) in s[row * ns..(row + 1) * ns].iter_mut().zip(tw_row) {
+                    *x = -pu.scale(g);
                 }
                 s[row * ns] -= pr;
                 s[row * ns + 1] -= prd;
-                for q2 in 0..2 * m {
-                    s[row * ns + nz + q2] = -pu.scale(self.gp[(tw_row, q2)]);
-                }
                 s[row * ns + row] += T::one();
             }
         }
-        let small = DenseLu::new(ns, s)?;
-        let mut tw_rows = vec![0.0; m * ns];
-        for (k, r) in tw_rows.chunks_exact_mut(ns.max(1)).enumerate() {
-            for j in 0..nz {
-                r[j] = self.gz[(nz + k, j)];
-            }
-            for q in 0..2 * m {
-                r[nz + q] = self.gp[(nz + k, q)];
-            }
-        }
-        let scratch = std::cell::RefCell::new(Scratch { xt: Split::zeros::<T>(ni, m), rhs: vec![T::zero(); ns], d: vec![[0.0; L]; 4 * q], s: vec![[0.0; L]; 2 * q] });
+        let small = DenseLu::new(ns, &s)?;
+        let tw_rows = self.g[nz * ns..(nz + m) * ns].to_vec();
+        let scratch = std::cell::RefCell::new(Scratch::take::<T>(ni, m, ns));
         Some(StructuredLu { jac: Rc::clone(self), tri, u: [uc, ur, urd], small, tw_rows, scratch })
     }
 }
@@ -323,29 +279,26 @@ impl<T: Lane> StructuredLu<T> {
     #[inline(always)]
     fn solve_body(&self, b: &mut [T]) {
         let j = &*self.jac;
-        let (m, nz, nb, ni) = (j.m, j.nz, j.nb, j.ni);
+        let (m, nz, nb) = (j.m, j.nz, j.nb);
         let q = per_node(m);
         let mut guard = self.scratch.borrow_mut();
-        let Scratch { xt, rhs, d, s } = &mut *guard;
+        let Scratch { xt, rhs_r, rhs_i, d, s } = &mut *guard;
         // D_k⁻¹ b_T,k, all modes at once on the node-major copy (mode after mode: contiguous
         // loads from b, strided stores into the copy)
-        for k in 0..m {
-            let src = &b[5 + k * nb..5 + k * nb + ni];
-            let (v, lane) = (k / L, k % L);
-            for (i, &x) in src.iter().enumerate() {
-                let (re, im) = x.parts();
-                xt.re[i * q + v][lane] = re;
-                if T::CPLX {
-                    xt.im[i * q + v][lane] = im;
-                }
-            }
-        }
+        per_q!(q, Q => copy_in::<Q, T>(b, nb, m, xt), _ => copy_in_any(b, nb, m, xt));
         self.tri.solve_body(xt);
-        rhs[0] = b[0];
-        rhs[1] = b[1];
+        let mut put = |i: usize, v: T| {
+            let (re, im) = v.parts();
+            rhs_r[i] = re;
+            if T::CPLX {
+                rhs_i[i] = im;
+            }
+        };
+        put(0, b[0]);
+        put(1, b[1]);
         for k in 0..m {
             for c in 0..3 {
-                rhs[2 + 3 * k + c] = b[2 + k * nb + c];
+                put(2 + 3 * k + c, b[2 + k * nb + c]);
             }
         }
         {
@@ -357,61 +310,160 @@ impl<T: Lane> StructuredLu<T> {
         for kind in 0..2 {
             for k in 0..m {
                 let (v, lane) = ((kind * q) + k / L, k % L);
-                rhs[nz + kind * m + k] = T::from_parts(d[v][lane], if T::CPLX { d[2 * q + v][lane] } else { 0.0 });
+                rhs_r[nz + kind * m + k] = d[v][lane];
+                if T::CPLX {
+                    rhs_i[nz + kind * m + k] = d[2 * q + v][lane];
+                }
             }
         }
-        self.small.solve(rhs);
-        let x = &rhs[..];
-        b[0] = x[0];
-        b[1] = x[1];
-        let ns = x.len();
+        self.small.solve(rhs_r, rhs_i);
+        let (xr, xi) = (&rhs_r[..], &rhs_i[..]);
+        let x = |i: usize| T::from_parts(xr[i], if T::CPLX { xi[i] } else { 0.0 });
+        b[0] = x(0);
+        b[1] = x(1);
+        let ns = xr.len();
         for (k, row) in self.tw_rows.chunks_exact(ns.max(1)).enumerate() {
             for c in 0..3 {
-                b[2 + k * nb + c] = x[2 + 3 * k + c];
+                b[2 + k * nb + c] = x(2 + 3 * k + c);
             }
             // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
-            let mut sk = T::zero();
-            for (&xj, &g) in x.iter().zip(row) {
-                sk += xj.scale(g);
+            let mut re = 0.0;
+            for (&xj, &g) in xr.iter().zip(row) {
+                re += xj * g;
             }
-            let (re, im) = sk.parts();
             s[k / L][k % L] = re;
-            s[q + k / L][k % L] = im;
+            if T::CPLX {
+                let mut im = 0.0;
+                for (&xj, &g) in xi.iter().zip(row) {
+                    im += xj * g;
+                }
+                s[q + k / L][k % L] = im;
+            }
         }
         let [uc, ur, urd] = &self.u;
-        let ((x0r, x0i), (x1r, x1i)) = (x[0].parts(), x[1].parts());
+        let ((x0r, x0i), (x1r, x1i)) = (x(0).parts(), x(1).parts());
         let ([x0r, x0i], [x1r, x1i]) = ([[x0r; L], [x0i; L]], [[x1r; L], [x1i; L]]);
         // x_T = D⁻¹b_T + u_c s + u_R x_R + u_Ṙ x_Ṙ on the node-major copy, node after node (the
         // modes as lanes; per entry the products and sums of `xv + (c·s + r·x0 + rd·x1)`)
         let (sr, si) = s.split_at(q);
-        let q1 = q.max(1);
         if T::CPLX {
-            let lanes = xt.re.chunks_exact_mut(q1).zip(xt.im.chunks_exact_mut(q1));
-            let us = uc.re.chunks_exact(q1).zip(uc.im.chunks_exact(q1)).zip(ur.re.chunks_exact(q1).zip(ur.im.chunks_exact(q1))).zip(urd.re.chunks_exact(q1).zip(urd.im.chunks_exact(q1)));
-            for ((xr, xi), (((cr, ci), (rr, ri)), (dr, di))) in lanes.zip(us) {
-                let it = xr.iter_mut().zip(xi.iter_mut()).zip(cr.iter().zip(ci)).zip(rr.iter().zip(ri)).zip(dr.iter().zip(di)).zip(sr.iter().zip(si));
-                for (((((xr, xi), (&cr, &ci)), (&rr, &ri)), (&dr, &di)), (&sr, &si)) in it {
-                    let (csr, csi) = cmul(cr, ci, sr, si);
-                    let (rxr, rxi) = cmul(rr, ri, x0r, x0i);
-                    let (dxr, dxi) = cmul(dr, di, x1r, x1i);
-                    *xr = add(*xr, add(add(csr, rxr), dxr));
-                    *xi = add(*xi, add(add(csi, rxi), dxi));
-                }
+            let u = [[&uc.re[..], &uc.im[..]], [&ur.re[..], &ur.im[..]], [&urd.re[..], &urd.im[..]]];
+            per_q!(q, Q => nodes::combine_complex::<Q>([&mut xt.re, &mut xt.im], u, [sr, si], [x0r, x0i], [x1r, x1i]),
+                   _ => combine_complex_any(q, [&mut xt.re, &mut xt.im], u, [sr, si], [x0r, x0i], [x1r, x1i]));
+        } else {
+            let u = [&uc.re[..], &ur.re[..], &urd.re[..]];
+            per_q!(q, Q => nodes::combine_real::<Q>(&mut xt.re, u, sr, x0r, x1r), _ => combine_real_any(q, &mut xt.re, u, sr, x0r, x1r));
+        }
+        per_q!(q, Q => copy_out::<Q, T>(xt, nb, m, b), _ => copy_out_any(xt, nb, m, b));
+    }
+}
+
+/// b_T,k (mode-major in the state `b`) into the node-major split copy `xt`, with the nodes as
+/// `[V; Q]` ([`nodes`]).
+#[inline(always)]
+fn copy_in<const Q: usize, T: Lane>(b: &[T], nb: usize, m: usize, xt: &mut Split) {
+    let xr = nodes::view_mut::<Q>(&mut xt.re);
+    let ni = xr.len();
+    let xi = nodes::view_mut::<Q>(&mut xt.im);
+    for k in 0..m {
+        let src = &b[5 + k * nb..5 + k * nb + ni];
+        let (v, lane) = (k / L, k % L);
+        if T::CPLX {
+            for ((r, i), &x) in xr.iter_mut().zip(xi.iter_mut()).zip(src) {
+                (r[v][lane], i[v][lane]) = x.parts();
             }
         } else {
-            let us = uc.re.chunks_exact(q1).zip(ur.re.chunks_exact(q1)).zip(urd.re.chunks_exact(q1));
-            for (xr, ((cr, rr), dr)) in xt.re.chunks_exact_mut(q1).zip(us) {
-                for ((((x, &c), &r), &d), &sv) in xr.iter_mut().zip(cr).zip(rr).zip(dr).zip(sr) {
-                    *x = add(*x, add(add(mul(c, sv), mul(r, x0r)), mul(d, x1r)));
-                }
+            for (r, &x) in xr.iter_mut().zip(src) {
+                r[v][lane] = x.parts().0;
             }
         }
-        for k in 0..m {
-            let dst = &mut b[5 + k * nb..5 + k * nb + ni];
-            let (v, lane) = (k / L, k % L);
-            for (i, o) in dst.iter_mut().enumerate() {
-                *o = T::from_parts(xt.re[i * q + v][lane], if T::CPLX { xt.im[i * q + v][lane] } else { 0.0 });
+    }
+}
+
+/// [`copy_in`] for any number of vectors per node.
+#[inline(always)]
+fn copy_in_any<T: Lane>(b: &[T], nb: usize, m: usize, xt: &mut Split) {
+    let q = xt.q;
+    let ni = xt.re.len() / q.max(1);
+    for k in 0..m {
+        let src = &b[5 + k * nb..5 + k * nb + ni];
+        let (v, lane) = (k / L, k % L);
+        for (i, &x) in src.iter().enumerate() {
+            let (re, im) = x.parts();
+            xt.re[i * q + v][lane] = re;
+            if T::CPLX {
+                xt.im[i * q + v][lane] = im;
             }
+        }
+    }
+}
+
+/// The node-major `xt` back into b_T,k.
+#[inline(always)]
+fn copy_out<const Q: usize, T: Lane>(xt: &Split, nb: usize, m: usize, b: &mut [T]) {
+    let xr = nodes::view::<Q>(&xt.re);
+    let ni = xr.len();
+    let xi = nodes::view::<Q>(&xt.im);
+    for k in 0..m {
+        let dst = &mut b[5 + k * nb..5 + k * nb + ni];
+        let (v, lane) = (k / L, k % L);
+        if T::CPLX {
+            for ((o, r), i) in dst.iter_mut().zip(xr).zip(xi) {
+                *o = T::from_parts(r[v][lane], i[v][lane]);
+            }
+        } else {
+            for (o, r) in dst.iter_mut().zip(xr) {
+                *o = T::from_parts(r[v][lane], 0.0);
+            }
+        }
+    }
+}
+
+/// [`copy_out`] for any number of vectors per node.
+#[inline(always)]
+fn copy_out_any<T: Lane>(xt: &Split, nb: usize, m: usize, b: &mut [T]) {
+    let q = xt.q;
+    let ni = xt.re.len() / q.max(1);
+    for k in 0..m {
+        let dst = &mut b[5 + k * nb..5 + k * nb + ni];
+        let (v, lane) = (k / L, k % L);
+        for (i, o) in dst.iter_mut().enumerate() {
+            *o = T::from_parts(xt.re[i * q + v][lane], if T::CPLX { xt.im[i * q + v][lane] } else { 0.0 });
+        }
+    }
+}
+
+/// x_T = D⁻¹b_T + u_c s + u_R x_R + u_Ṙ x_Ṙ on the node-major copy, node after node (the modes
+/// as lanes; per entry the products and sums of `xv + (c·s + r·x0 + rd·x1)`), for any q.
+#[inline(always)]
+pub(super) fn combine_complex_any(q: usize, x: [&mut [V]; 2], u: [[&[V]; 2]; 3], s: [&[V]; 2], x0: [V; 2], x1: [V; 2]) {
+    let [[cr, ci], [rr, ri], [dr, di]] = u;
+    let ([sr, si], [x0r, x0i], [x1r, x1i]) = (s, x0, x1);
+    let [xr, xi] = x;
+    let q1 = q.max(1);
+    let lanes = xr.chunks_exact_mut(q1).zip(xi.chunks_exact_mut(q1));
+    let us = cr.chunks_exact(q1).zip(ci.chunks_exact(q1)).zip(rr.chunks_exact(q1).zip(ri.chunks_exact(q1))).zip(dr.chunks_exact(q1).zip(di.chunks_exact(q1)));
+    for ((xr, xi), (((cr, ci), (rr, ri)), (dr, di))) in lanes.zip(us) {
+        let it = xr.iter_mut().zip(xi.iter_mut()).zip(cr.iter().zip(ci)).zip(rr.iter().zip(ri)).zip(dr.iter().zip(di)).zip(sr.iter().zip(si));
+        for (((((xr, xi), (&cr, &ci)), (&rr, &ri)), (&dr, &di)), (&sr, &si)) in it {
+            let (csr, csi) = cmul(cr, ci, sr, si);
+            let (rxr, rxi) = cmul(rr, ri, x0r, x0i);
+            let (dxr, dxi) = cmul(dr, di, x1r, x1i);
+            *xr = add(*xr, add(add(csr, rxr), dxr));
+            *xi = add(*xi, add(add(csi, rxi), dxi));
+        }
+    }
+}
+
+/// [`combine_complex_any`] for real values.
+#[inline(always)]
+pub(super) fn combine_real_any(q: usize, x: &mut [V], u: [&[V]; 3], s: &[V], x0: V, x1: V) {
+    let [cr, rr, dr] = u;
+    let q1 = q.max(1);
+    let us = cr.chunks_exact(q1).zip(rr.chunks_exact(q1)).zip(dr.chunks_exact(q1));
+    for (xr, ((cr, rr), dr)) in x.chunks_exact_mut(q1).zip(us) {
+        for ((((x, &c), &r), &d), &sv) in xr.iter_mut().zip(cr).zip(rr).zip(dr).zip(s) {
+            *x = add(*x, add(add(mul(c, sv), mul(r, x0)), mul(d, x1)));
         }
     }
 }
@@ -458,34 +510,4 @@ pub fn dense_jacobian(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> DMatrix<f64> {
         }
     }
     jac
-}
-
-#[cfg(test)]
-mod tests {
-    use super::DenseLu;
-    use nalgebra::Complex;
-
-    /// The small dense LU solves A x = b for a complex matrix that needs pivoting (zero diagonal),
-    /// and reports a singular one.
-    #[test]
-    fn dense_lu_solves_with_pivoting() {
-        let n = 7;
-        let a: Vec<Complex<f64>> = (0..n * n)
-            .map(|i| {
-                let (r, c) = (i / n, i % n);
-                if r == c { Complex::new(0.0, 0.0) } else { Complex::new(((r * 7 + c * 13) % 11) as f64 - 5.0, (r + 2 * c) as f64 * 0.1) }
-            })
-            .collect();
-        let b: Vec<Complex<f64>> = (0..n).map(|i| Complex::new((i as f64).sin(), 1.0)).collect();
-        let lu = DenseLu::new(n, a.clone()).expect("invertible");
-        let mut x = b.clone();
-        lu.solve(&mut x);
-        for r in 0..n {
-            let ax: Complex<f64> = (0..n).map(|c| a[r * n + c] * x[c]).sum();
-            assert!((ax - b[r]).norm() < 1e-12, "row {r}: {ax} vs {}", b[r]);
-        }
-        let mut sing = vec![1.0f64; 9];
-        sing[8] = 1.0;
-        assert!(DenseLu::new(3, sing).is_none(), "rank 1");
-    }
 }

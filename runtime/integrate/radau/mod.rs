@@ -14,11 +14,16 @@
 //! `radau5.f`, the user tolerances are mapped to rtol' = 0.1 rtol^(2/3), atol' = rtol'·atol/rtol,
 //! because the embedded estimate is of order 3.
 
+mod consts;
+mod kernels;
+
 use super::explicit::{adaptive_start, step_too_small, Start, MAX_NON_FINITE};
 use super::control::StepController;
 use super::linear::NewtonMatrix;
-use super::{first_non_finite, IntegrateError, OdeSystem, Stats};
-use nalgebra::{Complex, Matrix3, Vector3};
+use super::{IntegrateError, OdeSystem, Stats};
+use consts::RadauConsts;
+use kernels::first_non_finite;
+use nalgebra::Complex;
 
 /// Maximum Newton iterations per step (RADAU5's NIT).
 const NIT: usize = 7;
@@ -39,81 +44,6 @@ const SAFE: f64 = 0.9;
 /// Bounds of h / h_new: h_new ∈ [h/5, 8h] (RADAU5's FACL, FACR).
 const FACL: f64 = 5.0;
 const FACR: f64 = 0.125;
-
-/// The constants of the 3-stage Radau IIA method.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct RadauConsts {
-    pub c: [f64; 3],
-    /// Error-estimate weights e_i (RADAU5's DD1..DD3).
-    pub dd: [f64; 3],
-    /// Real eigenvalue of A⁻¹ and the complex pair α ± iβ.
-    pub gamma: f64,
-    pub alpha: f64,
-    pub beta: f64,
-    pub t: Matrix3<f64>,
-    pub ti: Matrix3<f64>,
-}
-
-/// The coefficient matrix A of Radau IIA with 3 stages (Ehle 1969; HW II, Table IV.5.6).
-fn radau_iia_matrix() -> Matrix3<f64> {
-    let s6 = 6f64.sqrt();
-    Matrix3::new(
-        (88.0 - 7.0 * s6) / 360.0,
-        (296.0 - 169.0 * s6) / 1800.0,
-        (-2.0 + 3.0 * s6) / 225.0,
-        (296.0 + 169.0 * s6) / 1800.0,
-        (88.0 + 7.0 * s6) / 360.0,
-        (-2.0 - 3.0 * s6) / 225.0,
-        (16.0 - s6) / 36.0,
-        (16.0 + s6) / 36.0,
-        1.0 / 9.0,
-    )
-}
-
-impl RadauConsts {
-    /// Radau IIA (Ehle 1969) with c = ((4 − √6)/10, (4 + √6)/10, 1) and its coefficient matrix
-    /// (HW II, Table IV.5.6); T from the eigenvectors of A⁻¹.
-    pub(crate) fn new() -> Self {
-        let s6 = 6f64.sqrt();
-        let a = radau_iia_matrix();
-        let ainv = a.try_inverse().expect("Radau IIA matrix is invertible");
-        let (c3, c23) = (3f64.cbrt(), 3f64.powf(2.0 / 3.0));
-        let gamma = 3.0 + c23 - c3;
-        let alpha = 3.0 + 0.5 * (c3 - c23);
-        let beta = 0.5 * (3f64.powf(5.0 / 6.0) + 3f64.powf(7.0 / 6.0));
-        // Null vector of a rank-2 3×3 matrix: cross product of two rows (bilinear, no conjugate).
-        let cross = |m: &[[Complex<f64>; 3]; 3]| -> [Complex<f64>; 3] {
-            let (r, s) = (m[0], m[1]);
-            [r[1] * s[2] - r[2] * s[1], r[2] * s[0] - r[0] * s[2], r[0] * s[1] - r[1] * s[0]]
-        };
-        let shifted = |lam: Complex<f64>| {
-            let mut m = [[Complex::new(0.0, 0.0); 3]; 3];
-            for i in 0..3 {
-                for j in 0..3 {
-                    m[i][j] = Complex::new(ainv[(i, j)], 0.0) - if i == j { lam } else { Complex::new(0.0, 0.0) };
-                }
-            }
-            m
-        };
-        let v1 = cross(&shifted(Complex::new(gamma, 0.0)));
-        let v1 = Vector3::new(v1[0].re, v1[1].re, v1[2].re);
-        let v1 = v1 / (v1.norm() * v1[2].signum());
-        let v = cross(&shifted(Complex::new(alpha, beta)));
-        let v: Vec<Complex<f64>> = v.iter().map(|x| x / v[2]).collect();
-        // A⁻¹(t2 − i t3) = (α + iβ)(t2 − i t3)  ⇔  A⁻¹[t2 t3] = [t2 t3] [[α, −β], [β, α]].
-        let t = Matrix3::new(v1[0], v[0].re, -v[0].im, v1[1], v[1].re, -v[1].im, v1[2], v[2].re, -v[2].im);
-        let ti = t.try_inverse().expect("eigenvector matrix is invertible");
-        RadauConsts {
-            c: [(4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0],
-            dd: [-(13.0 + 7.0 * s6) / 3.0, (-13.0 + 7.0 * s6) / 3.0, -1.0 / 3.0],
-            gamma,
-            alpha,
-            beta,
-            t,
-            ti,
-        }
-    }
-}
 
 enum Newton {
     Converged,
@@ -152,6 +82,8 @@ pub struct Radau5 {
     rc: Vec<Complex<f64>>,
     err_v: Vec<f64>,
     f2: Vec<f64>,
+    /// The terms of a scaled norm, before they are added in order (see [`kernels`]).
+    sq: Vec<f64>,
     /// Collocation polynomial of the last step (RADAU5's CONT).
     cont: [Vec<f64>; 4],
     /// J and the LU factors of E₁ = γ/h I − J, E₂ = (α + iβ)/h I − J (dense, banded, or the
@@ -196,6 +128,7 @@ impl Radau5 {
             rc: vec![Complex::new(0.0, 0.0); n],
             err_v: vec![0.0; n],
             f2: vec![0.0; n],
+            sq: vec![0.0; n],
             cont: std::array::from_fn(|_| y0.to_vec()),
             nm: NewtonMatrix::new(n, true),
             lu_h: f64::NAN,
@@ -224,15 +157,15 @@ impl Radau5 {
         self
     }
 
-    fn rms(&self, a: &[f64]) -> f64 {
-        let s: f64 = a.iter().zip(&self.scal).map(|(v, s)| (v / s).powi(2)).sum();
-        (s / a.len().max(1) as f64).sqrt()
+    /// The scaled RMS norm of `err_v`.
+    fn rms_err(&mut self) -> f64 {
+        let s = kernels::scaled_sum_sq(&self.err_v, &self.scal, &mut self.sq);
+        (s / self.err_v.len().max(1) as f64).sqrt()
     }
 
     /// Starting values of Z (and W = T⁻¹Z): zero on the first step, otherwise the collocation
     /// polynomial of the last step extrapolated (RADAU5, label 20).
     fn starting_values(&mut self, h: f64) {
-        let n = self.y.len();
         let [c1, c2, _] = self.k.c;
         if self.first || self.h_old == 0.0 {
             for i in 0..3 {
@@ -243,22 +176,11 @@ impl Radau5 {
         }
         let c3q = h / self.h_old;
         let q = [c1 * c3q, c2 * c3q, c3q];
-        let ti: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.ti[(i, j)]));
+        let (d1, d2) = (q.map(|q| q - (c1 - 1.0)), q.map(|q| q - (c2 - 1.0)));
+        let [_, a1, a2, a3] = &self.cont;
         let [z0, z1, z2] = &mut self.z;
         let [w0, w1, w2] = &mut self.w;
-        let (a1, a2, a3) = (&self.cont[1][..n], &self.cont[2][..n], &self.cont[3][..n]);
-        let (z0, z1, z2, w0, w1, w2) = (&mut z0[..n], &mut z1[..n], &mut z2[..n], &mut w0[..n], &mut w1[..n], &mut w2[..n]);
-        for m in 0..n {
-            let (a1, a2, a3) = (a1[m], a2[m], a3[m]);
-            let zm: [f64; 3] = std::array::from_fn(|i| q[i] * (a1 + (q[i] - (c2 - 1.0)) * (a2 + (q[i] - (c1 - 1.0)) * a3)));
-            z0[m] = zm[0];
-            z1[m] = zm[1];
-            z2[m] = zm[2];
-            let w = |i: usize| ti[i][0] * zm[0] + ti[i][1] * zm[1] + ti[i][2] * zm[2];
-            w0[m] = w(0);
-            w1[m] = w(1);
-            w2[m] = w(2);
-        }
+        kernels::starting_values(q, d1, d2, &self.k.ti, [a1, a2, a3], [z0, z1, z2], [w0, w1, w2]);
     }
 
     /// Simplified Newton iteration for the stage values (RADAU5, label 40).
@@ -275,37 +197,25 @@ impl Radau5 {
                 return (Newton::Failed, newt, theta);
             }
             for i in 0..3 {
-                for ((a, y), z) in self.arg.iter_mut().zip(&self.y).zip(&self.z[i]) {
-                    *a = y + z;
-                }
+                kernels::add(&self.y, &self.z[i], &mut self.arg);
                 sys.rhs(self.t + self.k.c[i] * h, &self.arg, &mut self.fz[i]);
             }
             self.stats.rhs_evals += 3;
-            if let Some(c) = self.fz.iter().find_map(|f| first_non_finite(f)) {
+            let [f0, f1, f2] = &self.fz;
+            let [w0, w1, w2] = &self.w;
+            if kernels::newton_rhs(&self.k.ti, [fac1, alphn, betan], [f0, f1, f2], [w0, w1, w2], &mut self.z[0], &mut self.rc) {
+                let c = self.fz.iter().find_map(|f| first_non_finite(f)).unwrap_or(0);
                 return (Newton::NonFinite(c), newt, theta);
             }
             newt += 1;
-            let ti: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.ti[(i, j)]));
-            {
-                let [f0, f1, f2] = &self.fz;
-                let [w0, w1, w2] = &self.w;
-                let (f0, f1, f2, w0, w1, w2) = (&f0[..n], &f1[..n], &f2[..n], &w0[..n], &w1[..n], &w2[..n]);
-                let (z0, rc) = (&mut self.z[0][..n], &mut self.rc[..n]);
-                for m in 0..n {
-                    let f = [f0[m], f1[m], f2[m]];
-                    let a = |i: usize| ti[i][0] * f[0] + ti[i][1] * f[1] + ti[i][2] * f[2];
-                    let (w1, w2, w3) = (w0[m], w1[m], w2[m]);
-                    z0[m] = a(0) - fac1 * w1;
-                    rc[m] = Complex::new(a(1) - alphn * w2 + betan * w3, a(2) - betan * w2 - alphn * w3);
-                }
-            }
             self.nm.solve(&mut self.z[0]);
             self.nm.solve_complex(&mut self.rc);
-            let mut sum = 0.0;
-            for ((z, c), s) in self.z[0].iter().zip(&self.rc).zip(&self.scal) {
-                let s2 = s * s;
-                sum += (z.powi(2) + c.re.powi(2) + c.im.powi(2)) / s2;
-            }
+            // The norm of the increments and the update W += ΔW, Z = T W in one pass: on an early
+            // return below (slow or failed Newton) the step is retried and Z, W are set afresh
+            // by `starting_values`, so updating them before the tests changes nothing.
+            let [w0, w1, w2] = &mut self.w;
+            let [z0, z1, z2] = &mut self.z;
+            let sum = kernels::newton_update(&self.k.t, &self.scal, &self.rc, [w0, w1, w2], [z0, z1, z2], &mut self.sq);
             let dyno = (sum / (3 * n).max(1) as f64).sqrt();
             if !dyno.is_finite() {
                 return (Newton::Failed, newt, theta);
@@ -327,23 +237,6 @@ impl Radau5 {
                 }
             }
             dynold = dyno.max(f64::EPSILON);
-            let t: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| self.k.t[(i, j)]));
-            {
-                let [w0, w1, w2] = &mut self.w;
-                let [z0, z1, z2] = &mut self.z;
-                let (w0, w1, w2, z0, z1, z2) = (&mut w0[..n], &mut w1[..n], &mut w2[..n], &mut z0[..n], &mut z1[..n], &mut z2[..n]);
-                let rc = &self.rc[..n];
-                for m in 0..n {
-                    w0[m] += z0[m];
-                    w1[m] += rc[m].re;
-                    w2[m] += rc[m].im;
-                    let w = [w0[m], w1[m], w2[m]];
-                    let zz = |i: usize| t[i][0] * w[0] + t[i][1] * w[1] + t[i][2] * w[2];
-                    z0[m] = zz(0);
-                    z1[m] = zz(1);
-                    z2[m] = zz(2);
-                }
-            }
             if self.faccon * dyno <= fnewt {
                 return (Newton::Converged, newt, theta);
             }
@@ -352,30 +245,18 @@ impl Radau5 {
 
     /// Scaled error estimate of the converged step (RADAU5's ESTRAD).
     fn error_estimate(&mut self, sys: &dyn OdeSystem, h: f64) -> f64 {
-        let n = self.y.len();
         let hee = self.k.dd.map(|d| d / h);
-        {
-            let [z0, z1, z2] = &self.z;
-            let (z0, z1, z2, f0) = (&z0[..n], &z1[..n], &z2[..n], &self.f0[..n]);
-            let (f2, err_v) = (&mut self.f2[..n], &mut self.err_v[..n]);
-            for m in 0..n {
-                f2[m] = hee[0] * z0[m] + hee[1] * z1[m] + hee[2] * z2[m];
-                err_v[m] = f2[m] + f0[m];
-            }
-        }
+        let [z0, z1, z2] = &self.z;
+        kernels::error_rhs(hee, [z0, z1, z2], &self.f0, &mut self.f2, &mut self.err_v);
         self.nm.solve(&mut self.err_v);
-        let mut err = self.rms(&self.err_v).max(1e-10);
+        let mut err = self.rms_err().max(1e-10);
         if err >= 1.0 && (self.first || self.reject) {
-            for m in 0..n {
-                self.arg[m] = self.y[m] + self.err_v[m];
-            }
+            kernels::add(&self.y, &self.err_v, &mut self.arg);
             sys.rhs(self.t, &self.arg, &mut self.err_v);
             self.stats.rhs_evals += 1;
-            for m in 0..n {
-                self.err_v[m] += self.f2[m];
-            }
+            kernels::add_assign(&mut self.err_v, &self.f2);
             self.nm.solve(&mut self.err_v);
-            err = self.rms(&self.err_v).max(1e-10);
+            err = self.rms_err().max(1e-10);
         }
         err
     }
@@ -485,28 +366,13 @@ impl super::Stepper for Radau5 {
                 let mut h_new = self.fixed.unwrap_or(proposed);
                 let t_new = if last { t_stop } else { self.t + h };
                 let [c1, c2, _] = self.k.c;
-                {
-                    let n = self.y.len();
-                    let [zz0, zz1, zz2] = &self.z;
-                    let (zz0, zz1, zz2) = (&zz0[..n], &zz1[..n], &zz2[..n]);
-                    let [k0, k1, k2, k3] = &mut self.cont;
-                    let (k0, k1, k2, k3) = (&mut k0[..n], &mut k1[..n], &mut k2[..n], &mut k3[..n]);
-                    let (y, scal) = (&mut self.y[..n], &mut self.scal[..n]);
-                    for m in 0..n {
-                        let (z1, z2, z3) = (zz0[m], zz1[m], zz2[m]);
-                        y[m] += z3;
-                        let ak = (z1 - z2) / (c1 - c2);
-                        let acont3 = (ak - z1 / c1) / c2;
-                        k0[m] = y[m];
-                        k1[m] = (z2 - z3) / (c2 - 1.0);
-                        k2[m] = (ak - k1[m]) / (c1 - 1.0);
-                        k3[m] = k2[m] - acont3;
-                        scal[m] = self.atol + self.rtol * y[m].abs();
-                    }
-                }
+                let [z0, z1, z2] = &self.z;
+                let [k0, k1, k2, k3] = &mut self.cont;
+                let y_bad = kernels::accept(c1, c2, [self.atol, self.rtol], [z0, z1, z2], &mut self.y, [k0, k1, k2, k3], &mut self.scal);
                 sys.rhs(t_new, &self.y, &mut self.f0);
                 self.stats.rhs_evals += 1;
-                if let Some(c) = first_non_finite(&self.y).or_else(|| first_non_finite(&self.f0)) {
+                let bad = if y_bad { first_non_finite(&self.y) } else { None };
+                if let Some(c) = bad.or_else(|| first_non_finite(&self.f0)) {
                     return Err(IntegrateError::NonFinite { t: t_new, component: c });
                 }
                 self.t_prev = self.t;
@@ -542,12 +408,8 @@ impl super::Stepper for Radau5 {
     fn interpolate(&self, t: f64, out: &mut [f64]) {
         let [c1, c2, _] = self.k.c;
         let s = (t - self.t) / self.h_old.max(f64::MIN_POSITIVE);
-        let n = out.len();
         let [k0, k1, k2, k3] = &self.cont;
-        let (k0, k1, k2, k3) = (&k0[..n], &k1[..n], &k2[..n], &k3[..n]);
-        for m in 0..n {
-            out[m] = k0[m] + s * (k1[m] + (s - (c2 - 1.0)) * (k2[m] + (s - (c1 - 1.0)) * k3[m]));
-        }
+        kernels::interpolate(c1, c2, s, [k0, k1, k2, k3], out);
     }
 
     fn interpolate_at(&self, t: f64, idx: &[usize], out: &mut [f64]) {
@@ -557,27 +419,5 @@ impl super::Stepper for Radau5 {
         for (o, &m) in out.iter_mut().zip(idx) {
             *o = k0[m] + s * (k1[m] + (s - (c2 - 1.0)) * (k2[m] + (s - (c1 - 1.0)) * k3[m]));
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn transformation_block_diagonalises_a_inverse() {
-        let k = RadauConsts::new();
-        let a = radau_iia_matrix();
-        let lam = k.ti * a.try_inverse().unwrap() * k.t;
-        let want = Matrix3::new(k.gamma, 0.0, 0.0, 0.0, k.alpha, -k.beta, 0.0, k.beta, k.alpha);
-        assert!((lam - want).abs().max() < 1e-12, "{lam}");
-        // Row sums of A are c (collocation), and b = last row (stiffly accurate).
-        for i in 0..3 {
-            assert!(((0..3).map(|j| a[(i, j)]).sum::<f64>() - k.c[i]).abs() < 1e-15);
-        }
-        // Hairer's RADAU5 values with the same normalisation (first column unit, T32 = 1, T33 = 0).
-        assert!((k.t[(0, 0)] - 9.1232394870892942792e-02).abs() < 1e-12);
-        assert!((k.t[(1, 2)] - 0.38294211275726193779).abs() < 1e-12);
-        assert!((k.ti[(2, 1)] - 2.5719269498556054292).abs() < 1e-12);
     }
 }
