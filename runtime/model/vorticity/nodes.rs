@@ -99,17 +99,7 @@ pub fn sweep_complex<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2
         (xr[i], xi[i]) = (cr, ci);
         (pr, pi) = (cr, ci);
     }
-    for i in (0..n - 1).rev() {
-        let (mut cr, mut ci) = (xr[i], xi[i]);
-        for j in 0..Q {
-            // cur −= γ · next
-            let (qr, qi) = cmul(gr[i + 1][j], gi[i + 1][j], pr[j], pi[j]);
-            cr[j] = sub(cr[j], qr);
-            ci[j] = sub(ci[j], qi);
-        }
-        (xr[i], xi[i]) = (cr, ci);
-        (pr, pi) = (cr, ci);
-    }
+    back_complex::<Q>((gr, gi), (xr, xi), (pr, pi));
 }
 
 /// [`sweep_complex`] of a real right-hand side: `xi` comes empty (any capacity) and the
@@ -147,9 +137,18 @@ pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma:
     }
     let xi = &mut view_mut::<Q>(xi)[..n];
     let (gr, gi) = (&view::<Q>(gamma[0])[..n], &view::<Q>(gamma[1])[..n]);
-    for i in (0..n - 1).rev() {
+    back_complex::<Q>((gr, gi), (xr, &mut xi[..]), (pr, pi));
+}
+
+/// The back substitution of the complex sweeps: from the last node's (re, im) `last`, node by
+/// node down, cur −= γ(i + 1) · next (split storage).
+#[inline(always)]
+fn back_complex<const Q: usize>(gamma: (&[N<Q>], &[N<Q>]), x: (&mut [N<Q>], &mut [N<Q>]), last: (N<Q>, N<Q>)) {
+    let ((gr, gi), (xr, xi), (mut pr, mut pi)) = (gamma, x, last);
+    for i in (0..xr.len().saturating_sub(1)).rev() {
         let (mut cr, mut ci) = (xr[i], xi[i]);
         for j in 0..Q {
+            // cur −= γ · next
             let (qr, qi) = cmul(gr[i + 1][j], gi[i + 1][j], pr[j], pi[j]);
             cr[j] = sub(cr[j], qr);
             ci[j] = sub(ci[j], qi);
