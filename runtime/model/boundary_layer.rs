@@ -212,16 +212,7 @@ impl BoundaryLayerSystem {
         } else {
             &mut []
         };
-        let rdd = if self.bdot_radial {
-            self.mode_rates(r, rd, 0.0, &gn[..m], &gt[..m], y, dy);
-            let mut bd = [0.0; MAX_MODES];
-            for (j, b) in bd[..m].iter_mut().enumerate() {
-                *b = dy[4 + 3 * j];
-            }
-            self.eq.acceleration_with(t, y, p, &bd[..m])
-        } else {
-            self.eq.acceleration_at(t, y, p)
-        };
+        let rdd = self.first_acceleration(t, y, p, &gn[..m], &gt[..m], dy);
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
@@ -262,6 +253,24 @@ impl BoundaryLayerSystem {
     }
 }
 
+impl BoundaryLayerSystem {
+    /// R̈ of the first pass from the radial load `p`: with ḃ terms in the radial balance, the
+    /// mode rates first (R̈ = 0 in them) for the ḃ it needs, else R̈ from `p` alone.
+    #[inline(always)]
+    fn first_acceleration(&self, t: f64, y: &[f64], p: f64, gn: &[f64], gt: &[f64], dy: &mut [f64]) -> f64 {
+        if !self.bdot_radial {
+            return self.eq.acceleration_at(t, y, p);
+        }
+        let m = self.modes.len();
+        self.mode_rates(y[0], y[1], 0.0, gn, gt, y, dy);
+        let mut bd = [0.0; MAX_MODES];
+        for (j, b) in bd[..m].iter_mut().enumerate() {
+            *b = dy[4 + 3 * j];
+        }
+        self.eq.acceleration_with(t, y, p, &bd[..m])
+    }
+}
+
 impl crate::integrate::OdeSystem for BoundaryLayerSystem {
     fn dim(&self) -> usize {
         2 + 3 * self.modes.len()
@@ -281,16 +290,7 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
             let mut store = [[0.0; 5]; MAX_MODES];
             self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut store);
         }
-        let rdd = if self.bdot_radial {
-            self.mode_rates(r, rd, 0.0, &gn[..m], &gt[..m], y, dy);
-            let mut bd = [0.0; MAX_MODES];
-            for (j, b) in bd[..m].iter_mut().enumerate() {
-                *b = dy[4 + 3 * j];
-            }
-            self.eq.acceleration_with(t, y, p, &bd[..m])
-        } else {
-            self.eq.acceleration_at(t, y, p)
-        };
+        let rdd = self.first_acceleration(t, y, p, &gn[..m], &gt[..m], dy);
         dy[0] = rd;
         dy[1] = rdd;
         self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
