@@ -82,6 +82,33 @@ pub(crate) struct ShiftedLu<T: Scalar> {
     piv: Vec<usize>,
 }
 
+/// The dense solve of [`ShiftedLu`] (and of `split_lu::RealLu`, which shares it): `l` holds
+/// column k of L below the diagonal at `l[k n + k + 1 .. (k + 1) n]` and column k of U above it
+/// at `l[k n .. k n + k]`, `inv_diag` = 1/U_kk. Forward: b[k+1..] −= L[k+1.., k] b_k; backward:
+/// b_k /= U_kk, b[..k] −= U[..k, k] b_k (column sweeps over contiguous copies: axpys, no strided
+/// access).
+#[inline(always)]
+pub(crate) fn dense_solve<T: Scalar>(n: usize, l: &[T], piv: &[usize], inv_diag: &[T], b: &mut [T]) {
+    let b = &mut b[..n];
+    let (l, piv, inv_diag) = (&l[..n * n], &piv[..n], &inv_diag[..n]);
+    for k in 0..n {
+        b.swap(k, piv[k]);
+        let (head, tail) = b.split_at_mut(k + 1);
+        let bk = head[k];
+        for (x, &m) in tail.iter_mut().zip(&l[k * n + k + 1..(k + 1) * n]) {
+            *x = *x - m * bk;
+        }
+    }
+    for k in (0..n).rev() {
+        let (head, tail) = b.split_at_mut(k);
+        let bk = tail[0] * inv_diag[k];
+        tail[0] = bk;
+        for (x, &u) in head.iter_mut().zip(&l[k * n..k * n + k]) {
+            *x = *x - u * bk;
+        }
+    }
+}
+
 impl<T: Scalar> ShiftedLu<T> {
     pub(crate) fn new(n: usize, band: Option<(usize, usize)>) -> Self {
         // A band wider than the matrix is just a dense matrix.
@@ -251,26 +278,7 @@ impl<T: Scalar> ShiftedLu<T> {
         let n = self.n;
         match self.band {
             None => {
-                // forward: b[k+1..] −= L[k+1.., k] b_k; backward: b_k /= U_kk, b[..k] −= U[..k, k] b_k
-                // (column sweeps over the contiguous copies in `l`: axpys, no strided access)
-                let b = &mut b[..n];
-                let (l, piv, inv_diag) = (&self.l[..n * n], &self.piv[..n], &self.inv_diag[..n]);
-                for k in 0..n {
-                    b.swap(k, piv[k]);
-                    let (head, tail) = b.split_at_mut(k + 1);
-                    let bk = head[k];
-                    for (x, &m) in tail.iter_mut().zip(&l[k * n + k + 1..(k + 1) * n]) {
-                        *x = *x - m * bk;
-                    }
-                }
-                for k in (0..n).rev() {
-                    let (head, tail) = b.split_at_mut(k);
-                    let bk = tail[0] * inv_diag[k];
-                    tail[0] = bk;
-                    for (x, &u) in head.iter_mut().zip(&l[k * n..k * n + k]) {
-                        *x = *x - u * bk;
-                    }
-                }
+                dense_solve(n, &self.l, &self.piv, &self.inv_diag, b);
             }
             Some((ml, mu)) => {
                 // The same operations in the same order as the indexed loops, on pre-cut

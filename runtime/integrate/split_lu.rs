@@ -262,25 +262,7 @@ impl RealLu {
 
     #[inline(always)]
     fn solve_body(&self, b: &mut [f64]) {
-        let n = self.n;
-        let b = &mut b[..n];
-        let (l, piv, inv_diag) = (&self.l[..n * n], &self.piv[..n], &self.inv_diag[..n]);
-        for k in 0..n {
-            b.swap(k, piv[k]);
-            let (head, tail) = b.split_at_mut(k + 1);
-            let bk = head[k];
-            for (x, &m) in tail.iter_mut().zip(&l[k * n + k + 1..(k + 1) * n]) {
-                *x -= m * bk;
-            }
-        }
-        for k in (0..n).rev() {
-            let (head, tail) = b.split_at_mut(k);
-            let bk = tail[0] * inv_diag[k];
-            tail[0] = bk;
-            for (x, &u) in head.iter_mut().zip(&l[k * n..k * n + k]) {
-                *x -= u * bk;
-            }
-        }
+        super::linalg::dense_solve(self.n, &self.l, &self.piv, &self.inv_diag, b);
     }
 }
 
