@@ -82,6 +82,59 @@ pub(crate) struct ShiftedLu<T: Scalar> {
     piv: Vec<usize>,
 }
 
+/// The dense LU of [`ShiftedLu`] (and of `split_lu::RealLu`, which shares it): partial pivoting
+/// on the row-major n × n `a` in place, the pivots in `piv`, then the column copies `l` and
+/// 1/U_kk in `inv_diag` that [`dense_solve`] reads; `Err(k)` when singular at column k.
+#[inline(always)]
+pub(crate) fn dense_factor<T: Scalar>(n: usize, a: &mut [T], piv: &mut [usize], inv_diag: &mut Vec<T>, l: &mut Vec<T>) -> Result<(), usize> {
+    for k in 0..n {
+        let mut p = k;
+        let mut best = a[k * n + k].mag();
+        for i in k + 1..n {
+            let m = a[i * n + k].mag();
+            if m > best {
+                best = m;
+                p = i;
+            }
+        }
+        piv[k] = p;
+        if !(best > 0.0) || !best.is_finite() {
+            return Err(k);
+        }
+        // LINPACK style: only columns k.. are swapped, so the multipliers of earlier
+        // columns stay where the interleaved forward substitution of `solve` expects them.
+        if p != k {
+            for j in k..n {
+                a.swap(k * n + j, p * n + j);
+            }
+        }
+        let pivot = a[k * n + k];
+        // Row k (columns k+1..) against every later row: contiguous slices, no index checks
+        // in the inner loop (the same operations in the same order as the indexed loop).
+        let (top, bottom) = a.split_at_mut((k + 1) * n);
+        let rk = &top[k * n + k + 1..(k + 1) * n];
+        for row in bottom.chunks_exact_mut(n) {
+            let m = row[k] / pivot;
+            row[k] = m;
+            if m.mag() != 0.0 {
+                for (x, &y) in row[k + 1..].iter_mut().zip(rk) {
+                    *x = *x - m * y;
+                }
+            }
+        }
+    }
+    // the column copies of the substitutions (the doc of `l`; its diagonal is not read)
+    let one = T::from_real(1.0);
+    inv_diag.clear();
+    inv_diag.extend((0..n).map(|k| one / a[k * n + k]));
+    l.clear();
+    l.reserve(n * n);
+    for k in 0..n {
+        l.extend((0..n).map(|i| a[i * n + k]));
+    }
+    Ok(())
+}
+
 /// The dense solve of [`ShiftedLu`] (and of `split_lu::RealLu`, which shares it): `l` holds
 /// column k of L below the diagonal at `l[k n + k + 1 .. (k + 1) n]` and column k of U above it
 /// at `l[k n .. k n + k]`, `inv_diag` = 1/U_kk. Forward: b[k+1..] −= L[k+1.., k] b_k; backward:
@@ -176,54 +229,7 @@ impl<T: Scalar> ShiftedLu<T> {
     }
 
     fn factor_dense(&mut self) -> Result<(), usize> {
-        let n = self.n;
-        let a = &mut self.a;
-        for k in 0..n {
-            let mut p = k;
-            let mut best = a[k * n + k].mag();
-            for i in k + 1..n {
-                let m = a[i * n + k].mag();
-                if m > best {
-                    best = m;
-                    p = i;
-                }
-            }
-            self.piv[k] = p;
-            if !(best > 0.0) || !best.is_finite() {
-                return Err(k);
-            }
-            // LINPACK style: only columns k.. are swapped, so the multipliers of earlier
-            // columns stay where the interleaved forward substitution of `solve` expects them.
-            if p != k {
-                for j in k..n {
-                    a.swap(k * n + j, p * n + j);
-                }
-            }
-            let pivot = a[k * n + k];
-            // Row k (columns k+1..) against every later row: contiguous slices, no index checks
-            // in the inner loop (the same operations in the same order as the indexed loop).
-            let (top, bottom) = a.split_at_mut((k + 1) * n);
-            let rk = &top[k * n + k + 1..(k + 1) * n];
-            for row in bottom.chunks_exact_mut(n) {
-                let m = row[k] / pivot;
-                row[k] = m;
-                if m.mag() != 0.0 {
-                    for (x, &y) in row[k + 1..].iter_mut().zip(rk) {
-                        *x = *x - m * y;
-                    }
-                }
-            }
-        }
-        // the column copies of the substitutions (the doc of `l`; its diagonal is not read)
-        let one = T::from_real(1.0);
-        self.inv_diag.clear();
-        self.inv_diag.extend((0..n).map(|k| one / a[k * n + k]));
-        self.l.clear();
-        self.l.reserve(n * n);
-        for k in 0..n {
-            self.l.extend((0..n).map(|i| a[i * n + k]));
-        }
-        Ok(())
+        dense_factor(self.n, &mut self.a, &mut self.piv, &mut self.inv_diag, &mut self.l)
     }
 
     fn factor_band(&mut self, ml: usize, mu: usize) -> Result<(), usize> {

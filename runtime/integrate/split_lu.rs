@@ -203,44 +203,8 @@ impl RealLu {
 
     #[inline(always)]
     fn factor_body(n: usize, mut a: Vec<f64>) -> Result<Self, usize> {
-        let mut piv = vec![0; n];
-        for k in 0..n {
-            let mut p = k;
-            let mut best = a[k * n + k].abs();
-            for i in k + 1..n {
-                let m = a[i * n + k].abs();
-                if m > best {
-                    best = m;
-                    p = i;
-                }
-            }
-            piv[k] = p;
-            if !(best > 0.0) || !best.is_finite() {
-                return Err(k);
-            }
-            if p != k {
-                for j in k..n {
-                    a.swap(k * n + j, p * n + j);
-                }
-            }
-            let pivot = a[k * n + k];
-            let (top, bottom) = a.split_at_mut((k + 1) * n);
-            let rk = &top[k * n + k + 1..(k + 1) * n];
-            for row in bottom.chunks_exact_mut(n) {
-                let m = row[k] / pivot;
-                row[k] = m;
-                if m != 0.0 {
-                    for (x, &y) in row[k + 1..].iter_mut().zip(rk) {
-                        *x -= m * y;
-                    }
-                }
-            }
-        }
-        let inv_diag = (0..n).map(|k| 1.0 / a[k * n + k]).collect();
-        let mut l = Vec::with_capacity(n * n);
-        for k in 0..n {
-            l.extend((0..n).map(|i| a[i * n + k]));
-        }
+        let (mut piv, mut inv_diag, mut l) = (vec![0; n], Vec::new(), Vec::new());
+        super::linalg::dense_factor(n, &mut a, &mut piv, &mut inv_diag, &mut l)?;
         Ok(RealLu { n, l, inv_diag, piv })
     }
 
