@@ -29,9 +29,14 @@ pub fn margin(y: &[f64], orders: &[usize], threshold: f64) -> f64 {
     if y.iter().any(|v| !v.is_finite()) {
         return f64::INFINITY;
     }
+    // y is finite here, so a comparison is the maximum (no NaN case of `f64::max` to handle)
     let mut g = -y[0];
-    for m in 0..orders.len() {
-        g = g.max(y[2 + 3 * m].abs() - threshold).max(y[4 + 3 * m].abs() - threshold);
+    for zk in y[2..2 + 3 * orders.len()].chunks_exact(3) {
+        for v in [zk[0].abs() - threshold, zk[2].abs() - threshold] {
+            if v > g {
+                g = v;
+            }
+        }
     }
     g
 }

@@ -52,7 +52,10 @@ impl Rows<'_> {
         let ts = self.model.time_scale();
         self.model.to_si_into(z, &mut self.row);
         for (m, v) in self.max_abs.iter_mut().zip(&self.row) {
-            *m = m.max(v.abs());
+            // `f64::max` without its NaN branch: a NaN |v| leaves m, as `max` does
+            if v.abs() > *m {
+                *m = v.abs();
+            }
         }
         self.t_last = t * ts;
         (self.observer)(t * ts, &self.row);
@@ -86,6 +89,9 @@ pub(crate) fn execute(
     let nz = 2 + 3 * model.orders().len();
     debug_assert_eq!(plan.layout.len(), nz, "layout of z");
     let mut z = vec![0.0; nz];
+    // the layout is the whole state (the boundary-layer system): the stepper's contiguous dense
+    // output, the same values as `interpolate_at` gives (its contract)
+    let whole = plan.layout.len() == st.y().len() && plan.layout.iter().enumerate().all(|(j, &i)| i == j);
     let t0 = st.t();
     gather(st.y(), plan.layout, &mut z);
     rows.emit(t0, &z);
@@ -117,6 +123,8 @@ pub(crate) fn execute(
             let (t_pt, at_end) = if is_sample { (ts_i, ts_i == st.t()) } else { (st.t(), true) };
             if at_end {
                 gather(st.y(), plan.layout, &mut z);
+            } else if whole {
+                st.interpolate(t_pt, &mut z);
             } else {
                 st.interpolate_at(t_pt, plan.layout, &mut z);
             }

@@ -86,12 +86,29 @@ fn rewrite_common(s: &[u8], o: &mut [u8]) -> Option<usize> {
     if !normalised {
         return None;
     }
-    o[..n].copy_from_slice(s);
+    copy_short(s, o);
     if s[p + 1] != b'+' {
         return Some(n);
     }
     o[p + 1..n - 1].copy_from_slice(&s[p + 2..n]);
     Some(n - 1)
+}
+
+/// Copies `s` (3 ≤ len ≤ [`MAX_VALUE_BYTES`]) to the front of `o` (at least that long) with
+/// fixed-size moves: two overlapping 16- and 8-byte (or 8- and 8-byte) copies instead of a
+/// `memcpy` call of a variable length (the same bytes).
+#[inline(always)]
+fn copy_short(s: &[u8], o: &mut [u8]) {
+    let n = s.len();
+    if n >= 16 {
+        o[..16].copy_from_slice(&s[..16]);
+        o[n - 8..n].copy_from_slice(&s[n - 8..n]);
+    } else if n >= 8 {
+        o[..8].copy_from_slice(&s[..8]);
+        o[n - 8..n].copy_from_slice(&s[n - 8..n]);
+    } else {
+        o[..n].copy_from_slice(s);
+    }
 }
 
 /// zmij's fixed form `[-]0.0…0d…d` (at most 4 zeros after the point: 1e-5 ≤ |v| < 1e-1) as
