@@ -75,7 +75,21 @@ macro_rules! simd_kernel {
                 let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
                 let mut acc = [$zero(); V];
                 let mut r = r0;
-                while r + 2 <= r1 {
+                // two row pairs per trip (half the loop control), then one; each row pair adds
+                // c0 w0 + c1 w1 to the accumulators, the portable kernel's sums in its order
+                while r + 4 <= r1 {
+                    for q in [r, r + 2] {
+                        let (w0, w1) = (wp.add(*off.add(q) as usize), wp.add(*off.add(q + 1) as usize));
+                        let (c0, c1) = (cp.add(q * s), cp.add((q + 1) * s));
+                        for (v, a) in acc.iter_mut().enumerate() {
+                            let t0 = $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v)));
+                            let t1 = $mul($load(c1.add($lanes * v)), $load(w1.add($lanes * v)));
+                            *a = $add(*a, $add(t0, t1));
+                        }
+                    }
+                    r += 4;
+                }
+                if r + 2 <= r1 {
                     let (w0, w1) = (wp.add(*off.add(r) as usize), wp.add(*off.add(r + 1) as usize));
                     let (c0, c1) = (cp.add(r * s), cp.add((r + 1) * s));
                     for (v, a) in acc.iter_mut().enumerate() {
