@@ -68,10 +68,12 @@ impl QuadraticCoupling {
         let n = jac.n;
         let (amp, tp, s) = self.state(at, first);
         let dpre = self.prefactor_gradients(&s, at.r());
-        // per slot: its prefactor and whether it is the swapped product first(m)·second(l)
-        let (mut pre, mut swap) = ([0.0; S], [false; S]);
+        // per slot: its prefactor, whether it is the swapped product first(m)·second(l), and
+        // (term, first, second) masked to their array sizes (no bounds checks below)
+        let (mut pre, mut swap, mut plan) = ([0.0; S], [false; S], [(0usize, 0usize, 0usize); S]);
         for (q, slot) in self.slots.iter().enumerate() {
             (pre[q], swap[q]) = (tp[slot.term], slot.swap);
+            plan[q] = (slot.term & (MAX_SLOTS - 1), slot.first & 3, slot.second & 3);
         }
         // per mode: its factor on the l side (u[f_q]) and on the m side (u[g_q]) of each slot
         let (mut lf, mut rf) = ([[0.0; S]; MAX_MODES], [[0.0; S]; MAX_MODES]);
@@ -82,11 +84,11 @@ impl QuadraticCoupling {
             }
         }
         let g_add = |i: usize| &grad.dadd[i * n..(i + 1) * n];
-        let mut d = [[0.0; 3]; MAX_MODES];
+        let mut d = [[0.0; 4]; MAX_MODES];
         for o in 0..=nm {
             // Σ value · first · second per table term (no prefactor), and ∂Q_o/∂(a, ȧ, ä⁽¹⁾)_i
             let mut bare = [0.0; MAX_SLOTS];
-            d[..nm].fill([0.0; 3]);
+            d[..nm].fill([0.0; 4]);
             if o == 0 {
                 for e in &self.radial_only {
                     let (f, g, _) = self.kinds[e.term];
@@ -107,15 +109,21 @@ impl QuadraticCoupling {
                     let cp = c[q] * pre[q];
                     (tb[q], tx[q], ty[q]) = (c[q] * x * y, cp * x, cp * y);
                 }
-                // added slot by slot in the walk's order (the same sums, bit for bit)
-                for (q, slot) in self.slots.iter().enumerate() {
+                // added slot by slot in the walk's order (the same sums, bit for bit), into
+                // the row's two modes' derivatives held apart (one when l = m)
+                let two = usize::from(l != m);
+                let mut acc = [d[l], d[m]];
+                for q in 0..S {
                     if c[q] != 0.0 {
-                        let (i, k) = if slot.swap { (m, l) } else { (l, m) };
-                        bare[slot.term] += tb[q];
-                        d[i][slot.first] += ty[q];
-                        d[k][slot.second] += tx[q];
+                        let (term, f, g) = plan[q];
+                        let (i, k) = if swap[q] { (two, 0) } else { (0, two) };
+                        bare[term] += tb[q];
+                        acc[i][f] += ty[q];
+                        acc[k][g] += tx[q];
                     }
                 }
+                d[m] = acc[1];
+                d[l] = acc[0];
             }
             let row: &mut [f64] = if o == 0 { &mut jac.pressure[..] } else { &mut jac.gn[(o - 1) * n..o * n] };
             let mut via = [0.0; 3];
