@@ -7,15 +7,13 @@
 //! unordered pair l ≤ m (in pair order) its *runs* of consecutive targets the selection rules
 //! allow (one run per pair for the even mode set k = 2, 4, …: the targets |l − m| ≤ j ≤ l + m,
 //! j even, are consecutive indices), each run with its K broadcast to 4 lanes (the diagonal
-//! pairs' K halved: their symmetric products count l = m twice); and the same rows target by
-//! target, in pair order within each. A pair's products are formed once, in one register, from
-//! the per-mode factors u = [a, ȧ, F, a] and v = [b, b, b, ḃ]: u_l v_m + u_m v_l =
-//! [a_l b_m + a_m b_l, ȧ_l b_m + ȧ_m b_l, F_l b_m + F_m b_l, a_l ḃ_m + a_m ḃ_l], the last lane
-//! added onto the second. With AVX the sweep stores them per pair and then sums each target in
-//! one register over its rows (K broadcast, the pair's products read by index): no load and
-//! store of the sum per row; the portable sweep adds K·w into each target of a run. Either way
-//! every target's sum receives its terms in pair order, each pair's products summed in the same
-//! order, so the results are bit for bit the same (the test below).
+//! pairs' K halved: their symmetric products count l = m twice). The sweep forms a pair's
+//! products once, in one register, from the per-mode factors u = [a, ȧ, F, a] and
+//! v = [b, b, b, ḃ]: u_l v_m + u_m v_l = [a_l b_m + a_m b_l, ȧ_l b_m + ȧ_m b_l, F_l b_m + F_m b_l,
+//! a_l ḃ_m + a_m ḃ_l], the last lane added onto the second; and adds K·w into the 4-lane sum of
+//! each target of its run: no per-row index, no bounds checks, one stream of coefficients. Every
+//! target's sum receives its terms in pair order, each pair's products summed in the same
+//! order, so the result is bit for bit that of the per-target row sweep it replaces.
 
 /// One run: pair (l, m) (mode indices), targets `n0 .. n0 + len`.
 #[derive(Debug, Clone, Copy)]
@@ -33,13 +31,6 @@ pub struct FrameRows {
     runs: Vec<Run>,
     /// per row (run by run, target by target) K, broadcast
     k: Vec<[f64; 4]>,
-    /// the unordered pairs (l, m) that have rows, in pair order
-    pairs: Vec<(u32, u32)>,
-    /// the rows target by target, each target's in pair order: `t_start[n]..t_start[n + 1]`
-    /// into `t_pair` (index into `pairs`) and `t_k` (K, the diagonal pairs' halved)
-    t_start: Vec<usize>,
-    t_pair: Vec<u32>,
-    t_k: Vec<f64>,
 }
 
 /// The per-mode factors of a sweep: `u[i] = [a, ȧ, F, a]`, `v[i] = [b, b, b, ḃ]` (ḃ = ḃ⁽¹⁾).
@@ -72,29 +63,7 @@ impl FrameRows {
                 }
             }
         }
-        // the same rows target by target (pair order kept within a target)
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
-        let mut rows: Vec<(u32, u32, f64)> = Vec::new();
-        let mut it = k.iter();
-        for r in &runs {
-            if pairs.last() != Some(&(r.l, r.m)) {
-                pairs.push((r.l, r.m));
-            }
-            let p = u32::try_from(pairs.len() - 1).expect("frame rows: index fits u32");
-            for n in r.n0..r.n0 + r.len {
-                rows.push((n, p, it.next().expect("one K per row")[0]));
-            }
-        }
-        rows.sort_by_key(|&(n, p, _)| (n, p));
-        let mut t_start = vec![0; modes + 2];
-        for &(n, _, _) in &rows {
-            t_start[n as usize + 1] += 1;
-        }
-        for n in 0..=modes {
-            t_start[n + 1] += t_start[n];
-        }
-        let (t_pair, t_k) = rows.iter().map(|&(_, p, c)| (p, c)).unzip();
-        Self { modes, runs, k, pairs, t_start, t_pair, t_k }
+        Self { modes, runs, k }
     }
 
     /// Number of (target, unordered pair) rows.
@@ -103,63 +72,20 @@ impl FrameRows {
     }
 
     /// out[n] = [d_n, s_n, f_n, ·] for n = 0..=modes (`out` overwritten there; the last lane
-    /// is a by-product); `w` scratch for the pair products (resized here).
-    pub fn sweep(&self, f: &Factors<'_>, w: &mut Vec<[f64; 4]>, out: &mut [[f64; 4]]) {
+    /// is a by-product).
+    pub fn sweep(&self, f: &Factors<'_>, out: &mut [[f64; 4]]) {
         let m = self.modes;
         // the bounds the kernels rely on (the AVX one reads without further checks)
         assert!(f.u.len() >= m && f.v.len() >= m && out.len() > m, "frame rows: factor lengths");
+        out[..=m].fill([0.0; 4]);
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
-            w.resize(self.pairs.len(), [0.0; 4]);
-            // SAFETY: AVX is available (checked just above); every pair's l, m < modes, every
-            // t_pair < pairs.len() = w.len(), t_start has modes + 2 entries ending at
-            // t_pair.len() = t_k.len() (`new`), the lengths asserted above.
-            unsafe { self.sweep_targets_avx(f, w, out) };
+            // SAFETY: AVX is available (checked just above); every run's l, m < modes and
+            // n0 + len ≤ modes + 1 (`new`), the lengths asserted above, Σ len = k.len().
+            unsafe { self.sweep_avx(f, out) };
             return;
         }
-        out[..=m].fill([0.0; 4]);
         self.sweep_portable(f, out);
-    }
-
-    /// [`sweep_portable`](Self::sweep_portable) target by target: the pair products once into
-    /// `w`, then each target's sum in one register over its rows in pair order — the same
-    /// products and the same sums in the same order per target and lane, so bit for bit its
-    /// result, without a load and store of the sum per row.
-    ///
-    /// # Safety
-    /// AVX available; `w.len() == pairs.len()`; the lengths [`sweep`](Self::sweep) asserts;
-    /// `self` built by [`new`](Self::new).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn sweep_targets_avx(&self, f: &Factors<'_>, w: &mut [[f64; 4]], out: &mut [[f64; 4]]) {
-        use std::arch::x86_64::*;
-        let (up, vp) = (f.u.as_ptr().cast::<f64>(), f.v.as_ptr().cast::<f64>());
-        let wp = w.as_mut_ptr().cast::<f64>();
-        for (p, &(l, m)) in self.pairs.iter().enumerate() {
-            let (l, m) = (4 * l as usize, 4 * m as usize);
-            let x = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(up.add(l)), _mm256_loadu_pd(vp.add(m))), _mm256_mul_pd(_mm256_loadu_pd(up.add(m)), _mm256_loadu_pd(vp.add(l))));
-            // lane 1 += lane 3: [x2, x3, x0, x1] added, lane 1 of the sum taken
-            let y = _mm256_blend_pd::<0b0010>(x, _mm256_add_pd(x, _mm256_permute2f128_pd::<0x01>(x, x)));
-            _mm256_storeu_pd(wp.add(4 * p), y);
-        }
-        let (tp, kp, op) = (self.t_pair.as_ptr(), self.t_k.as_ptr(), out.as_mut_ptr().cast::<f64>());
-        let wp = wp.cast_const();
-        for n in 0..=self.modes {
-            let (r0, r1) = (self.t_start[n], self.t_start[n + 1]);
-            let mut acc = _mm256_setzero_pd();
-            let mut r = r0;
-            while r + 2 <= r1 {
-                let (w0, w1) = (_mm256_loadu_pd(wp.add(4 * *tp.add(r) as usize)), _mm256_loadu_pd(wp.add(4 * *tp.add(r + 1) as usize)));
-                acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_broadcast_sd(&*kp.add(r)), w0));
-                acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_broadcast_sd(&*kp.add(r + 1)), w1));
-                r += 2;
-            }
-            if r < r1 {
-                let w0 = _mm256_loadu_pd(wp.add(4 * *tp.add(r) as usize));
-                acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_broadcast_sd(&*kp.add(r)), w0));
-            }
-            _mm256_storeu_pd(op.add(4 * n), acc);
-        }
     }
 
     /// A pair's products, lane by lane (module doc).
@@ -185,13 +111,12 @@ impl FrameRows {
     }
 
     /// [`sweep_portable`](Self::sweep_portable) in one AVX register per pair and target: the
-    /// same products and sums per lane, so bit for bit its result (adds into `out`; kept for the
-    /// test, the sweep takes [`sweep_targets_avx`](Self::sweep_targets_avx)).
+    /// same products and sums per lane, so bit for bit its result.
     ///
     /// # Safety
     /// AVX available; the lengths [`sweep`](Self::sweep) asserts; `self` built by
     /// [`new`](Self::new).
-    #[cfg(all(target_arch = "x86_64", test))]
+    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
     unsafe fn sweep_avx(&self, f: &Factors<'_>, out: &mut [[f64; 4]]) {
         use std::arch::x86_64::*;
@@ -229,18 +154,9 @@ mod tests {
         let w: Vec<[f64; 4]> = (0..modes).map(|i| [b[i], b[i], b[i], bd[i]]).collect();
         let f = Factors { u: &u, v: &w };
         // the portable sweep adds into zeros; `sweep` overwrites
-        let (mut p, mut s, mut q) = (vec![[0.0; 4]; modes + 1], vec![[9.0; 4]; modes + 1], vec![[0.0; 4]; modes + 1]);
+        let (mut p, mut s) = (vec![[0.0; 4]; modes + 1], vec![[9.0; 4]; modes + 1]);
         rows.sweep_portable(&f, &mut p);
-        rows.sweep(&f, &mut Vec::new(), &mut s);
-        // the run-by-run AVX kernel too (the dispatch above takes the target-by-target one)
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: AVX checked just above; the lengths are those sweep asserts.
-            unsafe { rows.sweep_avx(&f, &mut q) };
-            for (x, y) in p.iter().zip(&q) {
-                assert_eq!(x.map(f64::to_bits), y.map(f64::to_bits));
-            }
-        }
+        rows.sweep(&f, &mut s);
         for (x, y) in p.iter().zip(&s) {
             assert_eq!(x.map(f64::to_bits), y.map(f64::to_bits));
         }

@@ -77,8 +77,6 @@ struct Work {
     v: Vec<[f64; 4]>,
     /// [d_n, s_n, f_n, ·] per target
     sums: Vec<[f64; 4]>,
-    /// the sweep's pair products
-    pairs: Vec<[f64; 4]>,
     zl: Vec<f64>,
     gn: Vec<f64>,
     gt: Vec<f64>,
@@ -189,7 +187,7 @@ impl FrameMap {
             let f = if i < g.len() { g[i] + cn.map_or(0.0, |c| c[i]) * bd } else { 0.0 };
             (w.u[i], w.v[i]) = ([z[k], z[k + 1], f, z[k]], [z[k + 2], z[k + 2], z[k + 2], bd]);
         }
-        self.rows.sweep(&Factors { u: &w.u, v: &w.v }, &mut w.pairs, &mut w.sums);
+        self.rows.sweep(&Factors { u: &w.u, v: &w.v }, &mut w.sums);
         let (r, rd) = (z[0], z[1]);
         w.zl.clear();
         w.zl.extend_from_slice(z);
