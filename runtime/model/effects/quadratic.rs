@@ -42,8 +42,8 @@ struct Entry {
     m: usize,
     term: usize,
     value: f64,
-    first: usize,
-    second: usize,
+    /// where amp_l[first], amp_m[second] are in [a, ȧ, ä⁽¹⁾] per mode, then one 0 (3 nm)
+    flat: (usize, usize),
 }
 
 /// One product of the rhs: table term `term`, first(l)·second(m), or first(m)·second(l) when
@@ -109,7 +109,8 @@ impl QuadraticCoupling {
                     let v = t.value(0, kl, km);
                     if v != 0.0 {
                         let (first, second) = (t.first.order(), t.second.order());
-                        radial_only.push(Entry { l, m, term, value: v, first, second });
+                        let at = |i: usize, f: usize| if f < 3 { 3 * i + f } else { 3 * nm };
+                        radial_only.push(Entry { l, m, term, value: v, flat: (at(l, first), at(m, second)) });
                     }
                 }
             }
@@ -286,15 +287,16 @@ impl SecondOrderTerm for QuadraticCoupling {
             *p = tp[slot.term];
         }
         let (z, add) = (&at.z[..2 + 3 * n], &first.add[..n]);
-        // [a, ȧ, ä⁽¹⁾, 0][f] of mode index i
-        let amp = |i: usize, f: usize| match f {
-            0 | 1 => z[2 + 3 * i + f],
-            2 => add[i],
-            _ => 0.0,
-        };
+        // [a, ȧ, ä⁽¹⁾] of each mode index in a row, then one 0 (the entries' `flat`)
+        let mut amp = [0.0; 3 * MAX_MODES + 1];
+        amp[..3 * n].copy_from_slice(&z[2..]);
+        for (i, &x) in add.iter().enumerate() {
+            amp[3 * i + 2] = x;
+        }
+        let amp = &amp[..=3 * n];
         let mut out = [0.0; MAX_MODES + 1];
         for e in &self.radial_only {
-            out[0] += e.value * tp[e.term] * amp(e.l, e.first) * amp(e.m, e.second);
+            out[0] += e.value * tp[e.term] * amp[e.flat.0] * amp[e.flat.1];
         }
         self.rows.eval(&mut out[..=n], |left, right| self.factors(z, add, &pre, left, right));
         loads.pressure += out[0];
