@@ -21,9 +21,11 @@
 //! and p_g(R)) and walks the same rows: per output the derivatives with respect to the 3M
 //! amplitudes and the prefactor symbols, then the chain rule once.
 
+mod jacobian;
+
 use super::pair_rows::PairRows;
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
-use super::{a_index, At, LoadJacobian, Loads, MAX_MODES};
+use super::{At, LoadJacobian, Loads, MAX_MODES};
 use crate::coefficients::quadratic::{Term as QTerm, FREE_BUBBLE};
 
 /// Symbols of the prefactors, in this order.
@@ -40,8 +42,8 @@ struct Entry {
     m: usize,
     term: usize,
     value: f64,
-    first: usize,
-    second: usize,
+    /// where amp_l[first], amp_m[second] are in [a, ȧ, ä⁽¹⁾] per mode, then one 0 (3 nm)
+    flat: (usize, usize),
 }
 
 /// One product of the rhs: table term `term`, first(l)·second(m), or first(m)·second(l) when
@@ -68,7 +70,9 @@ pub struct QuadraticCoupling {
     /// per table term, its non-zero exponents (symbol, power) in SYMBOLS order
     powers: Vec<Vec<(usize, i32)>>,
     slots: Vec<Slot>,
-    /// per slot, where its two factors are in [a_l, ȧ_l, ä_l, a_m, ȧ_m, ä_m]
+    /// per slot, where its two factors are in [a_l, ȧ_l, ä_l, a_m, ȧ_m, ä_m] (the scalar
+    /// Jacobian walk the tests compare against reads it)
+    #[cfg_attr(not(test), allow(dead_code))]
     gather: Vec<(usize, usize)>,
     /// per slot, which of (a, ȧ, ä) of mode l and of mode m it multiplies (3: padding, a zero)
     sides: [(usize, usize); MAX_SLOTS],
@@ -105,7 +109,8 @@ impl QuadraticCoupling {
                     let v = t.value(0, kl, km);
                     if v != 0.0 {
                         let (first, second) = (t.first.order(), t.second.order());
-                        radial_only.push(Entry { l, m, term, value: v, first, second });
+                        let at = |i: usize, f: usize| if f < 3 { 3 * i + f } else { 3 * nm };
+                        radial_only.push(Entry { l, m, term, value: v, flat: (at(l, first), at(m, second)) });
                     }
                 }
             }
@@ -282,15 +287,16 @@ impl SecondOrderTerm for QuadraticCoupling {
             *p = tp[slot.term];
         }
         let (z, add) = (&at.z[..2 + 3 * n], &first.add[..n]);
-        // [a, ȧ, ä⁽¹⁾, 0][f] of mode index i
-        let amp = |i: usize, f: usize| match f {
-            0 | 1 => z[2 + 3 * i + f],
-            2 => add[i],
-            _ => 0.0,
-        };
+        // [a, ȧ, ä⁽¹⁾] of each mode index in a row, then one 0 (the entries' `flat`)
+        let mut amp = [0.0; 3 * MAX_MODES + 1];
+        amp[..3 * n].copy_from_slice(&z[2..]);
+        for (i, &x) in add.iter().enumerate() {
+            amp[3 * i + 2] = x;
+        }
+        let amp = &amp[..=3 * n];
         let mut out = [0.0; MAX_MODES + 1];
         for e in &self.radial_only {
-            out[0] += e.value * tp[e.term] * amp(e.l, e.first) * amp(e.m, e.second);
+            out[0] += e.value * tp[e.term] * amp[e.flat.0] * amp[e.flat.1];
         }
         self.rows.eval(&mut out[..=n], |left, right| self.factors(z, add, &pre, left, right));
         loads.pressure += out[0];
@@ -298,68 +304,10 @@ impl SecondOrderTerm for QuadraticCoupling {
             *g += q;
         }
     }
+    /// Exact (chain rule through R̈⁽¹⁾, ä⁽¹⁾ and p_g(R)), assembled row by row from the pair
+    /// rows ([`jacobian`]).
     fn add_jacobian(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
-        let nm = self.orders.len();
-        let n = jac.n;
-        let r = at.r();
-        let (amp, tp, s) = self.state(at, first);
-        // ∂prefactor/∂(R, Ṙ, R̈⁽¹⁾) per table term (R through p_g(R) too); ∂/∂symbol = power ·
-        // the prefactor with that power lowered by one
-        let mut dpre = [[0.0; 3]; MAX_SLOTS];
-        for (d, (_, _, e)) in dpre.iter_mut().zip(&self.kinds) {
-            let dsym = |i: usize| if e[i] == 0 { 0.0 } else { e[i] as f64 * Self::prefactor(&{ let mut f = *e; f[i] -= 1; f }, &s) };
-            *d = [dsym(2) + dsym(5) * (-3.0 * self.kappa * s[5] / r), dsym(3), dsym(4)];
-        }
-        let g_add = |i: usize| &grad.dadd[i * n..(i + 1) * n];
-        for o in 0..=nm {
-            // Σ value · first · second per table term (no prefactor), and ∂Q_o/∂(a, ȧ, ä⁽¹⁾)_i
-            let mut bare = [0.0; MAX_SLOTS];
-            let mut d = [[0.0; 3]; MAX_MODES];
-            let mut put = |term: usize, c: f64, (i, f): (usize, usize), (k, g): (usize, usize)| {
-                let (x, y) = (amp[i][f], amp[k][g]);
-                bare[term] += c * x * y;
-                let cp = c * tp[term];
-                d[i][f] += cp * y;
-                d[k][g] += cp * x;
-            };
-            if o == 0 {
-                for e in &self.radial_only {
-                    let (f, g, _) = self.kinds[e.term];
-                    put(e.term, e.value, (e.l, f), (e.m, g));
-                }
-            }
-            for ((l, m), c) in self.rows.rows(o) {
-                for ((slot, &(x, y)), &cs) in self.slots.iter().zip(&self.gather).zip(c) {
-                    if cs != 0.0 {
-                        let at = |v: usize| if v < 3 { (l, v) } else { (m, v - 3) };
-                        put(slot.term, cs, at(x), at(y));
-                    }
-                }
-            }
-            let row: &mut [f64] = if o == 0 { &mut jac.pressure[..] } else { &mut jac.gn[(o - 1) * n..o * n] };
-            let mut via = [0.0; 3];
-            for (b, dp) in bare.iter().zip(&dpre) {
-                for (v, x) in via.iter_mut().zip(dp) {
-                    *v += b * x;
-                }
-            }
-            row[0] += via[0];
-            row[1] += via[1];
-            if via[2] != 0.0 {
-                for (rj, gj) in row.iter_mut().zip(grad.drdd) {
-                    *rj += via[2] * gj;
-                }
-            }
-            for (i, di) in d.iter().enumerate().take(nm) {
-                row[a_index(i)] += di[0];
-                row[a_index(i) + 1] += di[1];
-                if di[2] != 0.0 {
-                    for (rj, gj) in row.iter_mut().zip(g_add(i)) {
-                        *rj += di[2] * gj;
-                    }
-                }
-            }
-        }
+        self.jacobian_rows(at, first, grad, jac);
     }
 }
 

@@ -36,6 +36,8 @@
 
 use std::cell::RefCell;
 
+mod jacobian;
+
 use super::frame_sweep::{Factors, FrameRows};
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
 use super::{a_index, At, BdotLoads, LoadJacobian, Loads, Term, MAX_MODES};
@@ -67,36 +69,6 @@ fn rows(n: usize) -> (usize, usize) {
     if n == 0 { (0, 1) } else { (a_index(n - 1), a_index(n - 1) + 1) }
 }
 
-/// The Jacobian's work space (per thread, grown once).
-#[derive(Default)]
-struct Scratch {
-    dsh: Vec<f64>,
-    v: Vec<f64>,
-    df: Vec<f64>,
-    dfr: Vec<f64>,
-    /// the non-zero columns of each row of df: `nzc[nz_start[l]..nz_start[l + 1]]`
-    nzc: Vec<usize>,
-    nz_start: Vec<usize>,
-    jl: Option<LoadJacobian>,
-}
-
-/// out += w · ∂ḃ⁽¹⁾_k/∂x (`dbd` row k of `rows`, columns beyond it zero; `at` reads one entry so).
-fn add_scaled(out: &mut [f64], w: f64, rows: &[f64], k: usize, at: &impl Fn(usize, usize) -> f64) {
-    let nc = out.len();
-    match rows.get(k * nc..(k + 1) * nc) {
-        Some(g) => {
-            for (o, x) in out.iter_mut().zip(g) {
-                *o += w * x;
-            }
-        }
-        None => {
-            for (col, o) in out.iter_mut().enumerate() {
-                *o += w * at(k, col);
-            }
-        }
-    }
-}
-
 /// The rhs's work space (per thread, grown once): the sweep's per-mode factors and sums, z^L
 /// and L(z^L).
 #[derive(Default)]
@@ -111,15 +83,7 @@ struct Work {
 }
 
 thread_local! {
-    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
     static WORK: RefCell<Work> = RefCell::new(Work::default());
-}
-
-/// `v` resized to `n` zeros.
-fn zeroed(v: &mut Vec<f64>, n: usize) -> &mut [f64] {
-    v.clear();
-    v.resize(n, 0.0);
-    v
 }
 
 /// The per-target sums of [`FrameMap::sums`].
@@ -128,6 +92,8 @@ struct Sums {
     d: [f64; MAX_MODES + 1],
     /// Σ K (ȧ_l b_m + a_l ḃ_m)
     s: [f64; MAX_MODES + 1],
+    /// Σ K F_l b_m
+    f: [f64; MAX_MODES + 1],
 }
 
 impl FrameMap {
@@ -232,14 +198,14 @@ impl FrameMap {
         }
     }
 
-    /// d_n and s_n of [`sums_into`](Self::sums_into) (for the Jacobian).
+    /// d_n, s_n and f_n of [`sums_into`](Self::sums_into) (for the Jacobian).
     fn sums(&self, at: &At<'_>, first: &FirstOrder<'_>) -> Sums {
         WORK.with(|cell| {
             let w = &mut *cell.borrow_mut();
             self.sums_into(at, first, w);
-            let mut out = Sums { d: [0.0; MAX_MODES + 1], s: [0.0; MAX_MODES + 1] };
+            let mut out = Sums { d: [0.0; MAX_MODES + 1], s: [0.0; MAX_MODES + 1], f: [0.0; MAX_MODES + 1] };
             for (n, o) in w.sums[..=self.modes].iter().enumerate() {
-                (out.d[n], out.s[n]) = (o[0], o[1]);
+                (out.d[n], out.s[n], out.f[n]) = (o[0], o[1], o[2]);
             }
             out
         })
@@ -305,113 +271,6 @@ impl SecondOrderTerm for FrameMap {
         });
     }
     fn add_jacobian(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
-        SCRATCH.with(|s| self.jacobian_with(at, first, grad, jac, &mut s.borrow_mut()));
-    }
-}
-
-impl FrameMap {
-    /// [`SecondOrderTerm::add_jacobian`] in the work space `ws`.
-    fn jacobian_with(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch) {
-        let (z, m, nc) = (at.z, self.modes, jac.n);
-        let nz = z.len();
-        let (r, rd) = (z[0], z[1]);
-        let (bd, f1) = self.first(at, first);
-        let dbd = |i: usize, col: usize| grad.dbd.get(i * nc + col).copied().unwrap_or(0.0);
-        let sums = self.sums(at, first);
-        let (d, s) = (&sums.d, &sums.s);
-        let zl = self.material(z, d, s);
-        // dsh[q][col] = ∂(z^L − z)_q/∂x_col
-        let dsh = zeroed(&mut ws.dsh, nz * nc);
-        // v[n][k] = Σ_l K a_l / R: the coefficient of ḃ_k in the rate of target n
-        let v = zeroed(&mut ws.v, (m + 1) * m);
-        for &(n, l, k, c) in &self.entries {
-            let (p, q) = rows(n);
-            let (ia, ib) = (a_index(l), a_index(k) + 2);
-            let (al, adl, bk) = (z[ia], z[ia + 1], z[ib]);
-            dsh[p * nc + ia] += c * bk / r;
-            dsh[p * nc + ib] += c * al / r;
-            dsh[q * nc + ia + 1] += c * bk / r;
-            dsh[q * nc + ib] += c * adl / r - rd * c * al / (r * r);
-            dsh[q * nc + ia] += c * bd[k] / r - rd * c * bk / (r * r);
-            v[n * m + k] += c * al / r;
-        }
-        for n in 0..=m {
-            let (p, q) = rows(n);
-            dsh[p * nc] -= d[n] / (r * r);
-            dsh[q * nc] += -s[n] / (r * r) + 2.0 * rd * d[n] / (r * r * r);
-            dsh[q * nc + 1] -= d[n] / (r * r);
-            for k in 0..m {
-                let w = v[n * m + k];
-                if w != 0.0 {
-                    add_scaled(&mut dsh[q * nc..(q + 1) * nc], w, grad.dbd, k, &dbd);
-                }
-            }
-        }
-        // J(z) is the core's; J(z^L) here
-        let j0 = grad.material;
-        let jl = ws.jl.get_or_insert_with(|| LoadJacobian::new(m));
-        if jl.modes() != m {
-            *jl = LoadJacobian::new(m);
-        }
-        self.lagrangian_jacobian(at.t, &zl[..nz], jl);
-        // ∂[L(z^L) − L(z)]/∂x = J(z^L)(E + ∂(z^L − z)/∂x) − J(z)E, per output row
-        let dsh = &*dsh;
-        let shifted = |src: &[f64], src0: &[f64], out: &mut [f64]| {
-            for col in 0..nz {
-                out[col] += src[col] - src0[col];
-            }
-            for (qi, &g) in src.iter().enumerate() {
-                if g != 0.0 {
-                    for (o, x) in out.iter_mut().zip(&dsh[qi * nc..(qi + 1) * nc]) {
-                        *o += g * x;
-                    }
-                }
-            }
-        };
-        shifted(&jl.pressure, &j0.pressure, &mut jac.pressure[..nc]);
-        for i in 0..m {
-            shifted(jl.gn_row(i), j0.gn_row(i), &mut jac.gn[i * nc..(i + 1) * nc]);
-            shifted(jl.gt_row(i), j0.gt_row(i), &mut jac.gt[i * nc..(i + 1) * nc]);
-        }
-        // the frame change fr_n = −(1/R) Σ K F_l b_k, F_l = G_n,l(z) + cn_l ḃ_l
-        let (cn, cn_r) = self.bdot_normal(at);
-        let df = zeroed(&mut ws.df, m * nc);
-        for l in 0..m {
-            let row = &mut df[l * nc..(l + 1) * nc];
-            row[..nz].copy_from_slice(j0.gn_row(l));
-            row[0] += cn_r[l] * bd[l];
-            // cn = 0 (no ḃ loads) adds zeros only
-            if cn[l] != 0.0 {
-                add_scaled(row, cn[l], grad.dbd, l, &dbd);
-            }
-        }
-        // the non-zero columns of each ∂F_l (the rest add zeros only)
-        ws.nzc.clear();
-        ws.nz_start.clear();
-        for l in 0..m {
-            ws.nz_start.push(ws.nzc.len());
-            ws.nzc.extend(df[l * nc..(l + 1) * nc].iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(c, _)| c));
-        }
-        ws.nz_start.push(ws.nzc.len());
-        // ∂fr_n = −(K/R)(b_k ∂F_l + F_l ∂b_k) + (K F_l b_k/R²) ∂R, per entry
-        let dfr = zeroed(&mut ws.dfr, (m + 1) * nc);
-        for &(n, l, k, c) in &self.entries {
-            let (f, bk) = (f1[l], z[a_index(k) + 2]);
-            let row = &mut dfr[n * nc..(n + 1) * nc];
-            row[a_index(k) + 2] -= c * f / r;
-            row[0] += c * f * bk / (r * r);
-            let (dl, w) = (&df[l * nc..(l + 1) * nc], c * bk / r);
-            for &col in &ws.nzc[ws.nz_start[l]..ws.nz_start[l + 1]] {
-                row[col] -= w * dl[col];
-            }
-        }
-        for col in 0..nc {
-            jac.pressure[col] -= dfr[col];
-        }
-        for i in 0..m {
-            for col in 0..nc {
-                jac.gn[i * nc + col] += dfr[(1 + i) * nc + col];
-            }
-        }
+        self.jacobian(at, first, grad, jac);
     }
 }
