@@ -26,6 +26,7 @@ mod nodes;
 pub mod operator;
 pub mod staggered;
 pub mod structured;
+mod tri;
 pub mod scene;
 
 pub use grid::{Grid, GridError};

@@ -19,6 +19,7 @@ use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
 use super::nodes::{self, per_q};
 use super::operator::Rows;
+use super::tri::TriRows;
 use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
 use nalgebra::{Complex, DMatrix};
@@ -35,6 +36,8 @@ pub struct StructuredJacobian {
     /// ∂(f_z, T_w)/∂p: (nz + M) × 2M
     gp: DMatrix<f64>,
     rows: Vec<Rows>,
+    /// the same rows node-major in lanes, for the Thomas factors of every factorisation
+    tri_rows: TriRows,
     /// ∂(T rows)/∂R and ∂/∂Ṙ at fixed T, T_w, node-major in lanes (module `batch`)
     r_r: Vec<V>,
     r_rd: Vec<V>,
@@ -195,7 +198,8 @@ impl StructuredJacobian {
             }
         }
         let g = row_major(&gz, &gp);
-        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw, g }
+        let tri_rows = TriRows::new(&rows, ni);
+        Self { m, nz, ni, nb, gz, gp, rows, tri_rows, r_r, r_rd, pw, g }
     }
 
     /// Factors σI − J. `None` if singular.
@@ -210,7 +214,7 @@ impl StructuredJacobian {
             s[i * ns + i] += sigma;
         }
         s.resize(ns * ns, T::zero());
-        let tri = TriBatch::new(sigma, &self.rows, ni)?;
+        let tri = TriBatch::new(sigma, &self.tri_rows)?;
         let q = per_node(m);
         // c_k, r_R,k, r_Ṙ,k are real: their imaginary parts are written by the sweeps
         let mut uc = Split::zeros::<f64>(ni, m);
