@@ -174,36 +174,41 @@ impl TriBatch {
 }
 
 impl TriBatch {
-    /// [`solve`](Self::solve) of a real right-hand side `x.re` (`x.im` empty): for complex
-    /// factors the imaginary parts are written by the sweep (no zeroed buffer first).
-    pub fn solve_real_rhs(&self, x: &mut Split) {
+    /// (σI − L_k)⁻¹ `src` for a real right-hand side (node-major, q vectors per node) as a new
+    /// split vector: for complex factors the imaginary parts are pushed by the sweep (no zeroed
+    /// buffer), and `src` is read by the forward sweep (no copy first).
+    pub fn solve_real_rhs(&self, src: &[V]) -> Split {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
             // SAFETY: the processor supports AVX (checked just above); the kernel is safe code.
-            unsafe { self.solve_real_rhs_avx(x) };
-            return;
+            return unsafe { self.solve_real_rhs_avx(src) };
         }
-        self.solve_real_rhs_body(x);
+        self.solve_real_rhs_body(src)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn solve_real_rhs_avx(&self, x: &mut Split) {
-        self.solve_real_rhs_body(x);
+    unsafe fn solve_real_rhs_avx(&self, src: &[V]) -> Split {
+        self.solve_real_rhs_body(src)
     }
 
     #[inline(always)]
-    fn solve_real_rhs_body(&self, x: &mut Split) {
+    fn solve_real_rhs_body(&self, src: &[V]) -> Split {
         let (q, ib, gm) = (self.q, &self.inv_beta, &self.gamma);
-        if q == 0 || ib.im.is_empty() {
-            return self.solve_body(x);
+        let mut x = Split { q, re: Vec::new(), im: Vec::new() };
+        if ib.im.is_empty() {
+            per_q!(q, Q => nodes::sweep_real_from::<Q>(&self.lower, &ib.re, &gm.re, src, &mut x.re), _ => {
+                x.re = src.to_vec();
+                self.solve_body(&mut x);
+            });
+        } else {
+            per_q!(q, Q => nodes::sweep_complex_real_rhs::<Q>(&self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], src, &mut x.re, &mut x.im), _ => {
+                x.re = src.to_vec();
+                x.im = vec![[0.0; L]; src.len()];
+                self.solve_body(&mut x);
+            });
         }
-        per_q!(q, Q => nodes::sweep_complex_real_rhs::<Q>(&self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], &mut x.re, &mut x.im),
-               _ => {
-                   x.im.clear();
-                   x.im.resize(x.re.len(), [0.0; L]);
-                   self.solve_body(x)
-               });
+        x
     }
 }
 

@@ -17,7 +17,9 @@
 //! the nondimensional form of FORMULATION §4.5 with ρ = 1, η = 1/Re); nothing here assumes either.
 
 pub mod batch;
+mod copies;
 mod dense;
+mod dense_rows;
 pub mod equations;
 pub mod grid;
 pub mod linear;

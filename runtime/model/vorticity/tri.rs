@@ -24,18 +24,24 @@ pub struct TriRows {
 }
 
 impl TriRows {
+    /// Built node after node with pushes (every vector written once, no zeroed buffer).
     pub fn new(rows: &[Rows], ni: usize) -> Self {
         let m = rows.len();
         let q = m.div_ceil(L);
-        let (mut neg_lower, mut diag, mut neg_upper_prev) = (vec![[0.0; L]; ni * q], vec![[0.0; L]; ni * q], vec![[0.0; L]; ni * q]);
-        for (k, r) in rows.iter().enumerate() {
-            let (v, lane) = (k / L, k % L);
-            for i in 0..ni {
-                diag[i * q + v][lane] = r.diag[i];
-                if i > 0 {
-                    neg_lower[i * q + v][lane] = -r.lower[i];
-                    neg_upper_prev[i * q + v][lane] = -r.upper[i - 1];
+        let n = ni * q;
+        let (mut neg_lower, mut diag, mut neg_upper_prev) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        for i in 0..ni {
+            for v in 0..q {
+                let (mut l, mut d, mut u) = ([0.0; L], [0.0; L], [0.0; L]);
+                for (j, r) in rows[v * L..m.min((v + 1) * L)].iter().enumerate() {
+                    d[j] = r.diag[i];
+                    if i > 0 {
+                        (l[j], u[j]) = (-r.lower[i], -r.upper[i - 1]);
+                    }
                 }
+                neg_lower.push(l);
+                diag.push(d);
+                neg_upper_prev.push(u);
             }
         }
         Self { m, q, neg_lower: Rc::new(neg_lower), diag, neg_upper_prev }
