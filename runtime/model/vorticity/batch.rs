@@ -14,6 +14,7 @@
 //! AVX (4 lanes of f64; no FMA, so the same roundings), as `model/effects/pair_rows.rs` does.
 
 use super::nodes::{self, per_q};
+use super::pool;
 use super::tri::{self, TriRows};
 use nalgebra::{Complex, ComplexField};
 use std::rc::Rc;
@@ -131,6 +132,16 @@ pub struct TriBatch {
     gamma: Split,
 }
 
+impl Drop for TriBatch {
+    /// The factor vectors kept for the next factorisation ([`pool`]).
+    fn drop(&mut self) {
+        for s in [&mut self.inv_beta, &mut self.gamma] {
+            pool::give(std::mem::take(&mut s.re));
+            pool::give(std::mem::take(&mut s.im));
+        }
+    }
+}
+
 impl TriBatch {
     /// The factors of σI − L_k from the transposed rows ([`super::tri`]); `None` on a zero pivot.
     pub fn new<T: Lane>(sigma: T, rows: &TriRows) -> Option<Self> {
@@ -195,16 +206,18 @@ impl TriBatch {
     #[inline(always)]
     fn solve_real_rhs_body(&self, src: &[V]) -> Split {
         let (q, ib, gm) = (self.q, &self.inv_beta, &self.gamma);
-        let mut x = Split { q, re: Vec::new(), im: Vec::new() };
+        // every entry is written by the sweeps: spare vectors of dropped factorisations
+        let n = src.len();
+        let mut x = Split { q, re: pool::take(n), im: if ib.im.is_empty() { Vec::new() } else { pool::take(n) } };
         if ib.im.is_empty() {
             per_q!(q, Q => nodes::sweep_real_from::<Q>(&self.lower, &ib.re, &gm.re, src, &mut x.re), _ => {
-                x.re = src.to_vec();
+                x.re.copy_from_slice(src);
                 self.solve_body(&mut x);
             });
         } else {
             per_q!(q, Q => nodes::sweep_complex_real_rhs::<Q>(&self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], src, &mut x.re, &mut x.im), _ => {
-                x.re = src.to_vec();
-                x.im = vec![[0.0; L]; src.len()];
+                x.re.copy_from_slice(src);
+                x.im.fill([0.0; L]);
                 self.solve_body(&mut x);
             });
         }

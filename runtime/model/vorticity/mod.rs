@@ -25,6 +25,7 @@ pub mod grid;
 pub mod linear;
 pub mod monolithic;
 mod nodes;
+mod pool;
 pub mod operator;
 pub mod staggered;
 pub mod structured;

@@ -63,14 +63,13 @@ pub fn sweep_real<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], x: &mut [V
     back_real::<Q>(&view::<Q>(gamma)[..n], x, p);
 }
 
-/// [`sweep_real`] of `src` into `x` (cleared; the forward sweep pushes node after node): the
-/// same operations, without a copy of `src` first.
+/// [`sweep_real`] of `src` into `x` (its old values not read; as long as `src`): the same
+/// operations, without a copy of `src` first.
 #[inline(always)]
-pub fn sweep_real_from<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], src: &[V], x: &mut Vec<V>) {
+pub fn sweep_real_from<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], src: &[V], x: &mut [V]) {
     let src = view::<Q>(src);
     let n = src.len();
-    x.clear();
-    x.reserve(n * Q);
+    let x = &mut view_mut::<Q>(x)[..n];
     if n == 0 {
         return;
     }
@@ -79,16 +78,16 @@ pub fn sweep_real_from<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], src: 
     for j in 0..Q {
         p[j] = mul(p[j], ib[0][j]);
     }
-    x.extend_from_slice(&p);
+    x[0] = p;
     for i in 1..n {
         let mut c = src[i];
         for j in 0..Q {
             c[j] = mul(sub(c[j], mul(p[j], lower[i][j])), ib[i][j]);
         }
-        x.extend_from_slice(&c);
+        x[i] = c;
         p = c;
     }
-    back_real::<Q>(&view::<Q>(gamma)[..n], &mut view_mut::<Q>(x)[..n], p);
+    back_real::<Q>(&view::<Q>(gamma)[..n], x, p);
 }
 
 /// The back substitution of the real sweeps: from the last node's `last`, node by node down,
@@ -139,18 +138,15 @@ pub fn sweep_complex<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2
     back_complex::<Q>((gr, gi), (xr, xi), (pr, pi));
 }
 
-/// [`sweep_complex`] of a real right-hand side `src` into (`xr`, `xi`) (cleared; the forward
-/// sweep pushes node after node), with the same operations on a zero imaginary input (`0 − p·l`,
-/// the literal zero as a stored one would be: the same bits) — no zeroed buffer to read and no
-/// copy of `src`.
+/// [`sweep_complex`] of a real right-hand side `src` into (`xr`, `xi`) (their old values not
+/// read; as long as `src`), with the same operations on a zero imaginary input (`0 − p·l`, the
+/// literal zero as a stored one would be: the same bits) — no zeroed buffer to read and no copy
+/// of `src`.
 #[inline(always)]
-pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], src: &[V], xr: &mut Vec<V>, xi: &mut Vec<V>) {
+pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], src: &[V], xr: &mut [V], xi: &mut [V]) {
     let src = view::<Q>(src);
     let n = src.len();
-    for x in [&mut *xr, &mut *xi] {
-        x.clear();
-        x.reserve(n * Q);
-    }
+    let (xr, xi) = (&mut view_mut::<Q>(xr)[..n], &mut view_mut::<Q>(xi)[..n]);
     if n == 0 {
         return;
     }
@@ -161,8 +157,7 @@ pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma:
     for j in 0..Q {
         (pr[j], pi[j]) = cmul(pr[j], pi[j], br[0][j], bi[0][j]);
     }
-    xr.extend_from_slice(&pr);
-    xi.extend_from_slice(&pi);
+    (xr[0], xi[0]) = (pr, pi);
     for i in 1..n {
         let (mut cr, mut ci) = (src[i], [zero; Q]);
         for j in 0..Q {
@@ -170,11 +165,9 @@ pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma:
             let (a, b) = (sub(cr[j], mul(pr[j], l)), sub(ci[j], mul(pi[j], l)));
             (cr[j], ci[j]) = cmul(a, b, br[i][j], bi[i][j]);
         }
-        xr.extend_from_slice(&cr);
-        xi.extend_from_slice(&ci);
+        (xr[i], xi[i]) = (cr, ci);
         (pr, pi) = (cr, ci);
     }
-    let (xr, xi) = (&mut view_mut::<Q>(xr)[..n], &mut view_mut::<Q>(xi)[..n]);
     let (gr, gi) = (&view::<Q>(gamma[0])[..n], &view::<Q>(gamma[1])[..n]);
     back_complex::<Q>((gr, gi), (xr, xi), (pr, pi));
 }
@@ -295,11 +288,11 @@ mod tests {
                 sweep_complex::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], [&mut ar, &mut ai]);
                 batch::sweep_complex(q, &lower, [&ibr, &ibi], [&gr, &gi], [&mut br, &mut bi]);
                 assert_eq!((bits(&ar), bits(&ai)), (bits(&br), bits(&bi)), "complex sweep, q = {q}");
-                let (mut ar, mut ai, mut br, mut bi) = (xr.clone(), vec![[0.0; L]; n], vec![[9.0; L]; 3], Vec::new());
+                let (mut ar, mut ai, mut br, mut bi) = (xr.clone(), vec![[0.0; L]; n], vec![[9.0; L]; n], vec![[-9.0; L]; n]);
                 sweep_complex::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], [&mut ar, &mut ai]);
                 sweep_complex_real_rhs::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], &xr, &mut br, &mut bi);
                 assert_eq!((bits(&ar), bits(&ai)), (bits(&br), bits(&bi)), "complex sweep of a real rhs, q = {q}");
-                let (mut a, mut b) = (xr.clone(), vec![[9.0; L]; 5]);
+                let (mut a, mut b) = (xr.clone(), vec![[9.0; L]; n]);
                 sweep_real::<Q>(&lower, &ibr, &gr, &mut a);
                 sweep_real_from::<Q>(&lower, &ibr, &gr, &xr, &mut b);
                 assert_eq!(bits(&a), bits(&b), "real sweep from a source, q = {q}");

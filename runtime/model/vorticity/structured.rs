@@ -108,6 +108,10 @@ impl Scratch {
 
 impl<T: Lane> Drop for StructuredLu<T> {
     fn drop(&mut self) {
+        for u in &mut self.u {
+            super::pool::give(std::mem::take(&mut u.re));
+            super::pool::give(std::mem::take(&mut u.im));
+        }
         let s = std::mem::replace(self.scratch.get_mut(), Scratch { xt: Split { q: 0, re: Vec::new(), im: Vec::new() }, rhs_r: Vec::new(), rhs_i: Vec::new(), d: Vec::new(), s: Vec::new() });
         // at most a few kept (a real and a complex factorisation alive at once, one of each spare)
         let _ = SPARE.try_with(|p| {

@@ -10,6 +10,7 @@
 
 use super::batch::{add, mul, sub, Lane, L, V};
 use super::operator::Rows;
+use super::pool;
 use std::rc::Rc;
 
 /// The rows of the M matrices L_k node-major in lanes (entry (i, k) at `[i·q + k/L][k % L]`,
@@ -79,7 +80,9 @@ fn factors_body<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 
     let (m, q) = (rows.m, rows.q);
     let n = rows.diag.len();
     let cap = if T::CPLX { n } else { 0 };
-    let (mut ibr, mut ibi, mut gr, mut gi) = (Vec::with_capacity(n), Vec::with_capacity(cap), Vec::with_capacity(n), Vec::with_capacity(cap));
+    // every entry is written below: spare vectors of dropped factorisations ([`pool`])
+    let (mut ibr, mut ibi, mut gr, mut gi) = (pool::take(n), pool::take(cap), pool::take(n), pool::take(cap));
+    let (ibr_s, ibi_s, gr_s, gi_s) = (&mut ibr[..n], &mut ibi[..cap], &mut gr[..n], &mut gi[..cap]);
     let (sr, si) = sigma.parts();
     let (sr, si, zero, one) = ([sr; L], [si; L], [0.0; L], [1.0; L]);
     // lanes of the last vector past M: not checked, stored as zero
@@ -92,10 +95,10 @@ fn factors_body<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 
         let (mut g_r, mut g_i) = (zero, zero);
         if !first {
             let (u, l) = (upper[at], lower[at]);
-            g_r = mul(ibr[at - q], u);
+            g_r = mul(ibr_s[at - q], u);
             br = sub(br, mul(g_r, l));
             if T::CPLX {
-                g_i = mul(ibi[at - q], u);
+                g_i = mul(ibi_s[at - q], u);
                 bi = sub(bi, mul(g_i, l));
             }
         }
@@ -106,23 +109,29 @@ fn factors_body<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 
             inv_r = div(add(mul(one, br), mul(zero, bi)), ns);
             inv_i = div(sub(mul(zero, br), mul(one, bi)), ns);
             if (0..lanes).any(|j| br[j] == 0.0 && bi[j] == 0.0) {
+                for v in [ibr, ibi, gr, gi] {
+                    pool::give(v);
+                }
                 return None;
             }
         } else {
             inv_r = div(one, br);
             inv_i = zero;
             if (0..lanes).any(|j| br[j] == 0.0) {
+                for v in [ibr, ibi, gr, gi] {
+                    pool::give(v);
+                }
                 return None;
             }
         }
         for j in lanes..L {
             (inv_r[j], inv_i[j], g_r[j], g_i[j]) = (0.0, 0.0, 0.0, 0.0);
         }
-        ibr.push(inv_r);
-        gr.push(g_r);
+        ibr_s[at] = inv_r;
+        gr_s[at] = g_r;
         if T::CPLX {
-            ibi.push(inv_i);
-            gi.push(g_i);
+            ibi_s[at] = inv_i;
+            gi_s[at] = g_i;
         }
     }
     Some([(ibr, ibi), (gr, gi)])
