@@ -16,6 +16,7 @@
 use super::batch::{add, cmul, dots2, mul, per_node, Lane, Split, TriBatch, L, V};
 use super::copies::{copy_in, copy_in_any, copy_out, copy_out_any};
 use super::dense::DenseLu;
+use super::dense_rows;
 use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
 use super::nodes::{self, per_q};
@@ -268,22 +269,24 @@ impl<T: Lane> StructuredLu<T> {
     pub fn solve(&self, b: &mut [T]) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+            // SAFETY: the processor supports AVX (checked just above).
             unsafe { self.solve_avx(b) };
             return;
         }
-        self.solve_body(b);
+        self.solve_body::<false>(b);
     }
 
     /// [`solve`](Self::solve) compiled with AVX (the same operations; module `batch`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
     unsafe fn solve_avx(&self, b: &mut [T]) {
-        self.solve_body(b);
+        self.solve_body::<true>(b);
     }
 
+    /// `AVX`: the s_k sums by [`dense_rows::dot`]'s AVX form (only from
+    /// [`solve_avx`](Self::solve_avx)).
     #[inline(always)]
-    fn solve_body(&self, b: &mut [T]) {
+    fn solve_body<const AVX: bool>(&self, b: &mut [T]) {
         let j = &*self.jac;
         let (m, nz, nb) = (j.m, j.nz, j.nb);
         let q = per_node(m);
@@ -333,17 +336,9 @@ impl<T: Lane> StructuredLu<T> {
                 b[2 + k * nb + c] = x(2 + 3 * k + c);
             }
             // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
-            let mut re = 0.0;
-            for (&xj, &g) in xr.iter().zip(row) {
-                re += xj * g;
-            }
-            s[k / L][k % L] = re;
+            s[k / L][k % L] = dense_rows::dot::<AVX>(xr, row);
             if T::CPLX {
-                let mut im = 0.0;
-                for (&xj, &g) in xi.iter().zip(row) {
-                    im += xj * g;
-                }
-                s[q + k / L][k % L] = im;
+                s[q + k / L][k % L] = dense_rows::dot::<AVX>(xi, row);
             }
         }
         let [uc, ur, urd] = &self.u;

@@ -88,12 +88,14 @@ fn factors_body<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 
     // lanes of the last vector past M: not checked, stored as zero
     let live = m - (q.max(1) - 1) * L;
     let (lower, diag, upper) = (&rows.neg_lower[..n], &rows.diag[..n], &rows.neg_upper_prev[..n]);
+    // a zero β is looked for in every live lane, the result reported after the loop (the
+    // factors computed past it are dropped)
+    let (mut zero_pivot, mut v) = (false, 0);
     for at in 0..n {
-        let (v, first) = (at % q.max(1), at < q);
         let d = diag[at];
         let (mut br, mut bi) = (sub(sr, d), sub(si, zero));
         let (mut g_r, mut g_i) = (zero, zero);
-        if !first {
+        if at >= q {
             let (u, l) = (upper[at], lower[at]);
             g_r = mul(ibr_s[at - q], u);
             br = sub(br, mul(g_r, l));
@@ -102,37 +104,40 @@ fn factors_body<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 
                 bi = sub(bi, mul(g_i, l));
             }
         }
-        let lanes = if v + 1 == q { live } else { L };
         let (mut inv_r, mut inv_i);
+        let mut zero_lane: [bool; L];
         if T::CPLX {
             let ns = add(mul(br, br), mul(bi, bi));
             inv_r = div(add(mul(one, br), mul(zero, bi)), ns);
             inv_i = div(sub(mul(zero, br), mul(one, bi)), ns);
-            if (0..lanes).any(|j| br[j] == 0.0 && bi[j] == 0.0) {
-                for v in [ibr, ibi, gr, gi] {
-                    pool::give(v);
-                }
-                return None;
-            }
+            zero_lane = std::array::from_fn(|j| (br[j] == 0.0) & (bi[j] == 0.0));
         } else {
             inv_r = div(one, br);
             inv_i = zero;
-            if (0..lanes).any(|j| br[j] == 0.0) {
-                for v in [ibr, ibi, gr, gi] {
-                    pool::give(v);
-                }
-                return None;
+            zero_lane = std::array::from_fn(|j| br[j] == 0.0);
+        }
+        // v: the vector of `at` in its node
+        if v + 1 == q {
+            for j in live..L {
+                (inv_r[j], inv_i[j], g_r[j], g_i[j], zero_lane[j]) = (0.0, 0.0, 0.0, 0.0, false);
             }
+            v = 0;
+        } else {
+            v += 1;
         }
-        for j in lanes..L {
-            (inv_r[j], inv_i[j], g_r[j], g_i[j]) = (0.0, 0.0, 0.0, 0.0);
-        }
+        zero_pivot |= zero_lane.iter().fold(false, |a, &z| a | z);
         ibr_s[at] = inv_r;
         gr_s[at] = g_r;
         if T::CPLX {
             ibi_s[at] = inv_i;
             gi_s[at] = g_i;
         }
+    }
+    if zero_pivot {
+        for v in [ibr, ibi, gr, gi] {
+            pool::give(v);
+        }
+        return None;
     }
     Some([(ibr, ibi), (gr, gi)])
 }
