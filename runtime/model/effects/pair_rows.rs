@@ -11,6 +11,12 @@
 //! coefficients are read once, in order, into independent partial sums (AVX where the processor
 //! has it: the same sums in the same order, so bit for bit the SSE2 result). The Jacobian walks
 //! the same rows ([`PairRows::rows`]), so rhs and Jacobian share one table and one sparsity.
+//!
+//! Two outputs with the same pair list (the membrane's normal and tangential loads on P_j and
+//! P¹_j: the same C(j, l, m) ≠ 0) are *twins*: one row per pair holds both outputs' coefficients,
+//! so the kernel reads the row's offset and products once for both (at stride ≤ 16, where both
+//! outputs' partial sums stay in registers). Each output's sums and their order are the ones it
+//! has alone, so twinning changes no bit.
 
 use std::cell::RefCell;
 
@@ -21,16 +27,32 @@ pub struct PairRows {
     modes: usize,
     /// the unordered pairs l ≤ m (mode indices), in the layout of w
     pairs: Vec<(usize, usize)>,
-    /// rows of output o: `out_start[o]..out_start[o + 1]`
-    out_start: Vec<usize>,
-    /// pair index of each row
+    /// the outputs, one or two (twins, module doc) per group, in evaluation order
+    groups: Vec<Group>,
+    /// (group, half) of each output
+    out_at: Vec<(usize, usize)>,
+    /// pair index of each group row
     row_pair: Vec<usize>,
-    /// offset of each row's products in w: pair index · stride
+    /// offset of each group row's products in w: pair index · stride
     row_off: Vec<u32>,
-    /// row · stride + slot, from `coef_at` on (64-byte aligned: the wide loads of a row do not
-    /// straddle cache lines)
+    /// per group, its rows' coefficients: row · width · stride + half · stride + slot, from
+    /// `coef_at` on (64-byte aligned: the wide loads of a row do not straddle cache lines)
     coef_buf: Vec<f64>,
     coef_at: usize,
+    /// number of (output, pair) rows
+    len: usize,
+}
+
+/// Outputs that share one pair list (module doc).
+#[derive(Debug, Clone, Copy)]
+struct Group {
+    /// the outputs (`outs[1]` only when `width` is 2)
+    outs: [usize; 2],
+    width: usize,
+    /// its rows: `rows.0..rows.1` of `row_pair`
+    rows: (usize, usize),
+    /// where its coefficients start in `coef`
+    coef: usize,
 }
 
 thread_local! {
@@ -50,8 +72,9 @@ fn aligned(v: &[f64]) -> (Vec<f64>, usize) {
 /// One x86-64 kernel of [`PairRows::apply`] for a vector width of `lanes` f64 (the intrinsics of
 /// that width given by name): the pair products, then per output two rows at a time into `V`
 /// register accumulators, folded by `|sum, a| …` into one 4-lane sum (AVX) whose lanes are added
-/// as the portable kernel adds its four partial sums. One body for AVX and AVX-512, so the two
-/// cannot drift apart (the bit-for-bit test below covers both).
+/// as the portable kernel adds its four partial sums; a twin group (module doc) runs both
+/// outputs' sums in one pass over its rows. One body for AVX and AVX-512, so the two cannot
+/// drift apart (the bit-for-bit test in pair_rows_tests.rs covers both).
 macro_rules! simd_kernel {
     ($(#[$doc:meta])* $name:ident, $feature:literal, lanes $lanes:literal, $zero:ident, $load:ident, $store:ident, $mul:ident, $add:ident,
      |$sum:ident, $a:ident| $fold:expr) => {
@@ -70,14 +93,66 @@ macro_rules! simd_kernel {
                 }
             }
             let wp = w.as_ptr();
-            let (cp, off) = (self.coef().as_ptr(), self.row_off.as_ptr());
-            for (o, x) in out.iter_mut().enumerate().take(self.out_start.len() - 1) {
-                let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
+            let (coef, off, op) = (self.coef().as_ptr(), self.row_off.as_ptr(), out.as_mut_ptr());
+            // the accumulators' sum, in the portable kernel's order, added to output o
+            let fold = |acc: [_; V], o: usize| {
+                let mut $sum = _mm256_setzero_pd();
+                for $a in acc {
+                    $fold;
+                }
+                let mut v = [0.0f64; 4];
+                _mm256_storeu_pd(v.as_mut_ptr(), $sum);
+                *op.add(o) += (v[0] + v[1]) + (v[2] + v[3]);
+            };
+            for g in &self.groups {
+                let ((r0, r1), cp) = (g.rows, coef.add(g.coef));
                 let mut acc = [$zero(); V];
                 let mut r = r0;
-                while r + 2 <= r1 {
+                if g.width == 2 {
+                    // twins: row r holds output 0's coefficients, then output 1's
+                    let mut twin = [$zero(); V];
+                    while r + 2 <= r1 {
+                        let (w0, w1) = (wp.add(*off.add(r) as usize), wp.add(*off.add(r + 1) as usize));
+                        let c0 = cp.add((r - r0) * 2 * s);
+                        let c1 = c0.add(2 * s);
+                        for v in 0..V {
+                            let (x0, x1) = ($load(w0.add($lanes * v)), $load(w1.add($lanes * v)));
+                            let (t0, t1) = ($mul($load(c0.add($lanes * v)), x0), $mul($load(c1.add($lanes * v)), x1));
+                            acc[v] = $add(acc[v], $add(t0, t1));
+                            let (t0, t1) = ($mul($load(c0.add(s + $lanes * v)), x0), $mul($load(c1.add(s + $lanes * v)), x1));
+                            twin[v] = $add(twin[v], $add(t0, t1));
+                        }
+                        r += 2;
+                    }
+                    if r < r1 {
+                        let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add((r - r0) * 2 * s));
+                        for v in 0..V {
+                            let x0 = $load(w0.add($lanes * v));
+                            acc[v] = $add(acc[v], $mul($load(c0.add($lanes * v)), x0));
+                            twin[v] = $add(twin[v], $mul($load(c0.add(s + $lanes * v)), x0));
+                        }
+                    }
+                    fold(acc, g.outs[0]);
+                    fold(twin, g.outs[1]);
+                    continue;
+                }
+                // two row pairs per trip (half the loop control), then one; each row pair adds
+                // c0 w0 + c1 w1 to the accumulators, the portable kernel's sums in its order
+                while r + 4 <= r1 {
+                    for q in [r, r + 2] {
+                        let (w0, w1) = (wp.add(*off.add(q) as usize), wp.add(*off.add(q + 1) as usize));
+                        let (c0, c1) = (cp.add((q - r0) * s), cp.add((q + 1 - r0) * s));
+                        for (v, a) in acc.iter_mut().enumerate() {
+                            let t0 = $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v)));
+                            let t1 = $mul($load(c1.add($lanes * v)), $load(w1.add($lanes * v)));
+                            *a = $add(*a, $add(t0, t1));
+                        }
+                    }
+                    r += 4;
+                }
+                if r + 2 <= r1 {
                     let (w0, w1) = (wp.add(*off.add(r) as usize), wp.add(*off.add(r + 1) as usize));
-                    let (c0, c1) = (cp.add(r * s), cp.add((r + 1) * s));
+                    let (c0, c1) = (cp.add((r - r0) * s), cp.add((r + 1 - r0) * s));
                     for (v, a) in acc.iter_mut().enumerate() {
                         let t0 = $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v)));
                         let t1 = $mul($load(c1.add($lanes * v)), $load(w1.add($lanes * v)));
@@ -86,18 +161,12 @@ macro_rules! simd_kernel {
                     r += 2;
                 }
                 if r < r1 {
-                    let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add(r * s));
+                    let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add((r - r0) * s));
                     for (v, a) in acc.iter_mut().enumerate() {
                         *a = $add(*a, $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v))));
                     }
                 }
-                let mut $sum = _mm256_setzero_pd();
-                for $a in acc {
-                    $fold;
-                }
-                let mut v = [0.0f64; 4];
-                _mm256_storeu_pd(v.as_mut_ptr(), $sum);
-                *x += (v[0] + v[1]) + (v[2] + v[3]);
+                fold(acc, g.outs[0]);
             }
         }
     };
@@ -112,21 +181,49 @@ impl PairRows {
         let stride = slots.div_ceil(4).max(1) * 4;
         assert!(stride <= 32, "PairRows: at most 32 slots per pair");
         let pairs: Vec<(usize, usize)> = (0..modes).flat_map(|l| (l..modes).map(move |m| (l, m))).collect();
-        let (mut out_start, mut row_pair, mut coef) = (vec![0], Vec::new(), Vec::new());
+        // per output: its pairs and their coefficients
+        let mut each: Vec<(Vec<usize>, Vec<f64>)> = Vec::with_capacity(outputs);
         let mut c = vec![0.0; stride];
         for o in 0..outputs {
+            let (mut ps, mut cs) = (Vec::new(), Vec::new());
             for (p, &(l, m)) in pairs.iter().enumerate() {
                 c.fill(0.0);
                 if fill(o, l, m, &mut c[..slots]) && c.iter().any(|&x| x != 0.0) {
-                    row_pair.push(p);
-                    coef.extend_from_slice(&c);
+                    ps.push(p);
+                    cs.extend_from_slice(&c);
                 }
             }
-            out_start.push(row_pair.len());
+            each.push((ps, cs));
         }
+        // twins (module doc): an output and the first later one with the same pairs, while both
+        // outputs' accumulators fit in the AVX registers
+        let mut grouped = vec![false; outputs];
+        let (mut groups, mut out_at, mut row_pair, mut coef) = (Vec::new(), vec![(0, 0); outputs], Vec::new(), Vec::new());
+        for o in 0..outputs {
+            if grouped[o] {
+                continue;
+            }
+            let twin = (stride <= 16 && !each[o].0.is_empty()).then(|| (o + 1..outputs).find(|&t| !grouped[t] && each[t].0 == each[o].0)).flatten();
+            let (r0, c0) = (row_pair.len(), coef.len());
+            for (i, &p) in each[o].0.iter().enumerate() {
+                row_pair.push(p);
+                coef.extend_from_slice(&each[o].1[i * stride..(i + 1) * stride]);
+                if let Some(t) = twin {
+                    coef.extend_from_slice(&each[t].1[i * stride..(i + 1) * stride]);
+                }
+            }
+            out_at[o] = (groups.len(), 0);
+            grouped[o] = true;
+            if let Some(t) = twin {
+                out_at[t] = (groups.len(), 1);
+                grouped[t] = true;
+            }
+            groups.push(Group { outs: [o, twin.unwrap_or(o)], width: 1 + usize::from(twin.is_some()), rows: (r0, row_pair.len()), coef: c0 });
+        }
+        let len = each.iter().map(|(ps, _)| ps.len()).sum();
         let row_off = row_pair.iter().map(|&p| u32::try_from(p * stride).expect("PairRows: pair table too large")).collect();
         let (coef_buf, coef_at) = aligned(&coef);
-        Self { stride, modes, pairs, out_start, row_pair, row_off, coef_buf, coef_at }
+        Self { stride, modes, pairs, groups, out_at, row_pair, row_off, coef_buf, coef_at, len }
     }
 
     /// Slots per pair as laid out (a multiple of 4, padding included).
@@ -137,20 +234,24 @@ impl PairRows {
     pub fn pairs(&self) -> &[(usize, usize)] {
         &self.pairs
     }
-    /// The coefficients, row · stride + slot.
+    /// The coefficients of every group, in order (`Group::coef` into it).
     fn coef(&self) -> &[f64] {
-        &self.coef_buf[self.coef_at..self.coef_at + self.row_pair.len() * self.stride]
+        let n: usize = self.groups.iter().map(|g| (g.rows.1 - g.rows.0) * g.width).sum();
+        &self.coef_buf[self.coef_at..self.coef_at + n * self.stride]
     }
 
     /// Number of stored (output, pair) rows.
     pub fn len(&self) -> usize {
-        self.row_pair.len()
+        self.len
     }
 
     /// The rows of output o: (pair (l, m), the `stride` coefficients).
     pub fn rows(&self, o: usize) -> impl Iterator<Item = ((usize, usize), &[f64])> + '_ {
-        let r = self.out_start[o]..self.out_start[o + 1];
-        self.row_pair[r.clone()].iter().zip(self.coef()[r.start * self.stride..r.end * self.stride].chunks_exact(self.stride)).map(|(&p, c)| (self.pairs[p], c))
+        let (gi, half) = self.out_at[o];
+        let g = self.groups[gi];
+        let (s, n) = (self.stride, g.rows.1 - g.rows.0);
+        let coef = &self.coef()[g.coef..g.coef + n * g.width * s];
+        self.row_pair[g.rows.0..g.rows.1].iter().zip(coef.chunks_exact(g.width * s)).map(move |(&p, c)| (self.pairs[p], &c[half * s..(half + 1) * s]))
     }
 
     /// out_o += Σ rows of o · w, w(l, m) = left(l) ⊙ right(m), with `factors(left, right)`
@@ -179,7 +280,7 @@ impl PairRows {
         // the bounds every kernel relies on (the AVX one reads without further checks)
         assert!(left.len() >= self.modes * s && right.len() >= self.modes * s, "PairRows factors");
         assert_eq!(w.len(), self.pairs.len() * s, "PairRows products");
-        assert!(out.len() + 1 >= self.out_start.len(), "PairRows outputs");
+        assert!(out.len() >= self.out_at.len(), "PairRows outputs");
         #[cfg(target_arch = "x86_64")]
         if s % 8 == 0 && std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the processor supports AVX-512F (checked just above); lengths and offsets
@@ -268,120 +369,40 @@ impl PairRows {
             let o = self.row_off[r] as usize;
             w[o..o + S].try_into().expect("S slots")
         };
-        for (o, x) in out.iter_mut().enumerate().take(self.out_start.len() - 1) {
-            let (r0, r1) = (self.out_start[o], self.out_start[o + 1]);
-            let coef = &self.coef()[r0 * S..r1 * S];
-            let mut acc = [0.0f64; S];
-            let cc = coef.chunks_exact(2 * S);
-            let c_rest = cc.remainder();
-            for (i, c) in cc.enumerate() {
-                let (c0, c1) = c.split_at(S);
-                let (c0, c1): (&[f64; S], &[f64; S]) = (c0.try_into().expect("S"), c1.try_into().expect("S"));
-                let (w0, w1) = (at(r0 + 2 * i), at(r0 + 2 * i + 1));
-                for s in 0..S {
-                    acc[s] += c0[s] * w0[s] + c1[s] * w1[s];
+        let coef = self.coef();
+        for g in &self.groups {
+            let (r0, r1) = g.rows;
+            // row r's coefficients of output `half` of the group
+            let c = |r: usize, half: usize| -> &[f64; S] {
+                let i = g.coef + ((r - r0) * g.width + half) * S;
+                coef[i..i + S].try_into().expect("S slots")
+            };
+            for half in 0..g.width {
+                let mut acc = [0.0f64; S];
+                let mut r = r0;
+                while r + 2 <= r1 {
+                    let (c0, c1, w0, w1) = (c(r, half), c(r + 1, half), at(r), at(r + 1));
+                    for s in 0..S {
+                        acc[s] += c0[s] * w0[s] + c1[s] * w1[s];
+                    }
+                    r += 2;
                 }
-            }
-            if let Ok(c0) = <&[f64; S]>::try_from(c_rest) {
-                let w0 = at(r1 - 1);
-                for s in 0..S {
-                    acc[s] += c0[s] * w0[s];
+                if r < r1 {
+                    let (c0, w0) = (c(r, half), at(r));
+                    for s in 0..S {
+                        acc[s] += c0[s] * w0[s];
+                    }
                 }
+                let mut v = [0.0f64; 4];
+                for s in 0..S {
+                    v[s % 4] += acc[s];
+                }
+                out[g.outs[half]] += (v[0] + v[1]) + (v[2] + v[3]);
             }
-            let mut v = [0.0f64; 4];
-            for s in 0..S {
-                v[s % 4] += acc[s];
-            }
-            *x += (v[0] + v[1]) + (v[2] + v[3]);
         }
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The sparse sums equal the plain double loop over every (output, pair, slot).
-    #[test]
-    fn eval_is_the_plain_sum() {
-        let (modes, outputs, slots) = (5, 4, 6);
-        let coef = |o: usize, l: usize, m: usize, s: usize| if (l + m + o) % 3 == 0 { 0.0 } else { (1 + o + 2 * l + 3 * m + 5 * s) as f64 * 0.01 };
-        let rows = PairRows::new(modes, outputs, slots, |o, l, m, c| {
-            for (s, x) in c.iter_mut().enumerate() {
-                *x = coef(o, l, m, s);
-            }
-            true
-        });
-        assert_eq!(rows.stride(), 8);
-        let mut out = vec![0.0; outputs];
-        // prod(l, m, s) = left_s(l) · right_s(m)
-        let (lf, rf) = (|l: usize, s: usize| 1.0 + 0.1 * (l * 7 + s) as f64, |m: usize, s: usize| ((m * 3 + s) as f64).sin());
-        let prod = |l: usize, m: usize, s: usize| lf(l, s) * rf(m, s);
-        rows.eval(&mut out, |left, right| {
-            for (i, (lv, rv)) in left.chunks_exact_mut(8).zip(right.chunks_exact_mut(8)).enumerate() {
-                for s in 0..8 {
-                    (lv[s], rv[s]) = if s < slots { (lf(i, s), rf(i, s)) } else { (0.0, 0.0) };
-                }
-            }
-        });
-        for (o, &got) in out.iter().enumerate() {
-            let mut want = 0.0;
-            for &(l, m) in rows.pairs() {
-                for s in 0..slots {
-                    want += coef(o, l, m, s) * prod(l, m, s);
-                }
-            }
-            assert!((got - want).abs() <= 1e-14 * want.abs().max(1.0), "output {o}: {got} against {want}");
-        }
-    }
-
-    /// The AVX kernel is the portable one bit for bit (same products, sums and order), for
-    /// every stride and for odd and even row counts per output.
-    #[test]
-    fn avx_kernel_is_the_portable_one_bit_for_bit() {
-        for slots in [3, 8, 13, 16, 21, 32] {
-            let (modes, outputs) = (6, 7);
-            let rows = PairRows::new(modes, outputs, slots, |o, l, m, c| {
-                for (s, x) in c.iter_mut().enumerate() {
-                    *x = (((o * 31 + l * 7 + m * 3 + s) as f64) * 0.731).sin();
-                }
-                (o + l + m) % 3 != 1
-            });
-            let st = rows.stride();
-            let left: Vec<f64> = (0..modes * st).map(|i| ((i as f64) * 1.37).cos() * 1e3).collect();
-            let right: Vec<f64> = (0..modes * st).map(|i| ((i as f64) * 0.29).sin() * 1e-3).collect();
-            let mut w = vec![0.0; rows.pairs().len() * st];
-            let mut portable = vec![0.5; outputs];
-            match st {
-                4 => rows.apply_s::<4>(&left, &right, &mut w, &mut portable),
-                8 => rows.apply_s::<8>(&left, &right, &mut w, &mut portable),
-                16 => rows.apply_s::<16>(&left, &right, &mut w, &mut portable),
-                24 => rows.apply_s::<24>(&left, &right, &mut w, &mut portable),
-                _ => rows.apply_s::<32>(&left, &right, &mut w, &mut portable),
-            }
-            let mut dispatched = vec![0.5; outputs];
-            rows.apply(&left, &right, &mut w, &mut dispatched);
-            for (a, b) in portable.iter().zip(&dispatched) {
-                assert_eq!(a.to_bits(), b.to_bits(), "stride {st}: {a} against {b}");
-            }
-            // the AVX kernel also where the dispatch above took AVX-512
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx") {
-                let mut avx = vec![0.5; outputs];
-                // SAFETY: AVX checked just above; the lengths are those apply asserts.
-                unsafe {
-                    match st {
-                        4 => rows.apply_avx::<1>(&left, &right, &mut w, &mut avx),
-                        8 => rows.apply_avx::<2>(&left, &right, &mut w, &mut avx),
-                        16 => rows.apply_avx::<4>(&left, &right, &mut w, &mut avx),
-                        24 => rows.apply_avx::<6>(&left, &right, &mut w, &mut avx),
-                        _ => rows.apply_avx::<8>(&left, &right, &mut w, &mut avx),
-                    }
-                }
-                for (a, b) in portable.iter().zip(&avx) {
-                    assert_eq!(a.to_bits(), b.to_bits(), "stride {st} (AVX): {a} against {b}");
-                }
-            }
-        }
-    }
-}
+#[path = "pair_rows_tests.rs"]
+mod tests;

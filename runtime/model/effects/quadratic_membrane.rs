@@ -167,6 +167,50 @@ impl QuadraticMembrane {
     }
 }
 
+/// The factors of the pair products (slot i·4 + t, `np` = `p.len()` prefactors): left(k) =
+/// p_i (a_k, a_k, b_k, b_k), right(k) = (a_k, b_k, a_k, b_k), for every mode k of `left`.
+fn factors(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
+    let st = PRODUCTS * p.len();
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        let n = left.len() / st;
+        assert!(right.len() >= n * st && at.z.len() >= 2 + 3 * n, "quadratic membrane factors");
+        // SAFETY: AVX is available (checked just above); the lengths asserted above.
+        unsafe { factors_avx(at.z, p, n, left, right) };
+        return;
+    }
+    for (k, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate() {
+        let (a, b) = (at.a(k), at.b(k));
+        for ((lc, rc), pi) in lv.chunks_exact_mut(PRODUCTS).zip(rv.chunks_exact_mut(PRODUCTS)).zip(p) {
+            lc.copy_from_slice(&[pi * a, pi * a, pi * b, pi * b]);
+            rc.copy_from_slice(&[a, b, a, b]);
+        }
+    }
+}
+
+/// [`factors`] with one AVX register per (mode, prefactor): the same products p_i · a_k,
+/// p_i · b_k, so bit for bit the portable result.
+///
+/// # Safety
+/// AVX available; `z` ≥ 2 + 3n, `left` and `right` ≥ n · 4 · `p.len()` long.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn factors_avx(z: &[f64], p: &[f64], n: usize, left: &mut [f64], right: &mut [f64]) {
+    use std::arch::x86_64::*;
+    let st = PRODUCTS * p.len();
+    let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
+    for k in 0..n {
+        let (a, b) = (*zp.add(2 + 3 * k), *zp.add(4 + 3 * k));
+        // _mm256_set_pd takes the lanes from the highest down
+        let (x, y) = (_mm256_set_pd(b, b, a, a), _mm256_set_pd(b, a, b, a));
+        for (i, &pi) in p.iter().enumerate() {
+            let at = k * st + PRODUCTS * i;
+            _mm256_storeu_pd(lp.add(at), _mm256_mul_pd(_mm256_set1_pd(pi), x));
+            _mm256_storeu_pd(rp.add(at), y);
+        }
+    }
+}
+
 impl Term for QuadraticMembrane {
     fn name(&self) -> &'static str {
         "quadratic membrane"
@@ -183,16 +227,7 @@ impl Term for QuadraticMembrane {
         let np = self.monos.len();
         let mut out = [0.0; 1 + 2 * super::MAX_MODES];
         // slot i·4 + t: p_i (a_l, a_l, b_l, b_l)_t · (a_m, b_m, a_m, b_m)_t
-        self.rows.eval(&mut out[..1 + 2 * n], |left, right| {
-            let st = PRODUCTS * np;
-            for (k, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate() {
-                let (a, b) = (at.a(k), at.b(k));
-                for ((lc, rc), pi) in lv.chunks_exact_mut(PRODUCTS).zip(rv.chunks_exact_mut(PRODUCTS)).zip(&p[..np]) {
-                    lc.copy_from_slice(&[pi * a, pi * a, pi * b, pi * b]);
-                    rc.copy_from_slice(&[a, b, a, b]);
-                }
-            }
-        });
+        self.rows.eval(&mut out[..1 + 2 * n], |left, right| factors(at, &p[..np], left, right));
         loads.pressure -= out[0];
         for (j, g) in loads.gn.iter_mut().enumerate().take(n) {
             *g += out[1 + j];
