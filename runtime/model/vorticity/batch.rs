@@ -14,8 +14,10 @@
 //! AVX (4 lanes of f64; no FMA, so the same roundings), as `model/effects/pair_rows.rs` does.
 
 use super::nodes::{self, per_q};
-use super::operator::Rows;
+use super::pool;
+use super::tri::{self, TriRows};
 use nalgebra::{Complex, ComplexField};
+use std::rc::Rc;
 
 /// A scalar of the structured solve, f64 or Complex<f64>.
 pub trait Lane: ComplexField<RealField = f64> + Copy {
@@ -123,52 +125,29 @@ impl Split {
 /// Thomas factors of the M tridiagonal matrices σI − L_k, node-major and split.
 pub struct TriBatch {
     q: usize,
-    /// −L_k's sub-diagonal (real; a real times complex product is 2 multiplications, not 4)
-    lower: Vec<V>,
+    /// −L_k's sub-diagonal (real; a real times complex product is 2 multiplications, not 4),
+    /// shared with the Jacobian's [`TriRows`] (it does not depend on σ)
+    lower: Rc<Vec<V>>,
     inv_beta: Split,
     gamma: Split,
 }
 
-impl TriBatch {
-    /// `None` on a zero pivot.
-    pub fn new<T: Lane>(sigma: T, rows: &[Rows], ni: usize) -> Option<Self> {
-        // built node after node with pushes (no zeroed buffers: every vector is written once)
-        let m = rows.len();
-        let q = per_node(m);
-        let n = ni * q;
-        let cap = if T::CPLX { n } else { 0 };
-        let mut lower = Vec::with_capacity(n);
-        let (mut ib, mut gm) = (Split { q, re: Vec::with_capacity(n), im: Vec::with_capacity(cap) }, Split { q, re: Vec::with_capacity(n), im: Vec::with_capacity(cap) });
-        for i in 0..ni {
-            for v in 0..q {
-                let (mut l4, mut ibr, mut ibi, mut gr, mut gi) = ([0.0; L], [0.0; L], [0.0; L], [0.0; L], [0.0; L]);
-                for (lane, r) in rows[v * L..m.min((v + 1) * L)].iter().enumerate() {
-                    let beta = if i == 0 {
-                        sigma - T::from_real(r.diag[0])
-                    } else {
-                        let at = (i - 1) * q + v;
-                        let prev = T::from_parts(ib.re[at][lane], if T::CPLX { ib.im[at][lane] } else { 0.0 });
-                        let l = -r.lower[i];
-                        let g = prev.scale(-r.upper[i - 1]);
-                        l4[lane] = l;
-                        (gr[lane], gi[lane]) = g.parts();
-                        sigma - T::from_real(r.diag[i]) - g.scale(l)
-                    };
-                    if beta == T::zero() {
-                        return None;
-                    }
-                    (ibr[lane], ibi[lane]) = (T::one() / beta).parts();
-                }
-                lower.push(l4);
-                ib.re.push(ibr);
-                gm.re.push(gr);
-                if T::CPLX {
-                    ib.im.push(ibi);
-                    gm.im.push(gi);
-                }
-            }
+impl Drop for TriBatch {
+    /// The factor vectors kept for the next factorisation ([`pool`]).
+    fn drop(&mut self) {
+        for s in [&mut self.inv_beta, &mut self.gamma] {
+            pool::give(std::mem::take(&mut s.re));
+            pool::give(std::mem::take(&mut s.im));
         }
-        Some(Self { q, lower, inv_beta: ib, gamma: gm })
+    }
+}
+
+impl TriBatch {
+    /// The factors of σI − L_k from the transposed rows ([`super::tri`]); `None` on a zero pivot.
+    pub fn new<T: Lane>(sigma: T, rows: &TriRows) -> Option<Self> {
+        let q = rows.q;
+        let [(ibr, ibi), (gr, gi)] = tri::factors(sigma, rows)?;
+        Some(Self { q, lower: Rc::clone(&rows.neg_lower), inv_beta: Split { q, re: ibr, im: ibi }, gamma: Split { q, re: gr, im: gi } })
     }
 
     /// x ← (σI − L_k)⁻¹ x for every mode k at once (x node-major, split like the factors).
@@ -206,36 +185,43 @@ impl TriBatch {
 }
 
 impl TriBatch {
-    /// [`solve`](Self::solve) of a real right-hand side `x.re` (`x.im` empty): for complex
-    /// factors the imaginary parts are written by the sweep (no zeroed buffer first).
-    pub fn solve_real_rhs(&self, x: &mut Split) {
+    /// (σI − L_k)⁻¹ `src` for a real right-hand side (node-major, q vectors per node) as a new
+    /// split vector: for complex factors the imaginary parts are pushed by the sweep (no zeroed
+    /// buffer), and `src` is read by the forward sweep (no copy first).
+    pub fn solve_real_rhs(&self, src: &[V]) -> Split {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
             // SAFETY: the processor supports AVX (checked just above); the kernel is safe code.
-            unsafe { self.solve_real_rhs_avx(x) };
-            return;
+            return unsafe { self.solve_real_rhs_avx(src) };
         }
-        self.solve_real_rhs_body(x);
+        self.solve_real_rhs_body(src)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn solve_real_rhs_avx(&self, x: &mut Split) {
-        self.solve_real_rhs_body(x);
+    unsafe fn solve_real_rhs_avx(&self, src: &[V]) -> Split {
+        self.solve_real_rhs_body(src)
     }
 
     #[inline(always)]
-    fn solve_real_rhs_body(&self, x: &mut Split) {
+    fn solve_real_rhs_body(&self, src: &[V]) -> Split {
         let (q, ib, gm) = (self.q, &self.inv_beta, &self.gamma);
-        if q == 0 || ib.im.is_empty() {
-            return self.solve_body(x);
+        // every entry is written by the sweeps: spare vectors of dropped factorisations
+        let n = src.len();
+        let mut x = Split { q, re: pool::take(n), im: if ib.im.is_empty() { Vec::new() } else { pool::take(n) } };
+        if ib.im.is_empty() {
+            per_q!(q, Q => nodes::sweep_real_from::<Q>(&self.lower, &ib.re, &gm.re, src, &mut x.re), _ => {
+                x.re.copy_from_slice(src);
+                self.solve_body(&mut x);
+            });
+        } else {
+            per_q!(q, Q => nodes::sweep_complex_real_rhs::<Q>(&self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], src, &mut x.re, &mut x.im), _ => {
+                x.re.copy_from_slice(src);
+                x.im.fill([0.0; L]);
+                self.solve_body(&mut x);
+            });
         }
-        per_q!(q, Q => nodes::sweep_complex_real_rhs::<Q>(&self.lower, [&ib.re, &ib.im], [&gm.re, &gm.im], &mut x.re, &mut x.im),
-               _ => {
-                   x.im.clear();
-                   x.im.resize(x.re.len(), [0.0; L]);
-                   self.solve_body(x)
-               });
+        x
     }
 }
 

@@ -8,6 +8,7 @@
 //! the same order as the row-by-row one). Kernels compiled with AVX when the processor has it.
 
 use super::batch::Lane;
+use super::dense_rows as rows;
 use std::marker::PhantomData;
 
 /// LU factors of an n × n matrix, row-major, split.
@@ -97,21 +98,23 @@ impl<T: Lane> DenseLu<T> {
     pub fn solve(&self, xr: &mut [f64], xi: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+            // SAFETY: the processor supports AVX (checked just above).
             unsafe { self.solve_avx(xr, xi) };
             return;
         }
-        self.solve_body(xr, xi)
+        self.solve_body::<false>(xr, xi)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
     unsafe fn solve_avx(&self, xr: &mut [f64], xi: &mut [f64]) {
-        self.solve_body(xr, xi)
+        self.solve_body::<true>(xr, xi)
     }
 
+    /// `AVX`: the back substitution's rows by [`rows::complex_avx`] / [`rows::real_avx`] (only
+    /// from [`solve_avx`](Self::solve_avx)).
     #[inline(always)]
-    fn solve_body(&self, xr: &mut [f64], xi: &mut [f64]) {
+    fn solve_body<const AVX: bool>(&self, xr: &mut [f64], xi: &mut [f64]) {
         let n = self.n;
         let (xr, xi) = (&mut xr[..n], &mut xi[..if T::CPLX { n } else { 0 }]);
         for (k, &p) in self.piv.iter().enumerate() {
@@ -125,19 +128,12 @@ impl<T: Lane> DenseLu<T> {
         for i in (0..n).rev() {
             let row = i * n + i + 1..(i + 1) * n;
             if T::CPLX {
-                let (mut sr, mut si) = (xr[i], xi[i]);
                 let (ur, ui) = (&self.ur[row.clone()], &self.ui[row]);
                 let (tr, ti) = (&xr[i + 1..], &xi[i + 1..]);
-                for j in 0..ur.len() {
-                    sr -= ur[j] * tr[j] - ui[j] * ti[j];
-                    si -= ur[j] * ti[j] + ui[j] * tr[j];
-                }
+                let (sr, si) = rows::complex::<AVX>((xr[i], xi[i]), (ur, ui), (tr, ti));
                 (xr[i], xi[i]) = (sr * self.dr[i] - si * self.di[i], sr * self.di[i] + si * self.dr[i]);
             } else {
-                let mut s = xr[i];
-                for (&u, &x) in self.ur[row].iter().zip(&xr[i + 1..]) {
-                    s -= u * x;
-                }
+                let s = rows::real::<AVX>(xr[i], &self.ur[row], &xr[i + 1..]);
                 xr[i] = s * self.dr[i];
             }
         }

@@ -17,15 +17,19 @@
 //! the nondimensional form of FORMULATION §4.5 with ρ = 1, η = 1/Re); nothing here assumes either.
 
 pub mod batch;
+mod copies;
 mod dense;
+mod dense_rows;
 pub mod equations;
 pub mod grid;
 pub mod linear;
 pub mod monolithic;
 mod nodes;
+mod pool;
 pub mod operator;
 pub mod staggered;
 pub mod structured;
+mod tri;
 pub mod scene;
 
 pub use grid::{Grid, GridError};

@@ -46,7 +46,7 @@ pub fn sweep_real<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], x: &mut [V
     if n == 0 {
         return;
     }
-    let (lower, ib, gamma) = (&view::<Q>(lower)[..n], &view::<Q>(ib)[..n], &view::<Q>(gamma)[..n]);
+    let (lower, ib) = (&view::<Q>(lower)[..n], &view::<Q>(ib)[..n]);
     let mut p = x[0];
     for j in 0..Q {
         p[j] = mul(p[j], ib[0][j]);
@@ -60,7 +60,43 @@ pub fn sweep_real<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], x: &mut [V
         x[i] = c;
         p = c;
     }
-    for i in (0..n - 1).rev() {
+    back_real::<Q>(&view::<Q>(gamma)[..n], x, p);
+}
+
+/// [`sweep_real`] of `src` into `x` (its old values not read; as long as `src`): the same
+/// operations, without a copy of `src` first.
+#[inline(always)]
+pub fn sweep_real_from<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], src: &[V], x: &mut [V]) {
+    let src = view::<Q>(src);
+    let n = src.len();
+    let x = &mut view_mut::<Q>(x)[..n];
+    if n == 0 {
+        return;
+    }
+    let (lower, ib) = (&view::<Q>(lower)[..n], &view::<Q>(ib)[..n]);
+    let mut p = src[0];
+    for j in 0..Q {
+        p[j] = mul(p[j], ib[0][j]);
+    }
+    x[0] = p;
+    for i in 1..n {
+        let mut c = src[i];
+        for j in 0..Q {
+            c[j] = mul(sub(c[j], mul(p[j], lower[i][j])), ib[i][j]);
+        }
+        x[i] = c;
+        p = c;
+    }
+    back_real::<Q>(&view::<Q>(gamma)[..n], x, p);
+}
+
+/// The back substitution of the real sweeps: from the last node's `last`, node by node down,
+/// cur −= γ(i + 1) · next.
+#[inline(always)]
+fn back_real<const Q: usize>(gamma: &[N<Q>], x: &mut [N<Q>], last: N<Q>) {
+    let mut p = last;
+    let n = x.len().min(gamma.len());
+    for i in (0..n.saturating_sub(1)).rev() {
         let mut c = x[i];
         for j in 0..Q {
             c[j] = sub(c[j], mul(gamma[i + 1][j], p[j]));
@@ -102,42 +138,38 @@ pub fn sweep_complex<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2
     back_complex::<Q>((gr, gi), (xr, xi), (pr, pi));
 }
 
-/// [`sweep_complex`] of a real right-hand side: `xi` comes empty (any capacity) and the
-/// imaginary parts are pushed node after node by the forward sweep, with the same operations on
-/// a zero imaginary input (`0 − p·l`, the literal zero as the stored one would be: the same bits)
-/// — no zeroed buffer to read.
+/// [`sweep_complex`] of a real right-hand side `src` into (`xr`, `xi`) (their old values not
+/// read; as long as `src`), with the same operations on a zero imaginary input (`0 − p·l`, the
+/// literal zero as a stored one would be: the same bits) — no zeroed buffer to read and no copy
+/// of `src`.
 #[inline(always)]
-pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], xr: &mut [V], xi: &mut Vec<V>) {
-    let xr = view_mut::<Q>(xr);
-    let n = xr.len();
-    xi.clear();
-    xi.reserve(n * Q);
+pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], src: &[V], xr: &mut [V], xi: &mut [V]) {
+    let src = view::<Q>(src);
+    let n = src.len();
+    let (xr, xi) = (&mut view_mut::<Q>(xr)[..n], &mut view_mut::<Q>(xi)[..n]);
     if n == 0 {
         return;
     }
     let lower = &view::<Q>(lower)[..n];
     let (br, bi) = (&view::<Q>(ib[0])[..n], &view::<Q>(ib[1])[..n]);
     let zero = [0.0; super::batch::L];
-    let (mut pr, mut pi) = (xr[0], [zero; Q]);
+    let (mut pr, mut pi) = (src[0], [zero; Q]);
     for j in 0..Q {
         (pr[j], pi[j]) = cmul(pr[j], pi[j], br[0][j], bi[0][j]);
     }
-    xr[0] = pr;
-    xi.extend_from_slice(&pi);
+    (xr[0], xi[0]) = (pr, pi);
     for i in 1..n {
-        let (mut cr, mut ci) = (xr[i], [zero; Q]);
+        let (mut cr, mut ci) = (src[i], [zero; Q]);
         for j in 0..Q {
             let l = lower[i][j];
             let (a, b) = (sub(cr[j], mul(pr[j], l)), sub(ci[j], mul(pi[j], l)));
             (cr[j], ci[j]) = cmul(a, b, br[i][j], bi[i][j]);
         }
-        xr[i] = cr;
-        xi.extend_from_slice(&ci);
+        (xr[i], xi[i]) = (cr, ci);
         (pr, pi) = (cr, ci);
     }
-    let xi = &mut view_mut::<Q>(xi)[..n];
     let (gr, gi) = (&view::<Q>(gamma[0])[..n], &view::<Q>(gamma[1])[..n]);
-    back_complex::<Q>((gr, gi), (xr, &mut xi[..]), (pr, pi));
+    back_complex::<Q>((gr, gi), (xr, xi), (pr, pi));
 }
 
 /// The back substitution of the complex sweeps: from the last node's (re, im) `last`, node by
@@ -256,10 +288,14 @@ mod tests {
                 sweep_complex::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], [&mut ar, &mut ai]);
                 batch::sweep_complex(q, &lower, [&ibr, &ibi], [&gr, &gi], [&mut br, &mut bi]);
                 assert_eq!((bits(&ar), bits(&ai)), (bits(&br), bits(&bi)), "complex sweep, q = {q}");
-                let (mut ar, mut ai, mut br, mut bi) = (xr.clone(), vec![[0.0; L]; n], xr.clone(), Vec::new());
+                let (mut ar, mut ai, mut br, mut bi) = (xr.clone(), vec![[0.0; L]; n], vec![[9.0; L]; n], vec![[-9.0; L]; n]);
                 sweep_complex::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], [&mut ar, &mut ai]);
-                sweep_complex_real_rhs::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], &mut br, &mut bi);
+                sweep_complex_real_rhs::<Q>(&lower, [&ibr, &ibi], [&gr, &gi], &xr, &mut br, &mut bi);
                 assert_eq!((bits(&ar), bits(&ai)), (bits(&br), bits(&bi)), "complex sweep of a real rhs, q = {q}");
+                let (mut a, mut b) = (xr.clone(), vec![[9.0; L]; n]);
+                sweep_real::<Q>(&lower, &ibr, &gr, &mut a);
+                sweep_real_from::<Q>(&lower, &ibr, &gr, &xr, &mut b);
+                assert_eq!(bits(&a), bits(&b), "real sweep from a source, q = {q}");
                 let v = Split { q, re: xr.clone(), im: xi.clone() };
                 let mut acc = vec![[0.0; L]; 4 * q];
                 let (p, r) = acc.split_at_mut(2 * q);

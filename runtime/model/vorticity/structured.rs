@@ -14,11 +14,14 @@
 //! [`super::operator::ModeOperator::rows_derivatives`]. Nothing is differenced.
 
 use super::batch::{add, cmul, dots2, mul, per_node, Lane, Split, TriBatch, L, V};
+use super::copies::{copy_in, copy_in_any, copy_out, copy_out_any};
 use super::dense::DenseLu;
+use super::dense_rows;
 use super::equations::reduced_jacobian;
 use super::monolithic::Monolithic;
 use super::nodes::{self, per_q};
 use super::operator::Rows;
+use super::tri::TriRows;
 use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
 use nalgebra::{Complex, DMatrix};
@@ -34,10 +37,13 @@ pub struct StructuredJacobian {
     gz: DMatrix<f64>,
     /// ∂(f_z, T_w)/∂p: (nz + M) × 2M
     gp: DMatrix<f64>,
-    rows: Vec<Rows>,
+    /// the T rows of J (L_k) node-major in lanes, for the Thomas factors of every factorisation
+    tri_rows: TriRows,
     /// ∂(T rows)/∂R and ∂/∂Ṙ at fixed T, T_w, node-major in lanes (module `batch`)
     r_r: Vec<V>,
     r_rd: Vec<V>,
+    /// c_k = l_0 e_1 node-major in lanes (the wall term's column of the T rows)
+    c: Vec<V>,
     /// P rows per mode: weights of Ĩ_int and of ∫(y⁻³−1)y^{−k}T dy on the interior nodes
     /// node-major in lanes, as [`TriBatch`]
     pw: [Vec<V>; 2],
@@ -103,6 +109,10 @@ impl Scratch {
 
 impl<T: Lane> Drop for StructuredLu<T> {
     fn drop(&mut self) {
+        for u in &mut self.u {
+            super::pool::give(std::mem::take(&mut u.re));
+            super::pool::give(std::mem::take(&mut u.im));
+        }
         let s = std::mem::replace(self.scratch.get_mut(), Scratch { xt: Split { q: 0, re: Vec::new(), im: Vec::new() }, rhs_r: Vec::new(), rhs_i: Vec::new(), d: Vec::new(), s: Vec::new() });
         // at most a few kept (a real and a complex factorisation alive at once, one of each spare)
         let _ = SPARE.try_with(|p| {
@@ -195,7 +205,14 @@ impl StructuredJacobian {
             }
         }
         let g = row_major(&gz, &gp);
-        Self { m, nz, ni, nb, gz, gp, rows, r_r, r_rd, pw, g }
+        let tri_rows = TriRows::new(&rows, ni);
+        let mut c = vec![[0.0; L]; ni * q];
+        if ni > 0 {
+            for (k, rw) in rows.iter().enumerate() {
+                c[k / L][k % L] = rw.lower[0];
+            }
+        }
+        Self { m, nz, ni, nb, gz, gp, tri_rows, c, r_r, r_rd, pw, g }
     }
 
     /// Factors σI − J. `None` if singular.
@@ -210,20 +227,10 @@ impl StructuredJacobian {
             s[i * ns + i] += sigma;
         }
         s.resize(ns * ns, T::zero());
-        let tri = TriBatch::new(sigma, &self.rows, ni)?;
+        let tri = TriBatch::new(sigma, &self.tri_rows)?;
         let q = per_node(m);
-        // c_k, r_R,k, r_Ṙ,k are real: their imaginary parts are written by the sweeps
-        let mut uc = Split::zeros::<f64>(ni, m);
-        if ni > 0 {
-            for k in 0..m {
-                uc.re[k / L][k % L] = self.rows[k].lower[0];
-            }
-        }
-        let real = |v: &Vec<V>| Split { q, re: v.clone(), im: Vec::new() };
-        let (mut ur, mut urd) = (real(&self.r_r), real(&self.r_rd));
-        tri.solve_real_rhs(&mut uc);
-        tri.solve_real_rhs(&mut ur);
-        tri.solve_real_rhs(&mut urd);
+        // c_k, r_R,k, r_Ṙ,k are real: read by the sweeps, their imaginary parts written by them
+        let (uc, ur, urd) = (tri.solve_real_rhs(&self.c), tri.solve_real_rhs(&self.r_r), tri.solve_real_rhs(&self.r_rd));
         // P·u for the two kinds of functional at once: [kind 0 re, kind 1 re, kind 0 im, kind 1 im]
         let pw = [&self.pw[0][..], &self.pw[1][..]];
         let dot = |v: &Split| {
@@ -262,22 +269,24 @@ impl<T: Lane> StructuredLu<T> {
     pub fn solve(&self, b: &mut [T]) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+            // SAFETY: the processor supports AVX (checked just above).
             unsafe { self.solve_avx(b) };
             return;
         }
-        self.solve_body(b);
+        self.solve_body::<false>(b);
     }
 
     /// [`solve`](Self::solve) compiled with AVX (the same operations; module `batch`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
     unsafe fn solve_avx(&self, b: &mut [T]) {
-        self.solve_body(b);
+        self.solve_body::<true>(b);
     }
 
+    /// `AVX`: the s_k sums by [`dense_rows::dot`]'s AVX form (only from
+    /// [`solve_avx`](Self::solve_avx)).
     #[inline(always)]
-    fn solve_body(&self, b: &mut [T]) {
+    fn solve_body<const AVX: bool>(&self, b: &mut [T]) {
         let j = &*self.jac;
         let (m, nz, nb) = (j.m, j.nz, j.nb);
         let q = per_node(m);
@@ -327,17 +336,9 @@ impl<T: Lane> StructuredLu<T> {
                 b[2 + k * nb + c] = x(2 + 3 * k + c);
             }
             // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
-            let mut re = 0.0;
-            for (&xj, &g) in xr.iter().zip(row) {
-                re += xj * g;
-            }
-            s[k / L][k % L] = re;
+            s[k / L][k % L] = dense_rows::dot::<AVX>(xr, row);
             if T::CPLX {
-                let mut im = 0.0;
-                for (&xj, &g) in xi.iter().zip(row) {
-                    im += xj * g;
-                }
-                s[q + k / L][k % L] = im;
+                s[q + k / L][k % L] = dense_rows::dot::<AVX>(xi, row);
             }
         }
         let [uc, ur, urd] = &self.u;
@@ -355,81 +356,6 @@ impl<T: Lane> StructuredLu<T> {
             per_q!(q, Q => nodes::combine_real::<Q>(&mut xt.re, u, sr, x0r, x1r), _ => combine_real_any(q, &mut xt.re, u, sr, x0r, x1r));
         }
         per_q!(q, Q => copy_out::<Q, T>(xt, nb, m, b), _ => copy_out_any(xt, nb, m, b));
-    }
-}
-
-/// b_T,k (mode-major in the state `b`) into the node-major split copy `xt`, with the nodes as
-/// `[V; Q]` ([`nodes`]).
-#[inline(always)]
-fn copy_in<const Q: usize, T: Lane>(b: &[T], nb: usize, m: usize, xt: &mut Split) {
-    let xr = nodes::view_mut::<Q>(&mut xt.re);
-    let ni = xr.len();
-    let xi = nodes::view_mut::<Q>(&mut xt.im);
-    for k in 0..m {
-        let src = &b[5 + k * nb..5 + k * nb + ni];
-        let (v, lane) = (k / L, k % L);
-        if T::CPLX {
-            for ((r, i), &x) in xr.iter_mut().zip(xi.iter_mut()).zip(src) {
-                (r[v][lane], i[v][lane]) = x.parts();
-            }
-        } else {
-            for (r, &x) in xr.iter_mut().zip(src) {
-                r[v][lane] = x.parts().0;
-            }
-        }
-    }
-}
-
-/// [`copy_in`] for any number of vectors per node.
-#[inline(always)]
-fn copy_in_any<T: Lane>(b: &[T], nb: usize, m: usize, xt: &mut Split) {
-    let q = xt.q;
-    let ni = xt.re.len() / q.max(1);
-    for k in 0..m {
-        let src = &b[5 + k * nb..5 + k * nb + ni];
-        let (v, lane) = (k / L, k % L);
-        for (i, &x) in src.iter().enumerate() {
-            let (re, im) = x.parts();
-            xt.re[i * q + v][lane] = re;
-            if T::CPLX {
-                xt.im[i * q + v][lane] = im;
-            }
-        }
-    }
-}
-
-/// The node-major `xt` back into b_T,k.
-#[inline(always)]
-fn copy_out<const Q: usize, T: Lane>(xt: &Split, nb: usize, m: usize, b: &mut [T]) {
-    let xr = nodes::view::<Q>(&xt.re);
-    let ni = xr.len();
-    let xi = nodes::view::<Q>(&xt.im);
-    for k in 0..m {
-        let dst = &mut b[5 + k * nb..5 + k * nb + ni];
-        let (v, lane) = (k / L, k % L);
-        if T::CPLX {
-            for ((o, r), i) in dst.iter_mut().zip(xr).zip(xi) {
-                *o = T::from_parts(r[v][lane], i[v][lane]);
-            }
-        } else {
-            for (o, r) in dst.iter_mut().zip(xr) {
-                *o = T::from_parts(r[v][lane], 0.0);
-            }
-        }
-    }
-}
-
-/// [`copy_out`] for any number of vectors per node.
-#[inline(always)]
-fn copy_out_any<T: Lane>(xt: &Split, nb: usize, m: usize, b: &mut [T]) {
-    let q = xt.q;
-    let ni = xt.re.len() / q.max(1);
-    for k in 0..m {
-        let dst = &mut b[5 + k * nb..5 + k * nb + ni];
-        let (v, lane) = (k / L, k % L);
-        for (i, o) in dst.iter_mut().enumerate() {
-            *o = T::from_parts(xt.re[i * q + v][lane], if T::CPLX { xt.im[i * q + v][lane] } else { 0.0 });
-        }
     }
 }
 
