@@ -42,25 +42,7 @@ pub fn view_mut<const Q: usize>(v: &mut [V]) -> &mut [N<Q>] {
 #[inline(always)]
 pub fn sweep_real<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], x: &mut [V]) {
     let x = view_mut::<Q>(x);
-    let n = x.len();
-    if n == 0 {
-        return;
-    }
-    let (lower, ib) = (&view::<Q>(lower)[..n], &view::<Q>(ib)[..n]);
-    let mut p = x[0];
-    for j in 0..Q {
-        p[j] = mul(p[j], ib[0][j]);
-    }
-    x[0] = p;
-    for i in 1..n {
-        let mut c = x[i];
-        for j in 0..Q {
-            c[j] = mul(sub(c[j], mul(p[j], lower[i][j])), ib[i][j]);
-        }
-        x[i] = c;
-        p = c;
-    }
-    back_real::<Q>(&view::<Q>(gamma)[..n], x, p);
+    forward_real::<Q>(lower, ib, gamma, x, |x, i| x[i]);
 }
 
 /// [`sweep_real`] of `src` into `x` (its old values not read; as long as `src`): the same
@@ -68,19 +50,26 @@ pub fn sweep_real<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], x: &mut [V
 #[inline(always)]
 pub fn sweep_real_from<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], src: &[V], x: &mut [V]) {
     let src = view::<Q>(src);
-    let n = src.len();
-    let x = &mut view_mut::<Q>(x)[..n];
+    let x = &mut view_mut::<Q>(x)[..src.len()];
+    forward_real::<Q>(lower, ib, gamma, x, |_, i| src[i]);
+}
+
+/// The real sweeps' forward elimination over the nodes of `x`, node i's right-hand side
+/// `rhs(x, i)` (read before node i is written), then [`back_real`].
+#[inline(always)]
+fn forward_real<const Q: usize>(lower: &[V], ib: &[V], gamma: &[V], x: &mut [N<Q>], rhs: impl Fn(&[N<Q>], usize) -> N<Q>) {
+    let n = x.len();
     if n == 0 {
         return;
     }
     let (lower, ib) = (&view::<Q>(lower)[..n], &view::<Q>(ib)[..n]);
-    let mut p = src[0];
+    let mut p = rhs(x, 0);
     for j in 0..Q {
         p[j] = mul(p[j], ib[0][j]);
     }
     x[0] = p;
     for i in 1..n {
-        let mut c = src[i];
+        let mut c = rhs(x, i);
         for j in 0..Q {
             c[j] = mul(sub(c[j], mul(p[j], lower[i][j])), ib[i][j]);
         }

@@ -83,7 +83,6 @@ impl QuadraticCoupling {
                 (lf[i][q], rf[i][q]) = (u[f & 3], u[g & 3]);
             }
         }
-        let g_add = |i: usize| &grad.dadd[i * n..(i + 1) * n];
         let mut d = [[0.0; 4]; MAX_MODES];
         for o in 0..=nm {
             // Σ value · first · second per table term (no prefactor), and ∂Q_o/∂(a, ȧ, ä⁽¹⁾)_i
@@ -126,28 +125,7 @@ impl QuadraticCoupling {
                 d[l] = acc[0];
             }
             let row: &mut [f64] = if o == 0 { &mut jac.pressure[..] } else { &mut jac.gn[(o - 1) * n..o * n] };
-            let mut via = [0.0; 3];
-            for (b, dp) in bare.iter().zip(&dpre) {
-                for (v, x) in via.iter_mut().zip(dp) {
-                    *v += b * x;
-                }
-            }
-            row[0] += via[0];
-            row[1] += via[1];
-            if via[2] != 0.0 {
-                for (rj, gj) in row.iter_mut().zip(grad.drdd) {
-                    *rj += via[2] * gj;
-                }
-            }
-            for (i, di) in d.iter().enumerate().take(nm) {
-                row[a_index(i)] += di[0];
-                row[a_index(i) + 1] += di[1];
-                if di[2] != 0.0 {
-                    for (rj, gj) in row.iter_mut().zip(g_add(i)) {
-                        *rj += di[2] * gj;
-                    }
-                }
-            }
+            add_output_row(row, &bare, &dpre, &d[..nm], grad.drdd, grad.dadd);
         }
     }
 
@@ -159,7 +137,6 @@ impl QuadraticCoupling {
         let n = jac.n;
         let (amp, tp, s) = self.state(at, first);
         let dpre = self.prefactor_gradients(&s, at.r());
-        let g_add = |i: usize| &grad.dadd[i * n..(i + 1) * n];
         for o in 0..=nm {
             let mut bare = [0.0; MAX_SLOTS];
             let mut d = [[0.0; 3]; MAX_MODES];
@@ -185,27 +162,38 @@ impl QuadraticCoupling {
                 }
             }
             let row: &mut [f64] = if o == 0 { &mut jac.pressure[..] } else { &mut jac.gn[(o - 1) * n..o * n] };
-            let mut via = [0.0; 3];
-            for (b, dp) in bare.iter().zip(&dpre) {
-                for (v, x) in via.iter_mut().zip(dp) {
-                    *v += b * x;
-                }
-            }
-            row[0] += via[0];
-            row[1] += via[1];
-            if via[2] != 0.0 {
-                for (rj, gj) in row.iter_mut().zip(grad.drdd) {
-                    *rj += via[2] * gj;
-                }
-            }
-            for (i, di) in d.iter().enumerate().take(nm) {
-                row[a_index(i)] += di[0];
-                row[a_index(i) + 1] += di[1];
-                if di[2] != 0.0 {
-                    for (rj, gj) in row.iter_mut().zip(g_add(i)) {
-                        *rj += di[2] * gj;
-                    }
-                }
+            add_output_row(row, &bare, &dpre, &d[..nm], grad.drdd, grad.dadd);
+        }
+    }
+}
+
+/// Output row `row` (length n) of the Jacobian from its sums: `bare` (Σ value · first · second
+/// per table term) through the prefactors' gradients `dpre` (∂/∂R, ∂/∂Ṙ, ∂/∂R̈⁽¹⁾, the last via
+/// R̈⁽¹⁾'s gradient `drdd`), and `d[i]` = ∂Q/∂(a, ȧ, ä⁽¹⁾)_i, the last via ä⁽¹⁾_i's gradient (row i
+/// of `dadd`). Shared by the row assembly and its reference walk (the same adds in the same order).
+#[inline(always)]
+fn add_output_row<const N: usize>(row: &mut [f64], bare: &[f64; MAX_SLOTS], dpre: &[[f64; 3]; MAX_SLOTS], d: &[[f64; N]], drdd: &[f64], dadd: &[f64]) {
+    let n = row.len();
+    let g_add = |i: usize| &dadd[i * n..(i + 1) * n];
+    let mut via = [0.0; 3];
+    for (b, dp) in bare.iter().zip(dpre) {
+        for (v, x) in via.iter_mut().zip(dp) {
+            *v += b * x;
+        }
+    }
+    row[0] += via[0];
+    row[1] += via[1];
+    if via[2] != 0.0 {
+        for (rj, gj) in row.iter_mut().zip(drdd) {
+            *rj += via[2] * gj;
+        }
+    }
+    for (i, di) in d.iter().enumerate() {
+        row[a_index(i)] += di[0];
+        row[a_index(i) + 1] += di[1];
+        if di[2] != 0.0 {
+            for (rj, gj) in row.iter_mut().zip(g_add(i)) {
+                *rj += di[2] * gj;
             }
         }
     }

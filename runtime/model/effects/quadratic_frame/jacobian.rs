@@ -149,15 +149,28 @@ impl FrameMap {
                 }
             }
         }
+        self.finish(at, grad, jac, ws, &bd, &f1, &zl[..nz]);
+    }
+
+    /// The part both assemblies share, with `ws.dsh` = ∂(z^L − z)/∂x filled: J(z^L)'s share,
+    /// ∂[L(z^L) − L(z)]/∂x, and the frame change's, ∂fr_n (the same operations in the same
+    /// order for both, so the reference test compares the shift's derivatives alone).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn finish(&self, at: &At<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch, bd: &[f64], f1: &[f64], zl: &[f64]) {
+        let (z, m, nc) = (at.z, self.modes, jac.n);
+        let nz = z.len();
+        let r = z[0];
+        let dbd = |i: usize, col: usize| grad.dbd.get(i * nc + col).copied().unwrap_or(0.0);
         // J(z) is the core's; J(z^L) here
         let j0 = grad.material;
         let jl = ws.jl.get_or_insert_with(|| LoadJacobian::new(m));
         if jl.modes() != m {
             *jl = LoadJacobian::new(m);
         }
-        self.lagrangian_jacobian(at.t, &zl[..nz], jl);
+        self.lagrangian_jacobian(at.t, zl, jl);
         // ∂[L(z^L) − L(z)]/∂x = J(z^L)(E + ∂(z^L − z)/∂x) − J(z)E, per output row
-        let dsh = &*dsh;
+        let dsh = &ws.dsh[..];
         let shifted = |src: &[f64], src0: &[f64], out: &mut [f64]| {
             for col in 0..nz {
                 out[col] += src[col] - src0[col];
@@ -257,72 +270,7 @@ impl FrameMap {
                 }
             }
         }
-        // J(z) is the core's; J(z^L) here
-        let j0 = grad.material;
-        let jl = ws.jl.get_or_insert_with(|| LoadJacobian::new(m));
-        if jl.modes() != m {
-            *jl = LoadJacobian::new(m);
-        }
-        self.lagrangian_jacobian(at.t, &zl[..nz], jl);
-        // ∂[L(z^L) − L(z)]/∂x = J(z^L)(E + ∂(z^L − z)/∂x) − J(z)E, per output row
-        let dsh = &*dsh;
-        let shifted = |src: &[f64], src0: &[f64], out: &mut [f64]| {
-            for col in 0..nz {
-                out[col] += src[col] - src0[col];
-            }
-            for (qi, &g) in src.iter().enumerate() {
-                if g != 0.0 {
-                    for (o, x) in out.iter_mut().zip(&dsh[qi * nc..(qi + 1) * nc]) {
-                        *o += g * x;
-                    }
-                }
-            }
-        };
-        shifted(&jl.pressure, &j0.pressure, &mut jac.pressure[..nc]);
-        for i in 0..m {
-            shifted(jl.gn_row(i), j0.gn_row(i), &mut jac.gn[i * nc..(i + 1) * nc]);
-            shifted(jl.gt_row(i), j0.gt_row(i), &mut jac.gt[i * nc..(i + 1) * nc]);
-        }
-        // the frame change fr_n = −(1/R) Σ K F_l b_k, F_l = G_n,l(z) + cn_l ḃ_l
-        let (cn, cn_r) = self.bdot_normal(at);
-        let df = zeroed(&mut ws.df, m * nc);
-        for l in 0..m {
-            let row = &mut df[l * nc..(l + 1) * nc];
-            row[..nz].copy_from_slice(j0.gn_row(l));
-            row[0] += cn_r[l] * bd[l];
-            // cn = 0 (no ḃ loads) adds zeros only
-            if cn[l] != 0.0 {
-                add_scaled(row, cn[l], grad.dbd, l, &dbd);
-            }
-        }
-        // the non-zero columns of each ∂F_l (the rest add zeros only)
-        ws.nzc.clear();
-        ws.nz_start.clear();
-        for l in 0..m {
-            ws.nz_start.push(ws.nzc.len());
-            ws.nzc.extend(df[l * nc..(l + 1) * nc].iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(c, _)| c));
-        }
-        ws.nz_start.push(ws.nzc.len());
-        // ∂fr_n = −(K/R)(b_k ∂F_l + F_l ∂b_k) + (K F_l b_k/R²) ∂R, per entry
-        let dfr = zeroed(&mut ws.dfr, (m + 1) * nc);
-        for &(n, l, k, c) in &self.entries {
-            let (f, bk) = (f1[l], z[a_index(k) + 2]);
-            let row = &mut dfr[n * nc..(n + 1) * nc];
-            row[a_index(k) + 2] -= c * f / r;
-            row[0] += c * f * bk / (r * r);
-            let (dl, w) = (&df[l * nc..(l + 1) * nc], c * bk / r);
-            for &col in &ws.nzc[ws.nz_start[l]..ws.nz_start[l + 1]] {
-                row[col] -= w * dl[col];
-            }
-        }
-        for col in 0..nc {
-            jac.pressure[col] -= dfr[col];
-        }
-        for i in 0..m {
-            for col in 0..nc {
-                jac.gn[i * nc + col] += dfr[(1 + i) * nc + col];
-            }
-        }
+        self.finish(at, grad, jac, ws, &bd, &f1, &zl[..nz]);
     }
 }
 
