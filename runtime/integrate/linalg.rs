@@ -82,25 +82,34 @@ pub(crate) struct ShiftedLu<T: Scalar> {
     piv: Vec<usize>,
 }
 
+/// Partial pivoting's row for column k: the first row i in k..n of the largest `mag(i)`;
+/// `Err(k)` when that magnitude is zero or not finite (the column is singular). Shared by
+/// every dense LU here and in `model::vorticity::dense`.
+#[inline(always)]
+pub(crate) fn pivot_row(k: usize, n: usize, mag: impl Fn(usize) -> f64) -> Result<usize, usize> {
+    let mut p = k;
+    let mut best = mag(k);
+    for i in k + 1..n {
+        let m = mag(i);
+        if m > best {
+            best = m;
+            p = i;
+        }
+    }
+    if !(best > 0.0) || !best.is_finite() {
+        return Err(k);
+    }
+    Ok(p)
+}
+
 /// The dense LU of [`ShiftedLu`] (and of `split_lu::RealLu`, which shares it): partial pivoting
 /// on the row-major n × n `a` in place, the pivots in `piv`, then the column copies `l` and
 /// 1/U_kk in `inv_diag` that [`dense_solve`] reads; `Err(k)` when singular at column k.
 #[inline(always)]
 pub(crate) fn dense_factor<T: Scalar>(n: usize, a: &mut [T], piv: &mut [usize], inv_diag: &mut Vec<T>, l: &mut Vec<T>) -> Result<(), usize> {
     for k in 0..n {
-        let mut p = k;
-        let mut best = a[k * n + k].mag();
-        for i in k + 1..n {
-            let m = a[i * n + k].mag();
-            if m > best {
-                best = m;
-                p = i;
-            }
-        }
+        let p = pivot_row(k, n, |i| a[i * n + k].mag())?;
         piv[k] = p;
-        if !(best > 0.0) || !best.is_finite() {
-            return Err(k);
-        }
         // LINPACK style: only columns k.. are swapped, so the multipliers of earlier
         // columns stay where the interleaved forward substitution of `solve` expects them.
         if p != k {

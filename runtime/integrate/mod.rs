@@ -41,6 +41,7 @@ mod driver;
 mod explicit;
 mod jacobian;
 mod linalg;
+pub(crate) use linalg::pivot_row;
 pub mod linear;
 mod radau;
 mod rosenbrock;

@@ -81,19 +81,8 @@ impl SplitLu {
         let mut ai: Vec<f64> = a.iter().map(|z| z.im).collect();
         let mut piv = vec![0; n];
         for k in 0..n {
-            let mut p = k;
-            let mut best = ar[k * n + k].abs() + ai[k * n + k].abs();
-            for i in k + 1..n {
-                let m = ar[i * n + k].abs() + ai[i * n + k].abs();
-                if m > best {
-                    best = m;
-                    p = i;
-                }
-            }
+            let p = super::linalg::pivot_row(k, n, |i| ar[i * n + k].abs() + ai[i * n + k].abs())?;
             piv[k] = p;
-            if !(best > 0.0) || !best.is_finite() {
-                return Err(k);
-            }
             if p != k {
                 for j in k..n {
                     ar.swap(k * n + j, p * n + j);

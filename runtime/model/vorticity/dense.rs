@@ -53,17 +53,7 @@ impl<T: Lane> DenseLu<T> {
         let (mut dr, mut di) = (vec![0.0; n], vec![0.0; if T::CPLX { n } else { 0 }]);
         for k in 0..n {
             let norm1 = |i: usize| if T::CPLX { ur[i * n + k].abs() + ui[i * n + k].abs() } else { ur[i * n + k].abs() };
-            let (mut p, mut best) = (k, norm1(k));
-            for i in k + 1..n {
-                let v = norm1(i);
-                if v > best {
-                    best = v;
-                    p = i;
-                }
-            }
-            if !(best > 0.0 && best.is_finite()) {
-                return None;
-            }
+            let p = crate::integrate::pivot_row(k, n, norm1).ok()?;
             piv[k] = p;
             if p != k {
                 for j in 0..n {
