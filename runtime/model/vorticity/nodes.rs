@@ -99,9 +99,32 @@ fn back_real<const Q: usize>(gamma: &[N<Q>], x: &mut [N<Q>], last: N<Q>) {
 #[inline(always)]
 pub fn sweep_complex<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], x: [&mut [V]; 2]) {
     let [xr, xi] = x;
-    let xr = view_mut::<Q>(xr);
-    let xi = &mut view_mut::<Q>(xi)[..xr.len()];
-    forward_complex::<Q>(lower, ib, gamma, xr, xi, |xr, xi, i| (xr[i], xi[i]));
+    let (xr, xi) = (view_mut::<Q>(xr), view_mut::<Q>(xi));
+    let n = xr.len();
+    if n == 0 {
+        return;
+    }
+    let xi = &mut xi[..n];
+    let lower = &view::<Q>(lower)[..n];
+    let (br, bi) = (&view::<Q>(ib[0])[..n], &view::<Q>(ib[1])[..n]);
+    let (gr, gi) = (&view::<Q>(gamma[0])[..n], &view::<Q>(gamma[1])[..n]);
+    let (mut pr, mut pi) = (xr[0], xi[0]);
+    for j in 0..Q {
+        (pr[j], pi[j]) = cmul(pr[j], pi[j], br[0][j], bi[0][j]);
+    }
+    (xr[0], xi[0]) = (pr, pi);
+    for i in 1..n {
+        let (mut cr, mut ci) = (xr[i], xi[i]);
+        for j in 0..Q {
+            // (cur − prev·l) · (1/β)
+            let l = lower[i][j];
+            let (a, b) = (sub(cr[j], mul(pr[j], l)), sub(ci[j], mul(pi[j], l)));
+            (cr[j], ci[j]) = cmul(a, b, br[i][j], bi[i][j]);
+        }
+        (xr[i], xi[i]) = (cr, ci);
+        (pr, pi) = (cr, ci);
+    }
+    back_complex::<Q>((gr, gi), (xr, xi), (pr, pi));
 }
 
 /// [`sweep_complex`] of a real right-hand side `src` into (`xr`, `xi`) (their old values not
@@ -113,28 +136,19 @@ pub fn sweep_complex_real_rhs<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma:
     let src = view::<Q>(src);
     let n = src.len();
     let (xr, xi) = (&mut view_mut::<Q>(xr)[..n], &mut view_mut::<Q>(xi)[..n]);
-    let zero = [[0.0; super::batch::L]; Q];
-    forward_complex::<Q>(lower, ib, gamma, xr, xi, |_, _, i| (src[i], zero));
-}
-
-/// The complex sweeps' forward elimination over the nodes of (`xr`, `xi`) (as long as each
-/// other), node i's right-hand side `rhs(xr, xi, i)` (read before node i is written):
-/// (cur − prev·l) · (1/β), then [`back_complex`].
-#[inline(always)]
-fn forward_complex<const Q: usize>(lower: &[V], ib: [&[V]; 2], gamma: [&[V]; 2], xr: &mut [N<Q>], xi: &mut [N<Q>], rhs: impl Fn(&[N<Q>], &[N<Q>], usize) -> (N<Q>, N<Q>)) {
-    let n = xr.len();
     if n == 0 {
         return;
     }
     let lower = &view::<Q>(lower)[..n];
     let (br, bi) = (&view::<Q>(ib[0])[..n], &view::<Q>(ib[1])[..n]);
-    let (mut pr, mut pi) = rhs(xr, xi, 0);
+    let zero = [0.0; super::batch::L];
+    let (mut pr, mut pi) = (src[0], [zero; Q]);
     for j in 0..Q {
         (pr[j], pi[j]) = cmul(pr[j], pi[j], br[0][j], bi[0][j]);
     }
     (xr[0], xi[0]) = (pr, pi);
     for i in 1..n {
-        let (mut cr, mut ci) = rhs(xr, xi, i);
+        let (mut cr, mut ci) = (src[i], [zero; Q]);
         for j in 0..Q {
             let l = lower[i][j];
             let (a, b) = (sub(cr[j], mul(pr[j], l)), sub(ci[j], mul(pi[j], l)));
