@@ -12,7 +12,9 @@
 # The BL `run` row is timed as a batch of BATCH consecutive runs (default 10; the monolithic row
 # 3) under one /usr/bin/time, divided by the batch: /usr/bin/time counts in 10 ms steps, ±15 %
 # of a 35 ms run, and a batch of ten resolves 1 ms. The binaries alternate (old, new, old, ...).
-# --runs-only: only the two `run` workloads (about a minute instead of several).
+# The BL row again with 101 samples instead of 10,001 (the same steps, interpolated) separates
+# the integration from the cost of formatting and writing the 3.9 MB series.csv.
+# --runs-only: only the `run` workloads (about a minute instead of several).
 # Keep WORK to reuse the reference build: WORK=/tmp/mb-bench benches/compare.sh
 set -euo pipefail
 
@@ -26,7 +28,7 @@ while [ $# -gt 0 ]; do
     case "$1" in
         --runs-only) RUNS_ONLY=1 ;;
         --repeat) REPEAT_RUN=$2; shift ;;
-        -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
         *) echo "unknown argument $1" >&2; exit 2 ;;
     esac
     shift
@@ -63,6 +65,7 @@ cpu() {
 # e55fb60, whose absolute 1e-3 is --abs-tol 1e-3 now: the same search tolerance)
 WORKLOADS=(
     "run coil_static (BL, k<=16)|$REPEAT_RUN|$BATCH|run scenes/coil_static.toml --set drive.amplitude=0.2 --out"
+    "  the same, 101 samples (no CSV cost)|$REPEAT_RUN|$BATCH|run scenes/coil_static.toml --set drive.amplitude=0.2 --set run.sample_interval=1e-6 --out"
     "run no_field vorticity (monolithic)|$REPEAT_RUN|3|run scenes/no_field.toml --set drive.amplitude=0.2 --set modes.viscous=vorticity --out"
 )
 if [ "$RUNS_ONLY" = 0 ]; then
