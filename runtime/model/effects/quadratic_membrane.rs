@@ -155,6 +155,15 @@ impl QuadraticMembrane {
         self.rows.len()
     }
 
+    /// The prefactor values of [`prefactors`](Self::prefactors) alone (the same operations).
+    fn values(&self, r: f64) -> [f64; MAXP] {
+        let mut p = [0.0; MAXP];
+        for (i, (e, c)) in self.monos.iter().zip(&self.constant).enumerate() {
+            p[i] = c * (r.powi(e[0] - 1) * r);
+        }
+        p
+    }
+
     /// Prefactor values and their R-derivatives at R.
     fn prefactors(&self, r: f64) -> ([f64; MAXP], [f64; MAXP]) {
         let (mut p, mut d) = ([0.0; MAXP], [0.0; MAXP]);
@@ -165,6 +174,15 @@ impl QuadraticMembrane {
         }
         (p, d)
     }
+}
+
+/// `buf` filled with zeros, as a slice of f64.
+fn zeroed(buf: &mut [std::mem::MaybeUninit<f64>]) -> &mut [f64] {
+    for x in buf.iter_mut() {
+        x.write(0.0);
+    }
+    // SAFETY: every element was initialised just above; MaybeUninit<f64> has f64's layout.
+    unsafe { std::slice::from_raw_parts_mut(buf.as_mut_ptr().cast::<f64>(), buf.len()) }
 }
 
 /// The factors of the pair products (slot i·4 + t, `np` = `p.len()` prefactors): left(k) =
@@ -222,18 +240,20 @@ impl Term for QuadraticMembrane {
         self.modes
     }
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
-        let (p, _) = self.prefactors(at.r());
+        let p = self.values(at.r());
         let n = self.modes;
         let np = self.monos.len();
-        let mut out = [0.0; 1 + 2 * super::MAX_MODES];
+        // the outputs' sums: zeros where used (not the whole MAX_MODES buffer)
+        let mut buf = [std::mem::MaybeUninit::<f64>::uninit(); 1 + 2 * super::MAX_MODES];
+        let out = zeroed(&mut buf[..1 + 2 * n]);
         // slot i·4 + t: p_i (a_l, a_l, b_l, b_l)_t · (a_m, b_m, a_m, b_m)_t
-        self.rows.eval(&mut out[..1 + 2 * n], |left, right| factors(at, &p[..np], left, right));
+        self.rows.eval(out, |left, right| factors(at, &p[..np], left, right));
         loads.pressure -= out[0];
-        for (j, g) in loads.gn.iter_mut().enumerate().take(n) {
-            *g += out[1 + j];
+        for (g, o) in loads.gn.iter_mut().zip(&out[1..=n]) {
+            *g += o;
         }
-        for (j, g) in loads.gt.iter_mut().enumerate().take(n) {
-            *g += out[1 + n + j];
+        for (g, o) in loads.gt.iter_mut().zip(&out[1 + n..]) {
+            *g += o;
         }
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
