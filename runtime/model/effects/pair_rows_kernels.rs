@@ -21,10 +21,19 @@ macro_rules! simd_kernel {
             let s = $lanes * V;
             debug_assert_eq!(s, self.stride);
             let (lp, rp, wp) = (left.as_ptr(), right.as_ptr(), w.as_mut_ptr());
-            for (p, &(l, m)) in self.pairs.iter().enumerate() {
-                let (x, y, d) = (lp.add(l * s), rp.add(m * s), wp.add(p * s));
-                for v in 0..V {
-                    $store(d.add($lanes * v), $mul($load(x.add($lanes * v)), $load(y.add($lanes * v))));
+            // the pairs are l = 0, 1, … with m = l, l + 1, … (`new`): left(l) held in registers
+            // over its pairs, no pair indices read
+            debug_assert_eq!(self.pairs.len(), self.modes * (self.modes + 1) / 2);
+            let mut d = wp;
+            for l in 0..self.modes {
+                let x = lp.add(l * s);
+                let xv: [_; V] = std::array::from_fn(|v| $load(x.add($lanes * v)));
+                for m in l..self.modes {
+                    let y = rp.add(m * s);
+                    for v in 0..V {
+                        $store(d.add($lanes * v), $mul(xv[v], $load(y.add($lanes * v))));
+                    }
+                    d = d.add(s);
                 }
             }
             let wp = w.as_ptr();
