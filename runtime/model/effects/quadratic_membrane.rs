@@ -17,7 +17,7 @@
 //! per rhs. The Jacobian walks the same rows.
 
 use super::pair_rows::PairRows;
-use super::{a_index, At, LoadJacobian, Loads, Term};
+use super::{a_index, zeroed, At, LoadJacobian, Loads, Term};
 use crate::coefficients::quadratic_lookup::ppp;
 use crate::coefficients::quadratic_membrane::{Ab, Form, Law, LAWS};
 use crate::coefficients::Load;
@@ -174,15 +174,6 @@ impl QuadraticMembrane {
         }
         (p, d)
     }
-}
-
-/// `buf` filled with zeros, as a slice of f64.
-fn zeroed(buf: &mut [std::mem::MaybeUninit<f64>]) -> &mut [f64] {
-    for x in buf.iter_mut() {
-        x.write(0.0);
-    }
-    // SAFETY: every element was initialised just above; MaybeUninit<f64> has f64's layout.
-    unsafe { std::slice::from_raw_parts_mut(buf.as_mut_ptr().cast::<f64>(), buf.len()) }
 }
 
 /// The factors of the pair products (slot i·4 + t, `np` = `p.len()` prefactors): left(k) =
