@@ -185,9 +185,28 @@ fn factors(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
         let n = left.len() / st;
         assert!(right.len() >= n * st && at.z.len() >= 2 + 3 * n, "quadratic membrane factors");
         // SAFETY: AVX is available (checked just above); the lengths asserted above.
-        unsafe { factors_avx(at.z, p, n, left, right) };
+        unsafe {
+            match p.len() {
+                0 => factors_avx::<0>(at.z, p, n, left, right),
+                1 => factors_avx::<1>(at.z, p, n, left, right),
+                2 => factors_avx::<2>(at.z, p, n, left, right),
+                3 => factors_avx::<3>(at.z, p, n, left, right),
+                4 => factors_avx::<4>(at.z, p, n, left, right),
+                5 => factors_avx::<5>(at.z, p, n, left, right),
+                6 => factors_avx::<6>(at.z, p, n, left, right),
+                7 => factors_avx::<7>(at.z, p, n, left, right),
+                MAXP => factors_avx::<MAXP>(at.z, p, n, left, right),
+                _ => unreachable!("at most MAXP prefactors (`new`)"),
+            }
+        }
         return;
     }
+    factors_portable(at, p, left, right);
+}
+
+/// [`factors`] without SIMD.
+fn factors_portable(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
+    let st = PRODUCTS * p.len();
     for (k, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate() {
         let (a, b) = (at.a(k), at.b(k));
         for ((lc, rc), pi) in lv.chunks_exact_mut(PRODUCTS).zip(rv.chunks_exact_mut(PRODUCTS)).zip(p) {
@@ -197,24 +216,26 @@ fn factors(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
     }
 }
 
-/// [`factors`] with one AVX register per (mode, prefactor): the same products p_i · a_k,
-/// p_i · b_k, so bit for bit the portable result.
+/// [`factors`] with one AVX register per (mode, prefactor), `NP` = `p.len()` prefactors
+/// broadcast once: the same products p_i · a_k, p_i · b_k, so bit for bit the portable result.
 ///
 /// # Safety
-/// AVX available; `z` ≥ 2 + 3n, `left` and `right` ≥ n · 4 · `p.len()` long.
+/// AVX available; `p.len()` = `NP`; `z` ≥ 2 + 3n, `left` and `right` ≥ n · 4 · `NP` long.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-unsafe fn factors_avx(z: &[f64], p: &[f64], n: usize, left: &mut [f64], right: &mut [f64]) {
+unsafe fn factors_avx<const NP: usize>(z: &[f64], p: &[f64], n: usize, left: &mut [f64], right: &mut [f64]) {
     use std::arch::x86_64::*;
-    let st = PRODUCTS * p.len();
+    debug_assert_eq!(p.len(), NP);
+    let st = PRODUCTS * NP;
+    let pv: [__m256d; NP] = std::array::from_fn(|i| _mm256_set1_pd(*p.get_unchecked(i)));
     let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
     for k in 0..n {
         let (a, b) = (*zp.add(2 + 3 * k), *zp.add(4 + 3 * k));
         // _mm256_set_pd takes the lanes from the highest down
         let (x, y) = (_mm256_set_pd(b, b, a, a), _mm256_set_pd(b, a, b, a));
-        for (i, &pi) in p.iter().enumerate() {
+        for (i, pi) in pv.iter().enumerate() {
             let at = k * st + PRODUCTS * i;
-            _mm256_storeu_pd(lp.add(at), _mm256_mul_pd(_mm256_set1_pd(pi), x));
+            _mm256_storeu_pd(lp.add(at), _mm256_mul_pd(*pi, x));
             _mm256_storeu_pd(rp.add(at), y);
         }
     }
@@ -342,41 +363,5 @@ impl QuadraticMembrane {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::coefficients::quadratic_membrane::Form;
-
-    /// The AVX row sums and the Jacobian assembled with them are the portable ones bit for bit.
-    #[cfg(target_arch = "x86_64")]
-    #[test]
-    fn avx_jacobian_is_the_portable_one() {
-        if !std::arch::is_x86_feature_detected!("avx") {
-            return;
-        }
-        let v = |i: usize, s: f64| ((i as f64) * s + 0.2).sin();
-        for np in 1..=MAXP {
-            let c: Vec<f64> = (0..PRODUCTS * np).map(|i| if i % 5 == 3 { 0.0 } else { v(i, 0.91) * 1e3 }).collect();
-            let (p, d): (Vec<f64>, Vec<f64>) = (0..np).map(|i| (v(i, 1.3), -v(i, 0.4) * 1e-3)).unzip();
-            let (a, b) = row_sums(&c, &p, &d);
-            // SAFETY: AVX checked above.
-            let (x, y) = unsafe { row_sums_avx(&c, &p, &d) };
-            assert_eq!(a.map(f64::to_bits), x.map(f64::to_bits), "{np} prefactors");
-            assert_eq!(b.map(f64::to_bits), y.map(f64::to_bits), "{np} prefactors");
-        }
-        let modes = 6;
-        let orders: Vec<f64> = (1..=modes).map(|i| 2.0 * i as f64).collect();
-        let z: Vec<f64> = (0..2 + 3 * modes).map(|i| if i == 0 { 1.1 } else { 0.05 * v(i, 2.1) }).collect();
-        let at = At { t: 0.0, z: &z };
-        for (name, form) in [("mooney_rivlin", Form::Paper), ("mooney_rivlin", Form::Tension), ("skalak", Form::Paper)] {
-            let t = QuadraticMembrane::new(QuadraticMembrane::law(name).unwrap(), form, 1.0, (0.9, 0.3), &orders).unwrap();
-            let (p, d) = t.prefactors(at.r());
-            let np = t.monos.len();
-            let (mut avx, mut portable) = (LoadJacobian::new(modes), LoadJacobian::new(modes));
-            t.add_jacobian(&at, &mut avx);
-            t.jacobian_with(&at, &mut portable, |c| row_sums(c, &p[..np], &d[..np]));
-            for (x, y) in [(&avx.pressure, &portable.pressure), (&avx.gn, &portable.gn), (&avx.gt, &portable.gt)] {
-                assert_eq!(x.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), y.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), "{name} {form:?}");
-            }
-        }
-    }
-}
+#[path = "quadratic_membrane_tests.rs"]
+mod tests;
