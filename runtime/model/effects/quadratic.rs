@@ -194,17 +194,11 @@ impl QuadraticCoupling {
 
     /// [`prefactor`](Self::prefactor) of table term `t` from its planned steps (the same
     /// products in the same order: the numerator's and the denominator's are independent).
-    #[inline]
+    #[inline(always)]
     fn prefactor_of(&self, t: usize, s: &[f64; 7]) -> f64 {
         let (a, b, c) = self.step_at[t];
-        let (mut num, mut den) = (1.0, 1.0);
-        for &i in &self.steps[a..b] {
-            num *= s[i];
-        }
-        for &i in &self.steps[b..c] {
-            den *= s[i];
-        }
-        num / den
+        let (num, den) = self.steps[a..c].split_at(b - a);
+        num.iter().fold(1.0, |x, &i| x * s[i]) / den.iter().fold(1.0, |x, &i| x * s[i])
     }
 
     /// num · v^p (p > 0) or den · v^|p| (p < 0), by repeated products.
