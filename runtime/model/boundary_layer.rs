@@ -16,7 +16,7 @@
 //! the linear mode system A(t) are in [`super::linearize`].
 
 use super::effects::second_order::{FirstOrder, MaterialLoads};
-use super::effects::{BdotLoads, Loads, MAX_MODES};
+use super::effects::{zeroed, BdotLoads, Loads, MAX_MODES};
 use super::equations::{mode_rates, mode_shift, wall_source, Equations, Wall, WallLinear};
 use super::params::Params;
 
@@ -198,57 +198,61 @@ impl BoundaryLayerSystem {
     fn rhs_with_second_order(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let (r, rd) = (y[0], y[1]);
         let m = self.modes.len();
-        let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-        // the material-frame terms' share apart (the frame mapping's L(z))
-        let (mut mgn, mut mgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-        let (p, pm) = self.eq.loads_split(t, y, &mut gn[..m], &mut gt[..m], &mut mgn[..m], &mut mgt[..m]);
-        let material = Some((pm, mgn, mgt));
+        // the call's eight per-mode buffers in one block, zeroed only where used (m each): G_n,
+        // G_t; the material-frame terms' share apart (the frame mapping's L(z)); ä⁽¹⁾, ḃ⁽¹⁾; the
+        // second-order loads
+        let mut block = [std::mem::MaybeUninit::<f64>::uninit(); 8 * MAX_MODES];
+        let zeros = zeroed(&mut block[..8 * m]);
+        let (gn, rest) = zeros.split_at_mut(m);
+        let (gt, rest) = rest.split_at_mut(m);
+        let (mgn, rest) = rest.split_at_mut(m);
+        let (mgt, rest) = rest.split_at_mut(m);
+        let (add, rest) = rest.split_at_mut(m);
+        let (bd, rest) = rest.split_at_mut(m);
+        let (dgn, dgt) = rest.split_at_mut(m);
+        let (p, pm) = self.eq.loads_split(t, y, gn, gt, mgn, mgt);
         // the ḃ-load store only when there are such loads (no 1.3 kB zeroed per call without)
         let mut store;
         let bmodes: &mut [BdotMode] = if self.bdot_loads {
             store = [[0.0; 5]; MAX_MODES];
-            self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut store);
+            self.apply_bdot_loads(t, y, gn, gt, &mut store);
             &mut store
         } else {
             &mut []
         };
-        let rdd = self.first_acceleration(t, y, p, &gn[..m], &gt[..m], dy);
+        let rdd = self.first_acceleration(t, y, p, gn, gt, dy);
         dy[0] = rd;
         dy[1] = rdd;
-        self.mode_rates(r, rd, rdd, &gn[..m], &gt[..m], y, dy);
-        if let Some((pm, mgn, mgt)) = &material {
-            // issue 12: the second pass with the first-order R̈, ä just computed; R̈ from the
-            // completed P, and ä shifted exactly by ΔR̈, ΔG_n ((N) is affine in both,
-            // [`mode_shift`]) — or the mode rates again if a tangential load changed (with ḃ loads,
-            // ḃ solved again with the completed G_t: [`resolve_bdot`](Self::resolve_bdot); the
-            // rate, Keller–Miksis, is refused with second-pass terms)
-            let (mut add, mut bd) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+        self.mode_rates(r, rd, rdd, gn, gt, y, dy);
+        // issue 12: the second pass with the first-order R̈, ä just computed; R̈ from the
+        // completed P, and ä shifted exactly by ΔR̈, ΔG_n ((N) is affine in both,
+        // [`mode_shift`]) — or the mode rates again if a tangential load changed (with ḃ loads,
+        // ḃ solved again with the completed G_t: [`resolve_bdot`](Self::resolve_bdot); the
+        // rate, Keller–Miksis, is refused with second-pass terms)
+        for j in 0..m {
+            add[j] = dy[3 + 3 * j];
+            bd[j] = dy[4 + 3 * j];
+        }
+        let mut l = Loads { pressure: 0.0, gn: dgn, gt: dgt };
+        let material = MaterialLoads { pressure: pm, gn: mgn, gt: mgt };
+        self.eq.add_second_order(t, y, &FirstOrder { rdd, add, bd, material }, &mut l);
+        let rdd2 = self.eq.acceleration_at(t, y, p + l.pressure);
+        dy[1] = rdd2;
+        if dgt.iter().all(|&x| x == 0.0) {
+            let rho = self.eq.params.rho;
+            for (j, mc) in self.modes.iter().enumerate() {
+                let (s_rdd, s_gn) = mode_shift(mc.k, rho, r, y[2 + 3 * j]);
+                dy[3 + 3 * j] += s_rdd * (rdd2 - rdd) + s_gn * dgn[j];
+            }
+        } else {
             for j in 0..m {
-                add[j] = dy[3 + 3 * j];
-                bd[j] = dy[4 + 3 * j];
+                gn[j] += dgn[j];
+                gt[j] += dgt[j];
             }
-            let (mut dgn, mut dgt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-            let mut l = Loads { pressure: 0.0, gn: &mut dgn[..m], gt: &mut dgt[..m] };
-            let material = MaterialLoads { pressure: *pm, gn: &mgn[..m], gt: &mgt[..m] };
-            self.eq.add_second_order(t, y, &FirstOrder { rdd, add: &add[..m], bd: &bd[..m], material }, &mut l);
-            let rdd2 = self.eq.acceleration_at(t, y, p + l.pressure);
-            dy[1] = rdd2;
-            if dgt[..m].iter().all(|&x| x == 0.0) {
-                let rho = self.eq.params.rho;
-                for (j, mc) in self.modes.iter().enumerate() {
-                    let (s_rdd, s_gn) = mode_shift(mc.k, rho, r, y[2 + 3 * j]);
-                    dy[3 + 3 * j] += s_rdd * (rdd2 - rdd) + s_gn * dgn[j];
-                }
-            } else {
-                for j in 0..m {
-                    gn[j] += dgn[j];
-                    gt[j] += dgt[j];
-                }
-                if self.bdot_loads {
-                    self.resolve_bdot(y, &mut gn[..m], &mut gt[..m], &mut bmodes[..m]);
-                }
-                self.mode_rates(r, rd, rdd2, &gn[..m], &gt[..m], y, dy);
+            if self.bdot_loads {
+                self.resolve_bdot(y, gn, gt, &mut bmodes[..m]);
             }
+            self.mode_rates(r, rd, rdd2, gn, gt, y, dy);
         }
     }
 }

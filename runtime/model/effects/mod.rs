@@ -38,6 +38,16 @@ mod pair_rows;
 /// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.
 pub const MAX_MODES: usize = crate::coefficients::KMAX / 2 + 1;
 
+/// `buf` filled with zeros, as a slice of f64: a stack buffer of a rhs zeroed only where it is
+/// used (not its whole MAX_MODES capacity).
+pub fn zeroed(buf: &mut [std::mem::MaybeUninit<f64>]) -> &mut [f64] {
+    for x in buf.iter_mut() {
+        x.write(0.0);
+    }
+    // SAFETY: every element was initialised just above; MaybeUninit<f64> has f64's layout.
+    unsafe { std::slice::from_raw_parts_mut(buf.as_mut_ptr().cast::<f64>(), buf.len()) }
+}
+
 /// Where the terms are evaluated: time and the reduced state
 /// z = [R, Ṙ, (a_k, ȧ_k, b_k) for k = 2, 4, …, N] (the boundary-layer state layout; the full
 /// vorticity model passes its ODE part in the same layout). Nondimensional (FORMULATION §4.5).

@@ -67,8 +67,11 @@ pub struct QuadraticCoupling {
     orders: Vec<f64>,
     /// (first, second, exponents of SYMBOLS) per table term
     kinds: Vec<(usize, usize, [i32; 7])>,
-    /// per table term, its non-zero exponents (symbol, power) in SYMBOLS order
-    powers: Vec<Vec<(usize, i32)>>,
+    /// per table term, the symbols its prefactor multiplies into the numerator, then into the
+    /// denominator, one entry per power in SYMBOLS order ([`prefactor`](Self::prefactor)'s
+    /// products): `steps[s.0..s.1]`, `steps[s.1..s.2]` for `s = step_at[t]`
+    steps: Vec<usize>,
+    step_at: Vec<(usize, usize, usize)>,
     slots: Vec<Slot>,
     /// per slot, where its two factors are in [a_l, ȧ_l, ä_l, a_m, ȧ_m, ä_m] (the scalar
     /// Jacobian walk the tests compare against reads it)
@@ -157,8 +160,16 @@ impl QuadraticCoupling {
                 2 * (if q < 2 { f } else { g } & 3) as i32 + (i % 2) as i32
             })
         });
-        let powers = kinds.iter().map(|(_, _, e)| e.iter().enumerate().filter(|(_, p)| **p != 0).map(|(i, p)| (i, *p)).collect()).collect();
-        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, powers, slots, gather, sides, perm, rows, radial_only }
+        let (mut steps, mut step_at) = (Vec::new(), Vec::new());
+        for (_, _, e) in &kinds {
+            let a = steps.len();
+            let each = |sign: i32| e.iter().enumerate().filter(move |(_, p)| p.signum() == sign).flat_map(|(i, p)| std::iter::repeat_n(i, p.unsigned_abs() as usize));
+            steps.extend(each(1));
+            let b = steps.len();
+            steps.extend(each(-1));
+            step_at.push((a, b, steps.len()));
+        }
+        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, steps, step_at, slots, gather, sides, perm, rows, radial_only }
     }
 
     /// Number of (unordered pair, target) rows the rhs evaluates.
@@ -181,14 +192,13 @@ impl QuadraticCoupling {
         num / den
     }
 
-    /// [`prefactor`](Self::prefactor) from the non-zero exponents only (the same products in
-    /// the same order).
-    fn prefactor_of(powers: &[(usize, i32)], s: &[f64; 7]) -> f64 {
-        let (mut num, mut den) = (1.0, 1.0);
-        for &(i, p) in powers {
-            Self::raise(p, s[i], &mut num, &mut den);
-        }
-        num / den
+    /// [`prefactor`](Self::prefactor) of table term `t` from its planned steps (the same
+    /// products in the same order: the numerator's and the denominator's are independent).
+    #[inline(always)]
+    fn prefactor_of(&self, t: usize, s: &[f64; 7]) -> f64 {
+        let (a, b, c) = self.step_at[t];
+        let (num, den) = self.steps[a..c].split_at(b - a);
+        num.iter().fold(1.0, |x, &i| x * s[i]) / den.iter().fold(1.0, |x, &i| x * s[i])
     }
 
     /// num · v^p (p > 0) or den · v^|p| (p < 0), by repeated products.
@@ -208,8 +218,8 @@ impl QuadraticCoupling {
         }
         let s = self.symbols(at.r(), at.rdot(), first.rdd);
         let mut tp = [0.0; MAX_SLOTS];
-        for (p, e) in tp.iter_mut().zip(&self.powers) {
-            *p = Self::prefactor_of(e, &s);
+        for (t, p) in tp.iter_mut().enumerate().take(self.kinds.len()) {
+            *p = self.prefactor_of(t, &s);
         }
         (amp, tp, s)
     }
@@ -279,8 +289,8 @@ impl SecondOrderTerm for QuadraticCoupling {
         let n = self.orders.len();
         let sym = self.symbols(at.r(), at.rdot(), first.rdd);
         let mut tp = [0.0; MAX_SLOTS];
-        for (p, e) in tp.iter_mut().zip(&self.powers) {
-            *p = Self::prefactor_of(e, &sym);
+        for (t, p) in tp.iter_mut().enumerate().take(self.kinds.len()) {
+            *p = self.prefactor_of(t, &sym);
         }
         let mut pre = [0.0; MAX_SLOTS];
         for (p, slot) in pre.iter_mut().zip(&self.slots) {
@@ -330,6 +340,18 @@ mod tests {
         assert_eq!(q.sparse_rows(), expected);
         assert_eq!(q.rows.pairs().len(), 36);
         assert_eq!(q.rows.stride(), 8);
+    }
+
+    /// The planned prefactor steps are the exponent-wise products bit for bit.
+    #[test]
+    fn prefactor_steps_are_the_products() {
+        let q = QuadraticCoupling::new(1.0, 0.1, 4.2, 1.0, 1.0, &[2.0, 4.0]);
+        for k in 0..5 {
+            let s: [f64; 7] = std::array::from_fn(|i| (0.7 * (i + 7 * k) as f64 + 0.3).sin() * 10f64.powi(i as i32 - 3));
+            for (t, (_, _, e)) in q.kinds.iter().enumerate() {
+                assert_eq!(q.prefactor_of(t, &s).to_bits(), QuadraticCoupling::prefactor(e, &s).to_bits(), "term {t}");
+            }
+        }
     }
 
     /// The AVX2 factors are the portable ones bit for bit.

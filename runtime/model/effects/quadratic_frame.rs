@@ -86,6 +86,20 @@ thread_local! {
     static WORK: RefCell<Work> = RefCell::new(Work::default());
 }
 
+/// The sweep's per-mode factors `u` = [a, ȧ, F, a], `v` = [b, b, b, ḃ] (ḃ = ḃ⁽¹⁾, 0 past its
+/// length; F = G_n + cn ḃ, 0 past G_n's length) from the state's modes `zs` ([a, ȧ, b] each).
+#[inline(always)]
+fn sweep_factors<'a>(zs: impl Iterator<Item = &'a [f64]>, g: &[f64], bd: &[f64], cn: impl Fn(usize) -> f64, u: &mut [[f64; 4]], v: &mut [[f64; 4]]) {
+    for (i, ((u, v), zk)) in u.iter_mut().zip(v.iter_mut()).zip(zs).enumerate() {
+        let b = bd.get(i).copied().unwrap_or(0.0);
+        let f = match g.get(i) {
+            Some(g) => g + cn(i) * b,
+            None => 0.0,
+        };
+        (*u, *v) = ([zk[0], zk[1], f, zk[0]], [zk[2], zk[2], zk[2], b]);
+    }
+}
+
 /// The per-target sums of [`FrameMap::sums`].
 struct Sums {
     /// Σ K a_l b_m
@@ -178,23 +192,31 @@ impl FrameMap {
         if w.sums.len() <= m {
             *w = Work { u: vec![[0.0; 4]; m], v: vec![[0.0; 4]; m], sums: vec![[0.0; 4]; m + 1], ..Work::default() };
         }
-        let cn = if self.bdot { Some(self.bdot_normal(at).0) } else { None };
-        let g = first.material.gn;
-        for i in 0..m {
-            let k = a_index(i);
-            let bd = first.bd.get(i).copied().unwrap_or(0.0);
-            // F_l; without ḃ loads cn = 0 (the same sum)
-            let f = if i < g.len() { g[i] + cn.map_or(0.0, |c| c[i]) * bd } else { 0.0 };
-            (w.u[i], w.v[i]) = ([z[k], z[k + 1], f, z[k]], [z[k + 2], z[k + 2], z[k + 2], bd]);
+        let (g, zs) = (first.material.gn, z[2..2 + 3 * m].chunks_exact(3));
+        let (u, v) = (&mut w.u[..m], &mut w.v[..m]);
+        // F_l; without ḃ loads cn = 0 (the same sum)
+        if self.bdot {
+            let cn = self.bdot_normal(at).0;
+            sweep_factors(zs, g, first.bd, |i| cn[i], u, v);
+        } else {
+            sweep_factors(zs, g, first.bd, |_| 0.0, u, v);
         }
         self.rows.sweep(&Factors { u: &w.u, v: &w.v }, &mut w.sums);
         let (r, rd) = (z[0], z[1]);
         w.zl.clear();
         w.zl.extend_from_slice(z);
-        for (n, o) in w.sums[..=m].iter().enumerate() {
-            let (p, v, d, s) = (rows(n).0, rows(n).1, o[0], o[1]);
-            w.zl[p] += d / r;
-            w.zl[v] += s / r - rd * d / (r * r);
+        // target 0: R, Ṙ; target 1 + i: a, ȧ of mode i
+        let shift = |x: &mut f64, xd: &mut f64, o: &[f64; 4]| {
+            let (d, s) = (o[0], o[1]);
+            *x += d / r;
+            *xd += s / r - rd * d / (r * r);
+        };
+        let (head, modes) = w.zl.split_at_mut(2);
+        let [x, xd] = head else { unreachable!("the state has R and Ṙ") };
+        shift(x, xd, &w.sums[0]);
+        for (zk, o) in modes[..3 * m].chunks_exact_mut(3).zip(&w.sums[1..=m]) {
+            let (x, rest) = zk.split_first_mut().expect("three entries per mode");
+            shift(x, &mut rest[0], o);
         }
     }
 

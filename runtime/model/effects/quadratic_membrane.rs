@@ -17,7 +17,7 @@
 //! per rhs. The Jacobian walks the same rows.
 
 use super::pair_rows::PairRows;
-use super::{a_index, At, LoadJacobian, Loads, Term};
+use super::{a_index, zeroed, At, LoadJacobian, Loads, Term};
 use crate::coefficients::quadratic_lookup::ppp;
 use crate::coefficients::quadratic_membrane::{Ab, Form, Law, LAWS};
 use crate::coefficients::Load;
@@ -155,6 +155,15 @@ impl QuadraticMembrane {
         self.rows.len()
     }
 
+    /// The prefactor values of [`prefactors`](Self::prefactors) alone (the same operations).
+    fn values(&self, r: f64) -> [f64; MAXP] {
+        let mut p = [0.0; MAXP];
+        for (i, (e, c)) in self.monos.iter().zip(&self.constant).enumerate() {
+            p[i] = c * (r.powi(e[0] - 1) * r);
+        }
+        p
+    }
+
     /// Prefactor values and their R-derivatives at R.
     fn prefactors(&self, r: f64) -> ([f64; MAXP], [f64; MAXP]) {
         let (mut p, mut d) = ([0.0; MAXP], [0.0; MAXP]);
@@ -176,9 +185,28 @@ fn factors(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
         let n = left.len() / st;
         assert!(right.len() >= n * st && at.z.len() >= 2 + 3 * n, "quadratic membrane factors");
         // SAFETY: AVX is available (checked just above); the lengths asserted above.
-        unsafe { factors_avx(at.z, p, n, left, right) };
+        unsafe {
+            match p.len() {
+                0 => factors_avx::<0>(at.z, p, n, left, right),
+                1 => factors_avx::<1>(at.z, p, n, left, right),
+                2 => factors_avx::<2>(at.z, p, n, left, right),
+                3 => factors_avx::<3>(at.z, p, n, left, right),
+                4 => factors_avx::<4>(at.z, p, n, left, right),
+                5 => factors_avx::<5>(at.z, p, n, left, right),
+                6 => factors_avx::<6>(at.z, p, n, left, right),
+                7 => factors_avx::<7>(at.z, p, n, left, right),
+                MAXP => factors_avx::<MAXP>(at.z, p, n, left, right),
+                _ => unreachable!("at most MAXP prefactors (`new`)"),
+            }
+        }
         return;
     }
+    factors_portable(at, p, left, right);
+}
+
+/// [`factors`] without SIMD.
+fn factors_portable(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
+    let st = PRODUCTS * p.len();
     for (k, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate() {
         let (a, b) = (at.a(k), at.b(k));
         for ((lc, rc), pi) in lv.chunks_exact_mut(PRODUCTS).zip(rv.chunks_exact_mut(PRODUCTS)).zip(p) {
@@ -188,24 +216,26 @@ fn factors(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
     }
 }
 
-/// [`factors`] with one AVX register per (mode, prefactor): the same products p_i · a_k,
-/// p_i · b_k, so bit for bit the portable result.
+/// [`factors`] with one AVX register per (mode, prefactor), `NP` = `p.len()` prefactors
+/// broadcast once: the same products p_i · a_k, p_i · b_k, so bit for bit the portable result.
 ///
 /// # Safety
-/// AVX available; `z` ≥ 2 + 3n, `left` and `right` ≥ n · 4 · `p.len()` long.
+/// AVX available; `p.len()` = `NP`; `z` ≥ 2 + 3n, `left` and `right` ≥ n · 4 · `NP` long.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-unsafe fn factors_avx(z: &[f64], p: &[f64], n: usize, left: &mut [f64], right: &mut [f64]) {
+unsafe fn factors_avx<const NP: usize>(z: &[f64], p: &[f64], n: usize, left: &mut [f64], right: &mut [f64]) {
     use std::arch::x86_64::*;
-    let st = PRODUCTS * p.len();
+    debug_assert_eq!(p.len(), NP);
+    let st = PRODUCTS * NP;
+    let pv: [__m256d; NP] = std::array::from_fn(|i| _mm256_set1_pd(*p.get_unchecked(i)));
     let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
     for k in 0..n {
         let (a, b) = (*zp.add(2 + 3 * k), *zp.add(4 + 3 * k));
         // _mm256_set_pd takes the lanes from the highest down
         let (x, y) = (_mm256_set_pd(b, b, a, a), _mm256_set_pd(b, a, b, a));
-        for (i, &pi) in p.iter().enumerate() {
+        for (i, pi) in pv.iter().enumerate() {
             let at = k * st + PRODUCTS * i;
-            _mm256_storeu_pd(lp.add(at), _mm256_mul_pd(_mm256_set1_pd(pi), x));
+            _mm256_storeu_pd(lp.add(at), _mm256_mul_pd(*pi, x));
             _mm256_storeu_pd(rp.add(at), y);
         }
     }
@@ -222,23 +252,85 @@ impl Term for QuadraticMembrane {
         self.modes
     }
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
-        let (p, _) = self.prefactors(at.r());
+        let p = self.values(at.r());
         let n = self.modes;
         let np = self.monos.len();
-        let mut out = [0.0; 1 + 2 * super::MAX_MODES];
+        // the outputs' sums: zeros where used (not the whole MAX_MODES buffer)
+        let mut buf = [std::mem::MaybeUninit::<f64>::uninit(); 1 + 2 * super::MAX_MODES];
+        let out = zeroed(&mut buf[..1 + 2 * n]);
         // slot i·4 + t: p_i (a_l, a_l, b_l, b_l)_t · (a_m, b_m, a_m, b_m)_t
-        self.rows.eval(&mut out[..1 + 2 * n], |left, right| factors(at, &p[..np], left, right));
+        self.rows.eval(out, |left, right| factors(at, &p[..np], left, right));
         loads.pressure -= out[0];
-        for (j, g) in loads.gn.iter_mut().enumerate().take(n) {
-            *g += out[1 + j];
+        for (g, o) in loads.gn.iter_mut().zip(&out[1..=n]) {
+            *g += o;
         }
-        for (j, g) in loads.gt.iter_mut().enumerate().take(n) {
-            *g += out[1 + n + j];
+        for (g, o) in loads.gt.iter_mut().zip(&out[1 + n..]) {
+            *g += o;
         }
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let (p, d) = self.prefactors(at.r());
         let np = self.monos.len();
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: AVX is available (checked just above).
+            unsafe { self.jacobian_avx(at, jac, &p[..np], &d[..np]) };
+            return;
+        }
+        self.jacobian_with(at, jac, |c| row_sums(c, &p[..np], &d[..np]));
+    }
+}
+
+/// A row's prefactors summed per product: Σ_i c(i, t) p_i and Σ_i c(i, t) ∂p_i/∂R, from 0 in
+/// prefactor order.
+fn row_sums(c: &[f64], p: &[f64], d: &[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS]) {
+    let (mut cp, mut cd) = ([0.0; PRODUCTS], [0.0; PRODUCTS]);
+    for (ci, (pi, di)) in c.chunks_exact(PRODUCTS).zip(p.iter().zip(d)) {
+        for t in 0..PRODUCTS {
+            cp[t] += ci[t] * pi;
+            cd[t] += ci[t] * di;
+        }
+    }
+    (cp, cd)
+}
+
+/// [`row_sums`] with the four products in one AVX register: the same products and sums per
+/// lane, so bit for bit its result.
+///
+/// # Safety
+/// AVX available.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+unsafe fn row_sums_avx(c: &[f64], p: &[f64], d: &[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS]) {
+    use std::arch::x86_64::*;
+    let (mut cp, mut cd) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+    for (ci, (pi, di)) in c.chunks_exact(PRODUCTS).zip(p.iter().zip(d)) {
+        let x = _mm256_loadu_pd(ci.as_ptr());
+        cp = _mm256_add_pd(cp, _mm256_mul_pd(x, _mm256_set1_pd(*pi)));
+        cd = _mm256_add_pd(cd, _mm256_mul_pd(x, _mm256_set1_pd(*di)));
+    }
+    let (mut a, mut b) = ([0.0; PRODUCTS], [0.0; PRODUCTS]);
+    _mm256_storeu_pd(a.as_mut_ptr(), cp);
+    _mm256_storeu_pd(b.as_mut_ptr(), cd);
+    (a, b)
+}
+
+impl QuadraticMembrane {
+    /// [`Term::add_jacobian`] with the rows' prefactor sums in AVX registers ([`row_sums_avx`]).
+    ///
+    /// # Safety
+    /// AVX available.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn jacobian_avx(&self, at: &At<'_>, jac: &mut LoadJacobian, p: &[f64], d: &[f64]) {
+        // SAFETY: AVX is available (the caller's contract).
+        self.jacobian_with(at, jac, |c| unsafe { row_sums_avx(c, p, d) });
+    }
+
+    /// The Jacobian's walk over the rows, `sums(c)` a row's [`row_sums`].
+    #[inline(always)]
+    fn jacobian_with(&self, at: &At<'_>, jac: &mut LoadJacobian, sums: impl Fn(&[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS])) {
         let n = jac.n;
         let nm = self.modes;
         for o in 0..1 + 2 * nm {
@@ -254,13 +346,7 @@ impl Term for QuadraticMembrane {
                 // (x, y) state indices of each product
                 let idx = [(ia, ja), (ia, jb), (ja, ib), (ib, jb)];
                 // the prefactors summed per product: value and ∂/∂R
-                let (mut cp, mut cd) = ([0.0; PRODUCTS], [0.0; PRODUCTS]);
-                for (ci, (pi, di)) in c.chunks_exact(PRODUCTS).zip(p[..np].iter().zip(&d[..np])) {
-                    for t in 0..PRODUCTS {
-                        cp[t] += ci[t] * pi;
-                        cd[t] += ci[t] * di;
-                    }
-                }
+                let (cp, cd) = sums(c);
                 for ((&(x, y), cp), cd) in idx.iter().zip(cp).zip(cd) {
                     let (vx, vy) = (at.z[x], at.z[y]);
                     dr += cd * vx * vy;
@@ -275,3 +361,7 @@ impl Term for QuadraticMembrane {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "quadratic_membrane_tests.rs"]
+mod tests;
