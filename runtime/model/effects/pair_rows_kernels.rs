@@ -90,28 +90,25 @@ macro_rules! simd_kernel {
                     fold(twin, g.outs[1]);
                     continue;
                 }
-                // two row pairs per trip (half the loop control), then one; each row pair adds
-                // c0 w0 + c1 w1 to the accumulators, the portable kernel's sums in its order
-                while r + 4 <= r1 {
-                    for q in [r, r + 2] {
-                        let (w0, w1) = (wp.add(*off.add(q) as usize), wp.add(*off.add(q + 1) as usize));
-                        let (c0, c1) = (cp.add((q - r0) * s), cp.add((q + 1 - r0) * s));
-                        for (v, a) in acc.iter_mut().enumerate() {
-                            let t0 = $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v)));
-                            let t1 = $mul($load(c1.add($lanes * v)), $load(w1.add($lanes * v)));
-                            *a = $add(*a, $add(t0, t1));
-                        }
-                    }
-                    r += 4;
-                }
-                if r + 2 <= r1 {
-                    let (w0, w1) = (wp.add(*off.add(r) as usize), wp.add(*off.add(r + 1) as usize));
-                    let (c0, c1) = (cp.add((r - r0) * s), cp.add((r + 1 - r0) * s));
+                // rows q, q + 1: c0 w0 + c1 w1 added to the accumulators, the portable kernel's
+                // sums in its order
+                let pair = |q: usize, acc: &mut [_; V]| {
+                    let (w0, w1) = (wp.add(*off.add(q) as usize), wp.add(*off.add(q + 1) as usize));
+                    let (c0, c1) = (cp.add((q - r0) * s), cp.add((q + 1 - r0) * s));
                     for (v, a) in acc.iter_mut().enumerate() {
                         let t0 = $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v)));
                         let t1 = $mul($load(c1.add($lanes * v)), $load(w1.add($lanes * v)));
                         *a = $add(*a, $add(t0, t1));
                     }
+                };
+                // two row pairs per trip (half the loop control), then one
+                while r + 4 <= r1 {
+                    pair(r, &mut acc);
+                    pair(r + 2, &mut acc);
+                    r += 4;
+                }
+                if r + 2 <= r1 {
+                    pair(r, &mut acc);
                     r += 2;
                 }
                 if r < r1 {

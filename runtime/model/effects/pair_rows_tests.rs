@@ -2,6 +2,26 @@
 
 use super::*;
 
+/// The AVX kernel for `rows`' stride into outputs that start at `start` (the lengths are
+/// those `apply` asserts; the caller checks AVX).
+#[cfg(target_arch = "x86_64")]
+fn apply_avx(rows: &PairRows, left: &[f64], right: &[f64], w: &mut [f64], start: f64) -> Vec<f64> {
+    assert!(std::arch::is_x86_feature_detected!("avx"));
+    let mut out = vec![start; rows.out_at.len()];
+    // SAFETY: AVX asserted just above; the callers' lengths are those apply asserts.
+    unsafe {
+        match rows.stride() {
+            4 => rows.apply_avx::<1>(left, right, w, &mut out),
+            8 => rows.apply_avx::<2>(left, right, w, &mut out),
+            16 => rows.apply_avx::<4>(left, right, w, &mut out),
+            24 => rows.apply_avx::<6>(left, right, w, &mut out),
+            32 => rows.apply_avx::<8>(left, right, w, &mut out),
+            st => panic!("no AVX kernel for stride {st}"),
+        }
+    }
+    out
+}
+
 /// The sparse sums equal the plain double loop over every (output, pair, slot).
 #[test]
 fn eval_is_the_plain_sum() {
@@ -68,17 +88,7 @@ fn avx_kernel_is_the_portable_one_bit_for_bit() {
         // the AVX kernel also where the dispatch above took AVX-512
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
-            let mut avx = vec![0.5; outputs];
-            // SAFETY: AVX checked just above; the lengths are those apply asserts.
-            unsafe {
-                match st {
-                    4 => rows.apply_avx::<1>(&left, &right, &mut w, &mut avx),
-                    8 => rows.apply_avx::<2>(&left, &right, &mut w, &mut avx),
-                    16 => rows.apply_avx::<4>(&left, &right, &mut w, &mut avx),
-                    24 => rows.apply_avx::<6>(&left, &right, &mut w, &mut avx),
-                    _ => rows.apply_avx::<8>(&left, &right, &mut w, &mut avx),
-                }
-            }
+            let avx = apply_avx(&rows, &left, &right, &mut w, 0.5);
             for (a, b) in portable.iter().zip(&avx) {
                 assert_eq!(a.to_bits(), b.to_bits(), "stride {st} (AVX): {a} against {b}");
             }
@@ -114,16 +124,7 @@ fn twins_change_no_bit() {
         // the AVX kernel's twin loop also where the dispatch above took AVX-512
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
-            let mut avx = vec![0.25; outputs];
-            // SAFETY: AVX checked just above; the lengths are those apply asserts.
-            unsafe {
-                match st {
-                    4 => rows.apply_avx::<1>(&left, &right, &mut w, &mut avx),
-                    8 => rows.apply_avx::<2>(&left, &right, &mut w, &mut avx),
-                    16 => rows.apply_avx::<4>(&left, &right, &mut w, &mut avx),
-                    _ => rows.apply_avx::<6>(&left, &right, &mut w, &mut avx),
-                }
-            }
+            let avx = apply_avx(&rows, &left, &right, &mut w, 0.25);
             for (a, b) in all.iter().zip(&avx) {
                 assert_eq!(a.to_bits(), b.to_bits(), "stride {st}, {modes} modes (AVX): {a} against {b}");
             }
