@@ -39,8 +39,8 @@ pub struct FrameRows {
     runs: Vec<Run>,
     /// per row (run by run, target by target) K, broadcast
     k: Vec<[f64; 4]>,
-    /// the dense plan (module doc): per pair with runs, in pair order, its factor offsets
-    /// (4l, 4m) ...
+    /// the dense plan (module doc; empty above [`DENSE_MAX`] targets): per pair with runs, in
+    /// pair order, its factor offsets (4l, 4m) ...
     dense_pairs: Vec<[u32; 2]>,
     /// ... and K of every target 0..=modes, broadcast (0 outside its runs)
     dense_k: Vec<[f64; 4]>,
@@ -79,7 +79,7 @@ impl FrameRows {
                     }
                     runs.push(Run { l: u(l), m: u(m), n0: u(n0), len: u(n - n0) });
                 }
-                if k.len() > first {
+                if k.len() > first && modes < DENSE_MAX {
                     // the same K, halved on the diagonal, as the runs'
                     dense_pairs.push([u(4 * l), u(4 * m)]);
                     dense_k.extend((0..=modes).map(|n| match coef(n, l, m) {
