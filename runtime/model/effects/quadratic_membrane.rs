@@ -155,7 +155,8 @@ impl QuadraticMembrane {
         self.rows.len()
     }
 
-    /// The prefactor values of [`prefactors`](Self::prefactors) alone (the same operations).
+    /// The prefactor values c·R^e at R (what the rhs needs; [`prefactors`](Self::prefactors) adds
+    /// the R-derivatives for the Jacobian).
     fn values(&self, r: f64) -> [f64; MAXP] {
         let mut p = [0.0; MAXP];
         for (i, (e, c)) in self.monos.iter().zip(&self.constant).enumerate() {
@@ -164,15 +165,13 @@ impl QuadraticMembrane {
         p
     }
 
-    /// Prefactor values and their R-derivatives at R.
+    /// Prefactor values ([`values`](Self::values)) and their R-derivatives at R.
     fn prefactors(&self, r: f64) -> ([f64; MAXP], [f64; MAXP]) {
-        let (mut p, mut d) = ([0.0; MAXP], [0.0; MAXP]);
+        let mut d = [0.0; MAXP];
         for (i, (e, c)) in self.monos.iter().zip(&self.constant).enumerate() {
-            let below = r.powi(e[0] - 1);
-            p[i] = c * (below * r);
-            d[i] = c * e[0] as f64 * below;
+            d[i] = c * e[0] as f64 * r.powi(e[0] - 1);
         }
-        (p, d)
+        (self.values(r), d)
     }
 }
 

@@ -34,8 +34,6 @@ fn avx_jacobian_is_the_portable_one() {
         assert_eq!(r0, r1, "{np} prefactors");
     }
     let orders: Vec<f64> = (1..=modes).map(|i| 2.0 * i as f64).collect();
-    let z: Vec<f64> = (0..2 + 3 * modes).map(|i| if i == 0 { 1.1 } else { 0.05 * v(i, 2.1) }).collect();
-    let at = At { t: 0.0, z: &z };
     for (name, form) in [("mooney_rivlin", Form::Paper), ("mooney_rivlin", Form::Tension), ("skalak", Form::Paper)] {
         let t = QuadraticMembrane::new(QuadraticMembrane::law(name).unwrap(), form, 1.0, (0.9, 0.3), &orders).unwrap();
         let (p, d) = t.prefactors(at.r());
