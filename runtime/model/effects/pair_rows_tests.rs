@@ -13,8 +13,11 @@ fn apply_avx(rows: &PairRows, left: &[f64], right: &[f64], w: &mut [f64], start:
         match rows.stride() {
             4 => rows.apply_avx::<1>(left, right, w, &mut out),
             8 => rows.apply_avx::<2>(left, right, w, &mut out),
+            12 => rows.apply_avx::<3>(left, right, w, &mut out),
             16 => rows.apply_avx::<4>(left, right, w, &mut out),
+            20 => rows.apply_avx::<5>(left, right, w, &mut out),
             24 => rows.apply_avx::<6>(left, right, w, &mut out),
+            28 => rows.apply_avx::<7>(left, right, w, &mut out),
             32 => rows.apply_avx::<8>(left, right, w, &mut out),
             st => panic!("no AVX kernel for stride {st}"),
         }
