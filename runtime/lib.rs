@@ -14,6 +14,10 @@
 //! - [`integrate`]: the steppers (fixed RK4, adaptive explicit RK, implicit Radau).
 //! - [`analysis`]: natural frequencies, Floquet, stability diagrams, convergence, accuracy.
 //! - [`output`]: CSV / JSON writers (atomic), [`plot`]: figures.
+//! - [`simd`]: the SIMD policy (CPU features probed once; `MAGBUBBLE_PORTABLE=1` forces the
+//!   portable kernels).
+
+#![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod analysis;
 pub mod coefficients;
@@ -24,4 +28,5 @@ pub mod model;
 pub mod output;
 pub mod plot;
 pub mod scene;
+pub mod simd;
 pub mod cli;

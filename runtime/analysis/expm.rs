@@ -203,8 +203,8 @@ where
     DefaultAllocator: Allocator<D, D> + Allocator<D>,
 {
     #[cfg(target_arch = "x86_64")]
-    if a.nrows() > 4 && std::is_x86_feature_detected!("avx") {
-        // SAFETY: the CPU supports AVX (checked just above).
+    if a.nrows() > 4 && crate::simd::avx(crate::simd::Kernel::Expm) {
+        // SAFETY: the CPU supports AVX (`simd::avx` checked); the body is safe code.
         return unsafe { expm_into_avx(a, w, out) };
     }
     expm_body(a, w, out)

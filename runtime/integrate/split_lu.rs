@@ -61,8 +61,8 @@ impl SplitLu {
     pub(crate) fn factor(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
         assert_eq!(a.len(), n * n, "SplitLu: n × n");
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor has AVX (checked above).
+        if crate::simd::avx(crate::simd::Kernel::SplitLu) {
+            // SAFETY: the processor has AVX (`simd::avx` checked); the body is safe code.
             return unsafe { Self::factor_avx(n, a) };
         }
         Self::factor_body(n, a)
@@ -71,7 +71,7 @@ impl SplitLu {
     /// [`factor`](Self::factor) compiled with AVX (4-lane loops, no FMA: the same bits).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn factor_avx(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
+    fn factor_avx(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
         Self::factor_body(n, a)
     }
 
@@ -115,8 +115,8 @@ impl SplitLu {
     /// Solves A x = b in place (the substitutions of `ShiftedLu::solve`, dense branch).
     pub(crate) fn solve(&self, b: &mut [Complex<f64>]) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor has AVX (checked above).
+        if crate::simd::avx(crate::simd::Kernel::SplitLu) {
+            // SAFETY: the processor has AVX (`simd::avx` checked); the body is safe code.
             return unsafe { self.solve_avx(b) };
         }
         self.solve_body(b)
@@ -125,7 +125,7 @@ impl SplitLu {
     /// [`solve`](Self::solve) compiled with AVX.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn solve_avx(&self, b: &mut [Complex<f64>]) {
+    fn solve_avx(&self, b: &mut [Complex<f64>]) {
         self.solve_body(b)
     }
 
@@ -177,8 +177,8 @@ impl RealLu {
     pub(crate) fn factor(n: usize, a: Vec<f64>) -> Result<Self, usize> {
         assert_eq!(a.len(), n * n, "RealLu: n × n");
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor has AVX (checked above).
+        if crate::simd::avx(crate::simd::Kernel::RealLu) {
+            // SAFETY: the processor has AVX (`simd::avx` checked); the body is safe code.
             return unsafe { Self::factor_avx(n, a) };
         }
         Self::factor_body(n, a)
@@ -186,7 +186,7 @@ impl RealLu {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn factor_avx(n: usize, a: Vec<f64>) -> Result<Self, usize> {
+    fn factor_avx(n: usize, a: Vec<f64>) -> Result<Self, usize> {
         Self::factor_body(n, a)
     }
 
@@ -200,8 +200,8 @@ impl RealLu {
     /// Solves A x = b in place.
     pub(crate) fn solve(&self, b: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor has AVX (checked above).
+        if crate::simd::avx(crate::simd::Kernel::RealLu) {
+            // SAFETY: the processor has AVX (`simd::avx` checked); the body is safe code.
             return unsafe { self.solve_avx(b) };
         }
         self.solve_body(b)
@@ -209,7 +209,7 @@ impl RealLu {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn solve_avx(&self, b: &mut [f64]) {
+    fn solve_avx(&self, b: &mut [f64]) {
         self.solve_body(b)
     }
 

@@ -9,7 +9,7 @@
 //! the norms stay sequential in the component order (the compiler vectorises the element-wise
 //! part and adds the terms in order). Every kernel is written once, `#[inline(always)]`, and
 //! compiled twice: for the build's baseline (SSE2) and inside an `avx` function chosen at run
-//! time when the processor has AVX (no FMA, so the same roundings), as `model/vorticity/batch.rs`.
+//! time when `crate::simd` allows AVX (no FMA, so the same roundings), as `model/vorticity/batch.rs`.
 
 use nalgebra::Complex;
 
@@ -24,11 +24,11 @@ macro_rules! kernel {
             #[cfg(target_arch = "x86_64")]
             {
                 #[target_feature(enable = "avx")]
-                unsafe fn avx($($arg: $ty),*) $(-> $ret)? {
+                fn avx($($arg: $ty),*) $(-> $ret)? {
                     body($($arg),*)
                 }
-                if std::arch::is_x86_feature_detected!("avx") {
-                    // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+                if crate::simd::avx(crate::simd::Kernel::RadauLoops) {
+                    // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
                     return unsafe { avx($($arg),*) };
                 }
             }

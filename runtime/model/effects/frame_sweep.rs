@@ -104,8 +104,8 @@ impl FrameRows {
         // the bounds the kernels rely on (the AVX one reads without further checks)
         assert!(f.u.len() >= m && f.v.len() >= m && out.len() > m, "frame rows: factor lengths");
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY (both kernels): AVX is available (checked just above); every pair's
+        if crate::simd::avx(crate::simd::Kernel::FrameSweep) {
+            // SAFETY (both kernels): AVX is available (`simd::avx` checked); every pair's
             // l, m < modes, every run's n0 + len ≤ modes + 1 and the dense table modes + 1
             // targets per pair (`new`), the lengths asserted above, Σ len = k.len().
             let dense = unsafe {
@@ -146,27 +146,32 @@ impl FrameRows {
     #[target_feature(enable = "avx")]
     unsafe fn dense_avx<const T: usize>(&self, f: &Factors<'_>, out: &mut [[f64; 4]]) -> bool {
         use std::arch::x86_64::*;
-        let (up, vp) = (f.u.as_ptr().cast::<f64>(), f.v.as_ptr().cast::<f64>());
-        let mut kp = self.dense_k.as_ptr().cast::<f64>();
-        let mut acc = [_mm256_setzero_pd(); T];
-        for &[l, m] in &self.dense_pairs {
-            let (l, m) = (l as usize, m as usize);
-            // the pair's products as in `sweep_avx`
-            let x = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(up.add(l)), _mm256_loadu_pd(vp.add(m))), _mm256_mul_pd(_mm256_loadu_pd(up.add(m)), _mm256_loadu_pd(vp.add(l))));
-            let w = _mm256_blend_pd::<0b0010>(x, _mm256_add_pd(x, _mm256_permute2f128_pd::<0x01>(x, x)));
-            for (t, a) in acc.iter_mut().enumerate() {
-                *a = _mm256_add_pd(*a, _mm256_mul_pd(_mm256_loadu_pd(kp.add(4 * t)), w));
+        // SAFETY: the caller's contract (# Safety): every pair's l, m < modes and the dense table
+        // holds T targets per pair (`new`), so each 4-lane load and store is inside `f.u`, `f.v`,
+        // `dense_k` and `out`; AVX is enabled on this function.
+        unsafe {
+            let (up, vp) = (f.u.as_ptr().cast::<f64>(), f.v.as_ptr().cast::<f64>());
+            let mut kp = self.dense_k.as_ptr().cast::<f64>();
+            let mut acc = [_mm256_setzero_pd(); T];
+            for &[l, m] in &self.dense_pairs {
+                let (l, m) = (l as usize, m as usize);
+                // the pair's products as in `sweep_avx`
+                let x = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(up.add(l)), _mm256_loadu_pd(vp.add(m))), _mm256_mul_pd(_mm256_loadu_pd(up.add(m)), _mm256_loadu_pd(vp.add(l))));
+                let w = _mm256_blend_pd::<0b0010>(x, _mm256_add_pd(x, _mm256_permute2f128_pd::<0x01>(x, x)));
+                for (t, a) in acc.iter_mut().enumerate() {
+                    *a = _mm256_add_pd(*a, _mm256_mul_pd(_mm256_loadu_pd(kp.add(4 * t)), w));
+                }
+                kp = kp.add(4 * T);
             }
-            kp = kp.add(4 * T);
+            // x − x is 0 for finite x, NaN otherwise
+            let mut bad = _mm256_setzero_pd();
+            let op = out.as_mut_ptr().cast::<f64>();
+            for (t, a) in acc.iter().enumerate() {
+                bad = _mm256_add_pd(bad, _mm256_sub_pd(*a, *a));
+                _mm256_storeu_pd(op.add(4 * t), *a);
+            }
+            _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_UNORD_Q>(bad, bad)) == 0
         }
-        // x − x is 0 for finite x, NaN otherwise
-        let mut bad = _mm256_setzero_pd();
-        let op = out.as_mut_ptr().cast::<f64>();
-        for (t, a) in acc.iter().enumerate() {
-            bad = _mm256_add_pd(bad, _mm256_sub_pd(*a, *a));
-            _mm256_storeu_pd(op.add(4 * t), *a);
-        }
-        _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_UNORD_Q>(bad, bad)) == 0
     }
 
     /// A pair's products, lane by lane (module doc).
@@ -201,19 +206,23 @@ impl FrameRows {
     #[target_feature(enable = "avx")]
     unsafe fn sweep_avx(&self, f: &Factors<'_>, out: &mut [[f64; 4]]) {
         use std::arch::x86_64::*;
-        let (up, vp) = (f.u.as_ptr().cast::<f64>(), f.v.as_ptr().cast::<f64>());
-        let (op, mut kp) = (out.as_mut_ptr(), self.k.as_ptr());
-        for r in &self.runs {
-            let (l, m) = (4 * r.l as usize, 4 * r.m as usize);
-            let x = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(up.add(l)), _mm256_loadu_pd(vp.add(m))), _mm256_mul_pd(_mm256_loadu_pd(up.add(m)), _mm256_loadu_pd(vp.add(l))));
-            // lane 1 += lane 3: [x2, x3, x0, x1] added, lane 1 of the sum taken
-            let w = _mm256_blend_pd::<0b0010>(x, _mm256_add_pd(x, _mm256_permute2f128_pd::<0x01>(x, x)));
-            let o = op.add(r.n0 as usize).cast::<f64>();
-            for t in 0..r.len as usize {
-                let (ot, kt) = (o.add(4 * t), kp.add(t).cast::<f64>());
-                _mm256_storeu_pd(ot, _mm256_add_pd(_mm256_loadu_pd(ot), _mm256_mul_pd(_mm256_loadu_pd(kt), w)));
+        // SAFETY: the caller's contract (# Safety): every run's pair and targets are inside the
+        // factors and `out` (`new`, the lengths `sweep` asserts), Σ len = k.len(); AVX is enabled.
+        unsafe {
+            let (up, vp) = (f.u.as_ptr().cast::<f64>(), f.v.as_ptr().cast::<f64>());
+            let (op, mut kp) = (out.as_mut_ptr(), self.k.as_ptr());
+            for r in &self.runs {
+                let (l, m) = (4 * r.l as usize, 4 * r.m as usize);
+                let x = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(up.add(l)), _mm256_loadu_pd(vp.add(m))), _mm256_mul_pd(_mm256_loadu_pd(up.add(m)), _mm256_loadu_pd(vp.add(l))));
+                // lane 1 += lane 3: [x2, x3, x0, x1] added, lane 1 of the sum taken
+                let w = _mm256_blend_pd::<0b0010>(x, _mm256_add_pd(x, _mm256_permute2f128_pd::<0x01>(x, x)));
+                let o = op.add(r.n0 as usize).cast::<f64>();
+                for t in 0..r.len as usize {
+                    let (ot, kt) = (o.add(4 * t), kp.add(t).cast::<f64>());
+                    _mm256_storeu_pd(ot, _mm256_add_pd(_mm256_loadu_pd(ot), _mm256_mul_pd(_mm256_loadu_pd(kt), w)));
+                }
+                kp = kp.add(r.len as usize);
             }
-            kp = kp.add(r.len as usize);
         }
     }
 }
@@ -270,7 +279,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn dense_sweep_is_the_sparse_one() {
-        if !std::arch::is_x86_feature_detected!("avx") {
+        if !crate::simd::test_can_run(crate::simd::Level::Avx2Fma, "frame sweep: dense AVX against sparse AVX") {
             return;
         }
         for modes in 1..=DENSE_MAX {

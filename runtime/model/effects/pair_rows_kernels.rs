@@ -18,106 +18,111 @@ macro_rules! simd_kernel {
         #[target_feature(enable = $feature)]
         pub(super) unsafe fn $name<const V: usize>(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {
             use std::arch::x86_64::*;
-            let s = $lanes * V;
-            debug_assert_eq!(s, self.stride);
-            let (lp, rp, wp) = (left.as_ptr(), right.as_ptr(), w.as_mut_ptr());
-            // the pairs are l = 0, 1, … with m = l, l + 1, … (`new`): left(l) held in registers
-            // over its pairs, no pair indices read
-            debug_assert_eq!(self.pairs.len(), self.modes * (self.modes + 1) / 2);
-            let mut d = wp;
-            for l in 0..self.modes {
-                let x = lp.add(l * s);
-                let xv: [_; V] = std::array::from_fn(|v| $load(x.add($lanes * v)));
-                for m in l..self.modes {
-                    let y = rp.add(m * s);
-                    for v in 0..V {
-                        $store(d.add($lanes * v), $mul(xv[v], $load(y.add($lanes * v))));
-                    }
-                    d = d.add(s);
-                }
-            }
-            let wp = w.as_ptr();
-            let (coef, off, op) = (self.coef().as_ptr(), self.row_off.as_ptr(), out.as_mut_ptr());
-            // the accumulators' sum, in the portable kernel's order, added to output o
-            let fold = |acc: [_; V], o: usize| {
-                let mut $sum = _mm256_setzero_pd();
-                for $a in acc {
-                    $fold;
-                }
-                let mut v = [0.0f64; 4];
-                _mm256_storeu_pd(v.as_mut_ptr(), $sum);
-                *op.add(o) += (v[0] + v[1]) + (v[2] + v[3]);
-            };
-            for g in &self.groups {
-                let ((r0, r1), cp) = (g.rows, coef.add(g.coef));
-                let mut acc = [$zero(); V];
-                let mut r = r0;
-                if g.width == 2 {
-                    // twins: row r holds output 0's coefficients, then output 1's
-                    let mut twin = [$zero(); V];
-                    // rows q, q + 1 into both outputs' accumulators
-                    let pair = |q: usize, acc: &mut [_; V], twin: &mut [_; V]| {
-                        let (w0, w1) = (wp.add(*off.add(q) as usize), wp.add(*off.add(q + 1) as usize));
-                        let c0 = cp.add((q - r0) * 2 * s);
-                        let c1 = c0.add(2 * s);
+            // SAFETY: the caller's contract (`apply` asserts the slice lengths; `new` keeps every
+            // pair, row offset and coefficient block in range), so every pointer below stays
+            // inside `left`, `right`, `w`, the coefficients or `out`; the feature is enabled.
+            unsafe {
+                let s = $lanes * V;
+                debug_assert_eq!(s, self.stride);
+                let (lp, rp, wp) = (left.as_ptr(), right.as_ptr(), w.as_mut_ptr());
+                // the pairs are l = 0, 1, … with m = l, l + 1, … (`new`): left(l) held in registers
+                // over its pairs, no pair indices read
+                debug_assert_eq!(self.pairs.len(), self.modes * (self.modes + 1) / 2);
+                let mut d = wp;
+                for l in 0..self.modes {
+                    let x = lp.add(l * s);
+                    let xv: [_; V] = std::array::from_fn(|v| $load(x.add($lanes * v)));
+                    for m in l..self.modes {
+                        let y = rp.add(m * s);
                         for v in 0..V {
-                            let (x0, x1) = ($load(w0.add($lanes * v)), $load(w1.add($lanes * v)));
-                            let (t0, t1) = ($mul($load(c0.add($lanes * v)), x0), $mul($load(c1.add($lanes * v)), x1));
-                            acc[v] = $add(acc[v], $add(t0, t1));
-                            let (t0, t1) = ($mul($load(c0.add(s + $lanes * v)), x0), $mul($load(c1.add(s + $lanes * v)), x1));
-                            twin[v] = $add(twin[v], $add(t0, t1));
+                            $store(d.add($lanes * v), $mul(xv[v], $load(y.add($lanes * v))));
+                        }
+                        d = d.add(s);
+                    }
+                }
+                let wp = w.as_ptr();
+                let (coef, off, op) = (self.coef().as_ptr(), self.row_off.as_ptr(), out.as_mut_ptr());
+                // the accumulators' sum, in the portable kernel's order, added to output o
+                let fold = |acc: [_; V], o: usize| {
+                    let mut $sum = _mm256_setzero_pd();
+                    for $a in acc {
+                        $fold;
+                    }
+                    let mut v = [0.0f64; 4];
+                    _mm256_storeu_pd(v.as_mut_ptr(), $sum);
+                    *op.add(o) += (v[0] + v[1]) + (v[2] + v[3]);
+                };
+                for g in &self.groups {
+                    let ((r0, r1), cp) = (g.rows, coef.add(g.coef));
+                    let mut acc = [$zero(); V];
+                    let mut r = r0;
+                    if g.width == 2 {
+                        // twins: row r holds output 0's coefficients, then output 1's
+                        let mut twin = [$zero(); V];
+                        // rows q, q + 1 into both outputs' accumulators
+                        let pair = |q: usize, acc: &mut [_; V], twin: &mut [_; V]| {
+                            let (w0, w1) = (wp.add(*off.add(q) as usize), wp.add(*off.add(q + 1) as usize));
+                            let c0 = cp.add((q - r0) * 2 * s);
+                            let c1 = c0.add(2 * s);
+                            for v in 0..V {
+                                let (x0, x1) = ($load(w0.add($lanes * v)), $load(w1.add($lanes * v)));
+                                let (t0, t1) = ($mul($load(c0.add($lanes * v)), x0), $mul($load(c1.add($lanes * v)), x1));
+                                acc[v] = $add(acc[v], $add(t0, t1));
+                                let (t0, t1) = ($mul($load(c0.add(s + $lanes * v)), x0), $mul($load(c1.add(s + $lanes * v)), x1));
+                                twin[v] = $add(twin[v], $add(t0, t1));
+                            }
+                        };
+                        // two row pairs per trip (half the loop control), then one
+                        while r + 4 <= r1 {
+                            pair(r, &mut acc, &mut twin);
+                            pair(r + 2, &mut acc, &mut twin);
+                            r += 4;
+                        }
+                        if r + 2 <= r1 {
+                            pair(r, &mut acc, &mut twin);
+                            r += 2;
+                        }
+                        if r < r1 {
+                            let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add((r - r0) * 2 * s));
+                            for v in 0..V {
+                                let x0 = $load(w0.add($lanes * v));
+                                acc[v] = $add(acc[v], $mul($load(c0.add($lanes * v)), x0));
+                                twin[v] = $add(twin[v], $mul($load(c0.add(s + $lanes * v)), x0));
+                            }
+                        }
+                        fold(acc, g.outs[0]);
+                        fold(twin, g.outs[1]);
+                        continue;
+                    }
+                    // rows q, q + 1: c0 w0 + c1 w1 added to the accumulators, the portable kernel's
+                    // sums in its order
+                    let pair = |q: usize, acc: &mut [_; V]| {
+                        let (w0, w1) = (wp.add(*off.add(q) as usize), wp.add(*off.add(q + 1) as usize));
+                        let (c0, c1) = (cp.add((q - r0) * s), cp.add((q + 1 - r0) * s));
+                        for (v, a) in acc.iter_mut().enumerate() {
+                            let t0 = $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v)));
+                            let t1 = $mul($load(c1.add($lanes * v)), $load(w1.add($lanes * v)));
+                            *a = $add(*a, $add(t0, t1));
                         }
                     };
                     // two row pairs per trip (half the loop control), then one
                     while r + 4 <= r1 {
-                        pair(r, &mut acc, &mut twin);
-                        pair(r + 2, &mut acc, &mut twin);
+                        pair(r, &mut acc);
+                        pair(r + 2, &mut acc);
                         r += 4;
                     }
                     if r + 2 <= r1 {
-                        pair(r, &mut acc, &mut twin);
+                        pair(r, &mut acc);
                         r += 2;
                     }
                     if r < r1 {
-                        let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add((r - r0) * 2 * s));
-                        for v in 0..V {
-                            let x0 = $load(w0.add($lanes * v));
-                            acc[v] = $add(acc[v], $mul($load(c0.add($lanes * v)), x0));
-                            twin[v] = $add(twin[v], $mul($load(c0.add(s + $lanes * v)), x0));
+                        let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add((r - r0) * s));
+                        for (v, a) in acc.iter_mut().enumerate() {
+                            *a = $add(*a, $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v))));
                         }
                     }
                     fold(acc, g.outs[0]);
-                    fold(twin, g.outs[1]);
-                    continue;
                 }
-                // rows q, q + 1: c0 w0 + c1 w1 added to the accumulators, the portable kernel's
-                // sums in its order
-                let pair = |q: usize, acc: &mut [_; V]| {
-                    let (w0, w1) = (wp.add(*off.add(q) as usize), wp.add(*off.add(q + 1) as usize));
-                    let (c0, c1) = (cp.add((q - r0) * s), cp.add((q + 1 - r0) * s));
-                    for (v, a) in acc.iter_mut().enumerate() {
-                        let t0 = $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v)));
-                        let t1 = $mul($load(c1.add($lanes * v)), $load(w1.add($lanes * v)));
-                        *a = $add(*a, $add(t0, t1));
-                    }
-                };
-                // two row pairs per trip (half the loop control), then one
-                while r + 4 <= r1 {
-                    pair(r, &mut acc);
-                    pair(r + 2, &mut acc);
-                    r += 4;
-                }
-                if r + 2 <= r1 {
-                    pair(r, &mut acc);
-                    r += 2;
-                }
-                if r < r1 {
-                    let (w0, c0) = (wp.add(*off.add(r) as usize), cp.add((r - r0) * s));
-                    for (v, a) in acc.iter_mut().enumerate() {
-                        *a = $add(*a, $mul($load(c0.add($lanes * v)), $load(w0.add($lanes * v))));
-                    }
-                }
-                fold(acc, g.outs[0]);
             }
         }
     };
@@ -132,8 +137,8 @@ impl PairRows {
         assert_eq!(w.len(), self.pairs.len() * s, "PairRows products");
         assert!(out.len() >= self.out_at.len(), "PairRows outputs");
         #[cfg(target_arch = "x86_64")]
-        if s % 8 == 0 && std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the processor supports AVX-512F (checked just above); lengths and offsets
+        if s % 8 == 0 && crate::simd::avx512(crate::simd::Kernel::PairRows512) && crate::simd::avx(crate::simd::Kernel::PairRows) {
+            // SAFETY: the processor supports AVX-512F (`simd::avx512` checked); lengths and offsets
             // as for the AVX kernel below.
             unsafe {
                 match s {
@@ -146,8 +151,8 @@ impl PairRows {
             return;
         }
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the slice lengths are
+        if crate::simd::avx(crate::simd::Kernel::PairRows) {
+            // SAFETY: the processor supports AVX (`simd::avx` checked); the slice lengths are
             // the ones asserted above, and every stored pair and row offset is in range (`new`).
             unsafe {
                 match s {

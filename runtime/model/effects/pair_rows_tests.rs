@@ -6,9 +6,9 @@ use super::*;
 /// those `apply` asserts; the caller checks AVX).
 #[cfg(target_arch = "x86_64")]
 fn apply_avx(rows: &PairRows, left: &[f64], right: &[f64], w: &mut [f64], start: f64) -> Vec<f64> {
-    assert!(std::arch::is_x86_feature_detected!("avx"));
+    assert!(crate::simd::detected() >= crate::simd::Level::Avx2Fma);
     let mut out = vec![start; rows.out_at.len()];
-    // SAFETY: AVX asserted just above; the callers' lengths are those apply asserts.
+    // SAFETY: the processor has AVX (asserted just above); the callers' lengths are those apply asserts.
     unsafe {
         match rows.stride() {
             4 => rows.apply_avx::<1>(left, right, w, &mut out),
@@ -90,7 +90,7 @@ fn avx_kernel_is_the_portable_one_bit_for_bit() {
         }
         // the AVX kernel also where the dispatch above took AVX-512
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
+        if crate::simd::test_can_run(crate::simd::Level::Avx2Fma, "pair rows: AVX kernel against the portable one") {
             let avx = apply_avx(&rows, &left, &right, &mut w, 0.5);
             for (a, b) in portable.iter().zip(&avx) {
                 assert_eq!(a.to_bits(), b.to_bits(), "stride {st} (AVX): {a} against {b}");
@@ -126,7 +126,7 @@ fn twins_change_no_bit() {
         rows.apply(&left, &right, &mut w, &mut all);
         // the AVX kernel's twin loop also where the dispatch above took AVX-512
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
+        if crate::simd::test_can_run(crate::simd::Level::Avx2Fma, "pair rows: AVX twin loop against the portable one") {
             let avx = apply_avx(&rows, &left, &right, &mut w, 0.25);
             for (a, b) in all.iter().zip(&avx) {
                 assert_eq!(a.to_bits(), b.to_bits(), "stride {st}, {modes} modes (AVX): {a} against {b}");

@@ -231,9 +231,9 @@ impl QuadraticCoupling {
     fn factors(&self, z: &[f64], add: &[f64], pre: &[f64; MAX_SLOTS], left: &mut [f64], right: &mut [f64]) {
         let st = self.rows.stride();
         #[cfg(target_arch = "x86_64")]
-        if st == 8 && std::arch::is_x86_feature_detected!("avx2") {
+        if st == 8 && crate::simd::avx(crate::simd::Kernel::QuadraticFactors) {
             assert!(z.len() >= 2 + 3 * add.len() && left.len() >= 8 * add.len() && right.len() >= 8 * add.len(), "quadratic factors");
-            // SAFETY: AVX2 is available (checked just above); the lengths asserted above.
+            // SAFETY: AVX2 is available (`simd::avx` checked); the lengths asserted above.
             unsafe { self.factors_avx2(z, add, pre, left, right) };
             return;
         }
@@ -260,17 +260,21 @@ impl QuadraticCoupling {
     #[target_feature(enable = "avx2")]
     unsafe fn factors_avx2(&self, z: &[f64], add: &[f64], pre: &[f64; MAX_SLOTS], left: &mut [f64], right: &mut [f64]) {
         use std::arch::x86_64::*;
-        let perm = |q: usize| _mm256_loadu_si256(self.perm[q].as_ptr().cast());
-        let (f0, f1, g0, g1) = (perm(0), perm(1), perm(2), perm(3));
-        let (p0, p1) = (_mm256_loadu_pd(pre.as_ptr()), _mm256_loadu_pd(pre.as_ptr().add(4)));
-        let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
-        for (i, &ad) in add.iter().enumerate() {
-            let a4 = _mm256_castpd_ps(_mm256_set_m128d(_mm_set_sd(ad), _mm_loadu_pd(zp.add(2 + 3 * i))));
-            let side = |idx| _mm256_castps_pd(_mm256_permutevar8x32_ps(a4, idx));
-            _mm256_storeu_pd(lp.add(8 * i), _mm256_mul_pd(p0, side(f0)));
-            _mm256_storeu_pd(lp.add(8 * i + 4), _mm256_mul_pd(p1, side(f1)));
-            _mm256_storeu_pd(rp.add(8 * i), side(g0));
-            _mm256_storeu_pd(rp.add(8 * i + 4), side(g1));
+        // SAFETY: the caller's contract (# Safety): stride 8 and the asserted lengths keep every
+        // load from `z`, `pre`, `perm` and every store to `left`, `right` in range; AVX2 is enabled.
+        unsafe {
+            let perm = |q: usize| _mm256_loadu_si256(self.perm[q].as_ptr().cast());
+            let (f0, f1, g0, g1) = (perm(0), perm(1), perm(2), perm(3));
+            let (p0, p1) = (_mm256_loadu_pd(pre.as_ptr()), _mm256_loadu_pd(pre.as_ptr().add(4)));
+            let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
+            for (i, &ad) in add.iter().enumerate() {
+                let a4 = _mm256_castpd_ps(_mm256_set_m128d(_mm_set_sd(ad), _mm_loadu_pd(zp.add(2 + 3 * i))));
+                let side = |idx| _mm256_castps_pd(_mm256_permutevar8x32_ps(a4, idx));
+                _mm256_storeu_pd(lp.add(8 * i), _mm256_mul_pd(p0, side(f0)));
+                _mm256_storeu_pd(lp.add(8 * i + 4), _mm256_mul_pd(p1, side(f1)));
+                _mm256_storeu_pd(rp.add(8 * i), side(g0));
+                _mm256_storeu_pd(rp.add(8 * i + 4), side(g1));
+            }
         }
     }
 }

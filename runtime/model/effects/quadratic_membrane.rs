@@ -178,29 +178,40 @@ impl QuadraticMembrane {
 /// The factors of the pair products (slot i·4 + t, `np` = `p.len()` prefactors): left(k) =
 /// p_i (a_k, a_k, b_k, b_k), right(k) = (a_k, b_k, a_k, b_k), for every mode k of `left`.
 fn factors(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
-    let st = PRODUCTS * p.len();
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        let n = left.len() / st;
-        assert!(right.len() >= n * st && at.z.len() >= 2 + 3 * n, "quadratic membrane factors");
-        // SAFETY: AVX is available (checked just above); the lengths asserted above.
-        unsafe {
-            match p.len() {
-                0 => factors_avx::<0>(at.z, p, n, left, right),
-                1 => factors_avx::<1>(at.z, p, n, left, right),
-                2 => factors_avx::<2>(at.z, p, n, left, right),
-                3 => factors_avx::<3>(at.z, p, n, left, right),
-                4 => factors_avx::<4>(at.z, p, n, left, right),
-                5 => factors_avx::<5>(at.z, p, n, left, right),
-                6 => factors_avx::<6>(at.z, p, n, left, right),
-                7 => factors_avx::<7>(at.z, p, n, left, right),
-                MAXP => factors_avx::<MAXP>(at.z, p, n, left, right),
-                _ => unreachable!("at most MAXP prefactors (`new`)"),
-            }
-        }
+    if crate::simd::avx(crate::simd::Kernel::MembraneFactors) {
+        // SAFETY: AVX is available (`simd::avx` checked).
+        unsafe { factors_avx_any(at, p, left, right) };
         return;
     }
     factors_portable(at, p, left, right);
+}
+
+/// [`factors`] by [`factors_avx`] for `p.len()` prefactors (lengths asserted here).
+///
+/// # Safety
+/// AVX available.
+#[cfg(target_arch = "x86_64")]
+unsafe fn factors_avx_any(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
+    let st = PRODUCTS * p.len();
+    let n = left.len() / st;
+    assert!(right.len() >= n * st && at.z.len() >= 2 + 3 * n, "quadratic membrane factors");
+    // SAFETY: AVX is available (the caller's contract); `p.len()` is the kernel's NP and the
+    // lengths are asserted above.
+    unsafe {
+        match p.len() {
+            0 => factors_avx::<0>(at.z, p, n, left, right),
+            1 => factors_avx::<1>(at.z, p, n, left, right),
+            2 => factors_avx::<2>(at.z, p, n, left, right),
+            3 => factors_avx::<3>(at.z, p, n, left, right),
+            4 => factors_avx::<4>(at.z, p, n, left, right),
+            5 => factors_avx::<5>(at.z, p, n, left, right),
+            6 => factors_avx::<6>(at.z, p, n, left, right),
+            7 => factors_avx::<7>(at.z, p, n, left, right),
+            MAXP => factors_avx::<MAXP>(at.z, p, n, left, right),
+            _ => unreachable!("at most MAXP prefactors (`new`)"),
+        }
+    }
 }
 
 /// [`factors`] without SIMD.
@@ -224,18 +235,22 @@ fn factors_portable(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64])
 #[target_feature(enable = "avx")]
 unsafe fn factors_avx<const NP: usize>(z: &[f64], p: &[f64], n: usize, left: &mut [f64], right: &mut [f64]) {
     use std::arch::x86_64::*;
-    debug_assert_eq!(p.len(), NP);
-    let st = PRODUCTS * NP;
-    let pv: [__m256d; NP] = std::array::from_fn(|i| _mm256_set1_pd(*p.get_unchecked(i)));
-    let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
-    for k in 0..n {
-        let (a, b) = (*zp.add(2 + 3 * k), *zp.add(4 + 3 * k));
-        // _mm256_set_pd takes the lanes from the highest down
-        let (x, y) = (_mm256_set_pd(b, b, a, a), _mm256_set_pd(b, a, b, a));
-        for (i, pi) in pv.iter().enumerate() {
-            let at = k * st + PRODUCTS * i;
-            _mm256_storeu_pd(lp.add(at), _mm256_mul_pd(*pi, x));
-            _mm256_storeu_pd(rp.add(at), y);
+    // SAFETY: the caller's contract (# Safety): `p` has NP entries, `z` ≥ 2 + 3n and `left`,
+    // `right` ≥ n·4·NP, so every read and 4-lane store is in range; AVX is enabled.
+    unsafe {
+        debug_assert_eq!(p.len(), NP);
+        let st = PRODUCTS * NP;
+        let pv: [__m256d; NP] = std::array::from_fn(|i| _mm256_set1_pd(*p.get_unchecked(i)));
+        let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
+        for k in 0..n {
+            let (a, b) = (*zp.add(2 + 3 * k), *zp.add(4 + 3 * k));
+            // _mm256_set_pd takes the lanes from the highest down
+            let (x, y) = (_mm256_set_pd(b, b, a, a), _mm256_set_pd(b, a, b, a));
+            for (i, pi) in pv.iter().enumerate() {
+                let at = k * st + PRODUCTS * i;
+                _mm256_storeu_pd(lp.add(at), _mm256_mul_pd(*pi, x));
+                _mm256_storeu_pd(rp.add(at), y);
+            }
         }
     }
 }
@@ -271,8 +286,8 @@ impl Term for QuadraticMembrane {
         let (p, d) = self.prefactors(at.r());
         let np = self.monos.len();
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: AVX is available (checked just above).
+        if crate::simd::avx(crate::simd::Kernel::MembraneJacobian) {
+            // SAFETY: AVX is available (`simd::avx` checked).
             unsafe { self.jacobian_avx(at, jac, &p[..np], &d[..np]) };
             return;
         }
@@ -303,27 +318,28 @@ fn row_sums(c: &[f64], p: &[f64], d: &[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS
 #[inline]
 unsafe fn row_sums_avx(c: &[f64], p: &[f64], d: &[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS]) {
     use std::arch::x86_64::*;
-    let (mut cp, mut cd) = (_mm256_setzero_pd(), _mm256_setzero_pd());
-    for (ci, (pi, di)) in c.chunks_exact(PRODUCTS).zip(p.iter().zip(d)) {
-        let x = _mm256_loadu_pd(ci.as_ptr());
-        cp = _mm256_add_pd(cp, _mm256_mul_pd(x, _mm256_set1_pd(*pi)));
-        cd = _mm256_add_pd(cd, _mm256_mul_pd(x, _mm256_set1_pd(*di)));
+    // SAFETY: each load is of a 4-entry chunk of `c` and each store into a 4-entry array;
+    // AVX is available (the caller's contract).
+    unsafe {
+        let (mut cp, mut cd) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+        for (ci, (pi, di)) in c.chunks_exact(PRODUCTS).zip(p.iter().zip(d)) {
+            let x = _mm256_loadu_pd(ci.as_ptr());
+            cp = _mm256_add_pd(cp, _mm256_mul_pd(x, _mm256_set1_pd(*pi)));
+            cd = _mm256_add_pd(cd, _mm256_mul_pd(x, _mm256_set1_pd(*di)));
+        }
+        let (mut a, mut b) = ([0.0; PRODUCTS], [0.0; PRODUCTS]);
+        _mm256_storeu_pd(a.as_mut_ptr(), cp);
+        _mm256_storeu_pd(b.as_mut_ptr(), cd);
+        (a, b)
     }
-    let (mut a, mut b) = ([0.0; PRODUCTS], [0.0; PRODUCTS]);
-    _mm256_storeu_pd(a.as_mut_ptr(), cp);
-    _mm256_storeu_pd(b.as_mut_ptr(), cd);
-    (a, b)
 }
 
 impl QuadraticMembrane {
     /// [`Term::add_jacobian`] with the rows' prefactor sums in AVX registers ([`row_sums_avx`]).
-    ///
-    /// # Safety
-    /// AVX available.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn jacobian_avx(&self, at: &At<'_>, jac: &mut LoadJacobian, p: &[f64], d: &[f64]) {
-        // SAFETY: AVX is available (the caller's contract).
+    fn jacobian_avx(&self, at: &At<'_>, jac: &mut LoadJacobian, p: &[f64], d: &[f64]) {
+        // SAFETY: AVX is enabled on this function (and so on the closure inlined into it).
         self.jacobian_with(at, jac, |c| unsafe { row_sums_avx(c, p, d) });
     }
 

@@ -153,8 +153,8 @@ impl TriBatch {
     /// x ← (σI − L_k)⁻¹ x for every mode k at once (x node-major, split like the factors).
     pub fn solve(&self, x: &mut Split) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the kernel is safe code.
+        if crate::simd::avx(crate::simd::Kernel::VorticityBatch) {
+            // SAFETY: the processor supports AVX (`simd::avx` checked); the kernel is safe code.
             unsafe { self.solve_avx(x) };
             return;
         }
@@ -163,7 +163,7 @@ impl TriBatch {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn solve_avx(&self, x: &mut Split) {
+    fn solve_avx(&self, x: &mut Split) {
         self.solve_body(x);
     }
 
@@ -190,8 +190,8 @@ impl TriBatch {
     /// buffer), and `src` is read by the forward sweep (no copy first).
     pub fn solve_real_rhs(&self, src: &[V]) -> Split {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the kernel is safe code.
+        if crate::simd::avx(crate::simd::Kernel::VorticityBatch) {
+            // SAFETY: the processor supports AVX (`simd::avx` checked); the kernel is safe code.
             return unsafe { self.solve_real_rhs_avx(src) };
         }
         self.solve_real_rhs_body(src)
@@ -199,7 +199,7 @@ impl TriBatch {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn solve_real_rhs_avx(&self, src: &[V]) -> Split {
+    fn solve_real_rhs_avx(&self, src: &[V]) -> Split {
         self.solve_real_rhs_body(src)
     }
 

@@ -33,8 +33,8 @@ impl<T: Lane> DenseLu<T> {
     /// Factors the row-major n × n `a`; `None` when a pivot is zero or not finite.
     pub fn new(n: usize, a: &[T]) -> Option<Self> {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+        if crate::simd::avx(crate::simd::Kernel::VorticityDense) {
+            // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
             return unsafe { Self::new_avx(n, a) };
         }
         Self::new_body(n, a)
@@ -42,7 +42,7 @@ impl<T: Lane> DenseLu<T> {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn new_avx(n: usize, a: &[T]) -> Option<Self> {
+    fn new_avx(n: usize, a: &[T]) -> Option<Self> {
         Self::new_body(n, a)
     }
 
@@ -87,8 +87,8 @@ impl<T: Lane> DenseLu<T> {
     /// x ← A⁻¹ x, x split (`xi` empty for a real T).
     pub fn solve(&self, xr: &mut [f64], xi: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above).
+        if crate::simd::avx(crate::simd::Kernel::VorticityDense) {
+            // SAFETY: the processor supports AVX (`simd::avx` checked); the row kernels are called with `AVX` only from here.
             unsafe { self.solve_avx(xr, xi) };
             return;
         }
@@ -97,7 +97,7 @@ impl<T: Lane> DenseLu<T> {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn solve_avx(&self, xr: &mut [f64], xi: &mut [f64]) {
+    fn solve_avx(&self, xr: &mut [f64], xi: &mut [f64]) {
         self.solve_body::<true>(xr, xi)
     }
 

@@ -32,7 +32,7 @@ fn complex_scalar(s: (f64, f64), u: (&[f64], &[f64]), t: (&[f64], &[f64]), from:
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 #[inline]
-unsafe fn complex_avx(s: (f64, f64), u: (&[f64], &[f64]), t: (&[f64], &[f64])) -> (f64, f64) {
+fn complex_avx(s: (f64, f64), u: (&[f64], &[f64]), t: (&[f64], &[f64])) -> (f64, f64) {
     use std::arch::x86_64::*;
     let ((ur, ui), (tr, ti)) = (u, t);
     let n = ur.len().min(ui.len()).min(tr.len()).min(ti.len());
@@ -79,7 +79,7 @@ fn real_scalar(mut s: f64, u: &[f64], t: &[f64], from: usize) -> f64 {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 #[inline]
-unsafe fn real_avx(s: f64, u: &[f64], t: &[f64]) -> f64 {
+fn real_avx(s: f64, u: &[f64], t: &[f64]) -> f64 {
     use std::arch::x86_64::*;
     let n = u.len().min(t.len());
     let mut acc = _mm_set_sd(s);
@@ -121,7 +121,7 @@ fn dot_scalar(mut s: f64, u: &[f64], t: &[f64], from: usize) -> f64 {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 #[inline]
-unsafe fn dot_avx(u: &[f64], t: &[f64]) -> f64 {
+fn dot_avx(u: &[f64], t: &[f64]) -> f64 {
     use std::arch::x86_64::*;
     let n = u.len().min(t.len());
     let mut acc = _mm_set_sd(0.0);
@@ -146,7 +146,7 @@ mod tests {
     /// The AVX rows and dots equal the scalar ones to the bit, for every length 0 … 45 (remainders).
     #[test]
     fn avx_rows_match_the_scalar_rows() {
-        if !std::arch::is_x86_feature_detected!("avx") {
+        if !crate::simd::test_can_run(crate::simd::Level::Avx2Fma, "dense rows: AVX against scalar") {
             return;
         }
         let f = |n: usize, s: f64| (0..n).map(|j| ((j as f64 + 1.0) * s).sin() * 10f64.powi(j as i32 % 7 - 3)).collect::<Vec<f64>>();

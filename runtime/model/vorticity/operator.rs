@@ -188,8 +188,8 @@ impl ModeOperator {
     /// AVX when the processor has it (no FMA: the same roundings).
     pub fn apply_shared(&self, rows: &SharedRows, tw: f64, t: &[f64], out: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+        if crate::simd::avx(crate::simd::Kernel::VorticityOperator) {
+            // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
             unsafe { self.apply_shared_avx(rows, tw, t, out) };
             return;
         }
@@ -198,7 +198,7 @@ impl ModeOperator {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn apply_shared_avx(&self, rows: &SharedRows, tw: f64, t: &[f64], out: &mut [f64]) {
+    fn apply_shared_avx(&self, rows: &SharedRows, tw: f64, t: &[f64], out: &mut [f64]) {
         self.apply_shared_body(rows, tw, t, out);
     }
 
@@ -227,8 +227,9 @@ impl ModeOperator {
     /// compiler vectorises; equal to rounding, not to the bit).
     pub fn functionals_lanes(&self, t: &[f64]) -> (f64, f64) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+        if crate::simd::avx(crate::simd::Kernel::VorticityFunctionals) {
+            // SAFETY: the processor supports AVX (`simd::avx` checked); the loads and stores
+            // inside are to [f64; 4] chunks and arrays.
             return unsafe { self.functionals_lanes_avx(t) };
         }
         self.functionals_lanes_body(t)
@@ -239,7 +240,7 @@ impl ModeOperator {
     /// halves with a shuffle per product); the same lane-wise products and sums.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn functionals_lanes_avx(&self, t: &[f64]) -> (f64, f64) {
+    fn functionals_lanes_avx(&self, t: &[f64]) -> (f64, f64) {
         use std::arch::x86_64::*;
         let n = t.len().min(self.wi.len() - 1);
         let (t, wi, wj) = (&t[..n], &self.wi[1..n + 1], &self.wj[1..n + 1]);

@@ -268,8 +268,8 @@ impl<T: Lane> StructuredLu<T> {
     /// Solves (σI − J) x = b in place (state layout of the monolithic system).
     pub fn solve(&self, b: &mut [T]) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor supports AVX (checked just above).
+        if crate::simd::avx(crate::simd::Kernel::VorticityStructured) {
+            // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
             unsafe { self.solve_avx(b) };
             return;
         }
@@ -279,7 +279,7 @@ impl<T: Lane> StructuredLu<T> {
     /// [`solve`](Self::solve) compiled with AVX (the same operations; module `batch`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn solve_avx(&self, b: &mut [T]) {
+    fn solve_avx(&self, b: &mut [T]) {
         self.solve_body::<true>(b);
     }
 

@@ -62,8 +62,8 @@ fn div(a: V, b: V) -> V {
 /// mode is zero. Padding lanes are zero.
 pub fn factors<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 2]> {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: the processor supports AVX (checked just above); the body is safe code.
+    if crate::simd::avx(crate::simd::Kernel::VorticityTri) {
+        // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
         return unsafe { factors_avx(sigma, rows) };
     }
     factors_body(sigma, rows)
@@ -71,7 +71,7 @@ pub fn factors<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 2
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-unsafe fn factors_avx<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 2]> {
+fn factors_avx<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 2]> {
     factors_body(sigma, rows)
 }
 

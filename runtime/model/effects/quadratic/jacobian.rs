@@ -22,8 +22,8 @@ impl QuadraticCoupling {
     /// (module doc).
     pub(super) fn jacobian_rows(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: AVX is available (checked just above); the body is safe code.
+        if crate::simd::avx(crate::simd::Kernel::QuadraticJacobian) {
+            // SAFETY: AVX is available (`simd::avx` checked); the body is safe code.
             unsafe { self.jacobian_avx(at, first, grad, jac) };
             return;
         }
@@ -31,12 +31,9 @@ impl QuadraticCoupling {
     }
 
     /// [`jacobian_body`](Self::jacobian_body) compiled with AVX (the same operations).
-    ///
-    /// # Safety
-    /// AVX available.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn jacobian_avx(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
+    fn jacobian_avx(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
         self.jacobian_body(at, first, grad, jac);
     }
 

@@ -75,8 +75,8 @@ impl FrameMap {
         SCRATCH.with(|s| {
             let ws = &mut *s.borrow_mut();
             #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx") {
-                // SAFETY: AVX is available (checked just above); the body is safe code.
+            if crate::simd::avx(crate::simd::Kernel::FrameJacobian) {
+                // SAFETY: AVX is available (`simd::avx` checked); the body is safe code.
                 unsafe { self.jacobian_avx(at, first, grad, jac, ws) };
                 return;
             }
@@ -85,12 +85,9 @@ impl FrameMap {
     }
 
     /// [`jacobian_with`](Self::jacobian_with) compiled with AVX (the same operations).
-    ///
-    /// # Safety
-    /// AVX available.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
-    unsafe fn jacobian_avx(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch) {
+    fn jacobian_avx(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch) {
         self.jacobian_with(at, first, grad, jac, ws);
     }
 
