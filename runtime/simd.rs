@@ -42,12 +42,6 @@ impl Level {
 /// The kernels that have a SIMD form, each switchable to its portable form alone.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kernel {
-    /// Radau5's loops over the components (integrate/radau/kernels.rs).
-    RadauLoops,
-    /// The split complex LU of Radau5's complex system (integrate/split_lu.rs, `SplitLu`).
-    SplitLu,
-    /// The real dense LU of the reduced system (integrate/split_lu.rs, `RealLu`).
-    RealLu,
     /// The matrix exponential's element-wise loops and Padé solve (analysis/expm.rs).
     Expm,
     /// The pair-row products of the second-order loads (model/effects/pair_rows_kernels.rs), AVX.
@@ -58,53 +52,26 @@ pub enum Kernel {
     FrameSweep,
     /// The fluid coupling's pair factors, AVX2 (model/effects/quadratic.rs).
     QuadraticFactors,
-    /// The fluid coupling's Jacobian rows (model/effects/quadratic/jacobian.rs).
-    QuadraticJacobian,
-    /// The frame map's Jacobian (model/effects/quadratic_frame/jacobian.rs).
-    FrameJacobian,
-    /// The second-order membrane's pair factors (model/effects/quadratic_membrane.rs).
-    MembraneFactors,
-    /// The second-order membrane's Jacobian row sums (model/effects/quadratic_membrane.rs).
-    MembraneJacobian,
-    /// The vorticity nodes' tridiagonal factors (model/vorticity/tri.rs).
-    VorticityTri,
-    /// The batched tridiagonal solves of every mode (model/vorticity/batch.rs).
-    VorticityBatch,
-    /// The structured LU's solve (model/vorticity/structured.rs).
-    VorticityStructured,
     /// The vorticity operator's rows (model/vorticity/operator.rs, `apply_shared`).
     VorticityOperator,
     /// The vorticity functionals' 4-lane sums (model/vorticity/operator.rs).
     VorticityFunctionals,
-    /// The dense LU of the small vorticity systems and its row kernels (model/vorticity/dense.rs, dense_rows.rs).
-    VorticityDense,
 }
 
 impl Kernel {
     /// Every kernel, in the order of their bits.
-    pub const ALL: [Kernel; 18] = [Kernel::RadauLoops, Kernel::SplitLu, Kernel::RealLu, Kernel::Expm, Kernel::PairRows, Kernel::PairRows512, Kernel::FrameSweep, Kernel::QuadraticFactors, Kernel::QuadraticJacobian, Kernel::FrameJacobian, Kernel::MembraneFactors, Kernel::MembraneJacobian, Kernel::VorticityTri, Kernel::VorticityBatch, Kernel::VorticityStructured, Kernel::VorticityOperator, Kernel::VorticityFunctionals, Kernel::VorticityDense];
+    pub const ALL: [Kernel; 7] = [Kernel::Expm, Kernel::PairRows, Kernel::PairRows512, Kernel::FrameSweep, Kernel::QuadraticFactors, Kernel::VorticityOperator, Kernel::VorticityFunctionals];
 
     /// The name `MAGBUBBLE_PORTABLE` takes.
     pub fn name(self) -> &'static str {
         match self {
-            Kernel::RadauLoops => "radau_loops",
-            Kernel::SplitLu => "split_lu",
-            Kernel::RealLu => "real_lu",
             Kernel::Expm => "expm",
             Kernel::PairRows => "pair_rows",
             Kernel::PairRows512 => "pair_rows_avx512",
             Kernel::FrameSweep => "frame_sweep",
             Kernel::QuadraticFactors => "quadratic_factors",
-            Kernel::QuadraticJacobian => "quadratic_jacobian",
-            Kernel::FrameJacobian => "frame_jacobian",
-            Kernel::MembraneFactors => "membrane_factors",
-            Kernel::MembraneJacobian => "membrane_jacobian",
-            Kernel::VorticityTri => "vorticity_tri",
-            Kernel::VorticityBatch => "vorticity_batch",
-            Kernel::VorticityStructured => "vorticity_structured",
             Kernel::VorticityOperator => "vorticity_operator",
             Kernel::VorticityFunctionals => "vorticity_functionals",
-            Kernel::VorticityDense => "vorticity_dense",
         }
     }
 
@@ -223,11 +190,11 @@ mod tests {
         assert_eq!(parse(Some("0"), hw), Ok(Policy { level: hw, portable: 0 }));
         assert_eq!(parse(Some(" 1 "), hw), Ok(Policy { level: Level::Portable, portable: 0 }));
         assert_eq!(parse(Some("all"), hw), Ok(Policy { level: Level::Portable, portable: 0 }));
-        let p = parse(Some("real_lu, radau_loops"), hw).unwrap();
+        let p = parse(Some("expm, pair_rows"), hw).unwrap();
         assert_eq!(p.level, hw);
-        assert_eq!(p.portable, Kernel::RealLu.bit() | Kernel::RadauLoops.bit());
-        let e = parse(Some("real_lu,nope"), hw).unwrap_err();
-        assert!(e.contains("`nope`") && e.contains("split_lu"), "{e}");
+        assert_eq!(p.portable, Kernel::Expm.bit() | Kernel::PairRows.bit());
+        let e = parse(Some("expm,nope"), hw).unwrap_err();
+        assert!(e.contains("`nope`") && e.contains("pair_rows"), "{e}");
     }
 
     #[test]

@@ -8,8 +8,8 @@
 //! operations in the same order as `num_complex` forms them (re = a.re b.re − a.im b.im,
 //! im = a.re b.im + a.im b.re), so the factors and solutions are the same to the bit. What
 //! changes is the layout: the inner loops become real axpys over contiguous slices, which the
-//! compiler vectorises where the interleaved `Complex` loops stayed scalar — with AVX (4 lanes)
-//! when the processor has it (runtime check; no FMA, so lane for lane the same operations).
+//! compiler vectorises (with the build's baseline instructions) where the interleaved `Complex`
+//! loops stayed scalar.
 
 use super::linalg::Scalar;
 use nalgebra::Complex;
@@ -60,23 +60,6 @@ impl SplitLu {
     /// Factors the row-major n × n matrix `a`; `Err(k)` when singular at column k.
     pub(crate) fn factor(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
         assert_eq!(a.len(), n * n, "SplitLu: n × n");
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::SplitLu) {
-            // SAFETY: the processor has AVX (`simd::avx` checked); the body is safe code.
-            return unsafe { Self::factor_avx(n, a) };
-        }
-        Self::factor_body(n, a)
-    }
-
-    /// [`factor`](Self::factor) compiled with AVX (4-lane loops, no FMA: the same bits).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn factor_avx(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
-        Self::factor_body(n, a)
-    }
-
-    #[inline(always)]
-    fn factor_body(n: usize, a: &[Complex<f64>]) -> Result<Self, usize> {
         let mut ar: Vec<f64> = a.iter().map(|z| z.re).collect();
         let mut ai: Vec<f64> = a.iter().map(|z| z.im).collect();
         let mut piv = vec![0; n];
@@ -114,23 +97,6 @@ impl SplitLu {
 
     /// Solves A x = b in place (the substitutions of `ShiftedLu::solve`, dense branch).
     pub(crate) fn solve(&self, b: &mut [Complex<f64>]) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::SplitLu) {
-            // SAFETY: the processor has AVX (`simd::avx` checked); the body is safe code.
-            return unsafe { self.solve_avx(b) };
-        }
-        self.solve_body(b)
-    }
-
-    /// [`solve`](Self::solve) compiled with AVX.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn solve_avx(&self, b: &mut [Complex<f64>]) {
-        self.solve_body(b)
-    }
-
-    #[inline(always)]
-    fn solve_body(&self, b: &mut [Complex<f64>]) {
         let n = self.n;
         let mut guard = self.scratch.borrow_mut();
         let (br, bi) = &mut *guard;
@@ -161,8 +127,7 @@ impl SplitLu {
 }
 
 /// The real dense LU of [`super::reduced`]: the algorithm of the dense [`super::linalg::ShiftedLu`]
-/// for f64, operation for operation (so the same factors and solutions to the bit), with its
-/// loops compiled with AVX when the processor has it.
+/// for f64, operation for operation (so the same factors and solutions to the bit).
 #[derive(Debug)]
 pub(crate) struct RealLu {
     n: usize,
@@ -174,24 +139,8 @@ pub(crate) struct RealLu {
 
 impl RealLu {
     /// Factors the row-major n × n matrix `a` (taken over); `Err(k)` when singular at column k.
-    pub(crate) fn factor(n: usize, a: Vec<f64>) -> Result<Self, usize> {
+    pub(crate) fn factor(n: usize, mut a: Vec<f64>) -> Result<Self, usize> {
         assert_eq!(a.len(), n * n, "RealLu: n × n");
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::RealLu) {
-            // SAFETY: the processor has AVX (`simd::avx` checked); the body is safe code.
-            return unsafe { Self::factor_avx(n, a) };
-        }
-        Self::factor_body(n, a)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn factor_avx(n: usize, a: Vec<f64>) -> Result<Self, usize> {
-        Self::factor_body(n, a)
-    }
-
-    #[inline(always)]
-    fn factor_body(n: usize, mut a: Vec<f64>) -> Result<Self, usize> {
         let (mut piv, mut inv_diag, mut l) = (vec![0; n], Vec::new(), Vec::new());
         super::linalg::dense_factor(n, &mut a, &mut piv, &mut inv_diag, &mut l)?;
         Ok(RealLu { n, l, inv_diag, piv })
@@ -199,22 +148,6 @@ impl RealLu {
 
     /// Solves A x = b in place.
     pub(crate) fn solve(&self, b: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::RealLu) {
-            // SAFETY: the processor has AVX (`simd::avx` checked); the body is safe code.
-            return unsafe { self.solve_avx(b) };
-        }
-        self.solve_body(b)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn solve_avx(&self, b: &mut [f64]) {
-        self.solve_body(b)
-    }
-
-    #[inline(always)]
-    fn solve_body(&self, b: &mut [f64]) {
         super::linalg::dense_solve(self.n, &self.l, &self.piv, &self.inv_diag, b);
     }
 }
@@ -239,15 +172,11 @@ mod tests {
             let b: Vec<Complex<f64>> = (0..n).map(|_| Complex::new(rnd(), rnd())).collect();
             let split = SplitLu::factor(n, &a).expect("regular");
             let dense = ShiftedLu::<Complex<f64>>::factor_owned(n, a.clone()).expect("regular");
-            // the portable loops too (`factor` and `solve` take the AVX ones when present)
-            let portable = SplitLu::factor_body(n, &a).expect("regular");
-            let (mut xs, mut xd, mut xp) = (b.clone(), b.clone(), b.clone());
+            let (mut xs, mut xd) = (b.clone(), b.clone());
             split.solve(&mut xs);
             dense.solve(&mut xd);
-            portable.solve_body(&mut xp);
-            for ((s, d), p) in xs.iter().zip(&xd).zip(&xp) {
+            for (s, d) in xs.iter().zip(&xd) {
                 assert_eq!((s.re.to_bits(), s.im.to_bits()), (d.re.to_bits(), d.im.to_bits()), "n = {n}");
-                assert_eq!((p.re.to_bits(), p.im.to_bits()), (d.re.to_bits(), d.im.to_bits()), "portable, n = {n}");
             }
         }
         // the real LU against the dense ShiftedLu<f64>
@@ -255,15 +184,12 @@ mod tests {
             let a: Vec<f64> = (0..n * n).map(|_| rnd()).collect();
             let b: Vec<f64> = (0..n).map(|_| rnd()).collect();
             let real = RealLu::factor(n, a.clone()).expect("regular");
-            let portable = RealLu::factor_body(n, a.clone()).expect("regular");
             let dense = ShiftedLu::<f64>::factor_owned(n, a).expect("regular");
-            let (mut xs, mut xd, mut xp) = (b.clone(), b.clone(), b);
+            let (mut xs, mut xd) = (b.clone(), b);
             real.solve(&mut xs);
             dense.solve(&mut xd);
-            portable.solve_body(&mut xp);
-            for ((s, d), p) in xs.iter().zip(&xd).zip(&xp) {
+            for (s, d) in xs.iter().zip(&xd) {
                 assert_eq!(s.to_bits(), d.to_bits(), "real, n = {n}");
-                assert_eq!(p.to_bits(), d.to_bits(), "real portable, n = {n}");
             }
         }
         assert_eq!(RealLu::factor(2, vec![0.0; 4]).err(), Some(0));

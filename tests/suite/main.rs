@@ -58,6 +58,7 @@ mod quadratic_shell_effects;
 mod quadratic_virial;
 mod quadratic_resonance;
 mod quadratic_forms;
+mod simd_policy;
 mod quadratic_vorticity;
 mod plot;
 mod plot_figures;

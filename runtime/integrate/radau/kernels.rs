@@ -7,33 +7,16 @@
 //! with the pass that reads the values anyway). Per component the operations and their order are
 //! those of the scalar code they replace, so the results are the same to the bit; the sums of
 //! the norms stay sequential in the component order (the compiler vectorises the element-wise
-//! part and adds the terms in order). Every kernel is written once, `#[inline(always)]`, and
-//! compiled twice: for the build's baseline (SSE2) and inside an `avx` function chosen at run
-//! time when `crate::simd` allows AVX (no FMA, so the same roundings), as `model/vorticity/batch.rs`.
+//! part and adds the terms in order), for the build's baseline (x86-64: SSE2). An AVX build of
+//! them earned about 1 % (SIMD policy, docs/performance.md) and was removed.
 
 use nalgebra::Complex;
 
-/// `pub(super) fn $name(args) -> ret`: the body compiled for the baseline and, chosen at run
-/// time, with AVX.
+/// `pub(super) fn $name(args) -> ret`.
 macro_rules! kernel {
     ($(#[$doc:meta])* fn $name:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? $body:block) => {
         $(#[$doc])*
-        pub(super) fn $name($($arg: $ty),*) $(-> $ret)? {
-            #[inline(always)]
-            fn body($($arg: $ty),*) $(-> $ret)? $body
-            #[cfg(target_arch = "x86_64")]
-            {
-                #[target_feature(enable = "avx")]
-                fn avx($($arg: $ty),*) $(-> $ret)? {
-                    body($($arg),*)
-                }
-                if crate::simd::avx(crate::simd::Kernel::RadauLoops) {
-                    // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
-                    return unsafe { avx($($arg),*) };
-                }
-            }
-            body($($arg),*)
-        }
+        pub(super) fn $name($($arg: $ty),*) $(-> $ret)? $body
     };
 }
 

@@ -105,7 +105,7 @@ impl FrameRows {
         assert!(f.u.len() >= m && f.v.len() >= m && out.len() > m, "frame rows: factor lengths");
         #[cfg(target_arch = "x86_64")]
         if crate::simd::avx(crate::simd::Kernel::FrameSweep) {
-            // SAFETY (both kernels): AVX is available (`simd::avx` checked); every pair's
+            // SAFETY: (both kernels) AVX is available (`simd::avx` checked); every pair's
             // l, m < modes, every run's n0 + len ≤ modes + 1 and the dense table modes + 1
             // targets per pair (`new`), the lengths asserted above, Σ len = k.len().
             let dense = unsafe {

@@ -14,6 +14,9 @@ macro_rules! simd_kernel {
     ($(#[$doc:meta])* $name:ident, $feature:literal, lanes $lanes:literal, $zero:ident, $load:ident, $store:ident, $mul:ident, $add:ident,
      |$sum:ident, $a:ident| $fold:expr) => {
         $(#[$doc])*
+        ///
+        /// # Safety
+        /// The processor has the feature; the slice lengths are those [`PairRows::apply`] asserts.
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
         pub(super) unsafe fn $name<const V: usize>(&self, left: &[f64], right: &[f64], w: &mut [f64], out: &mut [f64]) {

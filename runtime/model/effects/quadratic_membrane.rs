@@ -178,79 +178,15 @@ impl QuadraticMembrane {
 /// The factors of the pair products (slot i·4 + t, `np` = `p.len()` prefactors): left(k) =
 /// p_i (a_k, a_k, b_k, b_k), right(k) = (a_k, b_k, a_k, b_k), for every mode k of `left`.
 fn factors(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    if crate::simd::avx(crate::simd::Kernel::MembraneFactors) {
-        // SAFETY: AVX is available (`simd::avx` checked).
-        unsafe { factors_avx_any(at, p, left, right) };
+    let st = PRODUCTS * p.len();
+    if st == 0 {
         return;
     }
-    factors_portable(at, p, left, right);
-}
-
-/// [`factors`] by [`factors_avx`] for `p.len()` prefactors (lengths asserted here).
-///
-/// # Safety
-/// AVX available.
-#[cfg(target_arch = "x86_64")]
-unsafe fn factors_avx_any(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
-    let st = PRODUCTS * p.len();
-    let n = left.len() / st;
-    assert!(right.len() >= n * st && at.z.len() >= 2 + 3 * n, "quadratic membrane factors");
-    // SAFETY: AVX is available (the caller's contract); `p.len()` is the kernel's NP and the
-    // lengths are asserted above.
-    unsafe {
-        match p.len() {
-            0 => factors_avx::<0>(at.z, p, n, left, right),
-            1 => factors_avx::<1>(at.z, p, n, left, right),
-            2 => factors_avx::<2>(at.z, p, n, left, right),
-            3 => factors_avx::<3>(at.z, p, n, left, right),
-            4 => factors_avx::<4>(at.z, p, n, left, right),
-            5 => factors_avx::<5>(at.z, p, n, left, right),
-            6 => factors_avx::<6>(at.z, p, n, left, right),
-            7 => factors_avx::<7>(at.z, p, n, left, right),
-            MAXP => factors_avx::<MAXP>(at.z, p, n, left, right),
-            _ => unreachable!("at most MAXP prefactors (`new`)"),
-        }
-    }
-}
-
-/// [`factors`] without SIMD.
-fn factors_portable(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
-    let st = PRODUCTS * p.len();
     for (k, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate() {
         let (a, b) = (at.a(k), at.b(k));
         for ((lc, rc), pi) in lv.chunks_exact_mut(PRODUCTS).zip(rv.chunks_exact_mut(PRODUCTS)).zip(p) {
             lc.copy_from_slice(&[pi * a, pi * a, pi * b, pi * b]);
             rc.copy_from_slice(&[a, b, a, b]);
-        }
-    }
-}
-
-/// [`factors`] with one AVX register per (mode, prefactor), `NP` = `p.len()` prefactors
-/// broadcast once: the same products p_i · a_k, p_i · b_k, so bit for bit the portable result.
-///
-/// # Safety
-/// AVX available; `p.len()` = `NP`; `z` ≥ 2 + 3n, `left` and `right` ≥ n · 4 · `NP` long.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn factors_avx<const NP: usize>(z: &[f64], p: &[f64], n: usize, left: &mut [f64], right: &mut [f64]) {
-    use std::arch::x86_64::*;
-    // SAFETY: the caller's contract (# Safety): `p` has NP entries, `z` ≥ 2 + 3n and `left`,
-    // `right` ≥ n·4·NP, so every read and 4-lane store is in range; AVX is enabled.
-    unsafe {
-        debug_assert_eq!(p.len(), NP);
-        let st = PRODUCTS * NP;
-        let pv: [__m256d; NP] = std::array::from_fn(|i| _mm256_set1_pd(*p.get_unchecked(i)));
-        let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
-        for k in 0..n {
-            let (a, b) = (*zp.add(2 + 3 * k), *zp.add(4 + 3 * k));
-            // _mm256_set_pd takes the lanes from the highest down
-            let (x, y) = (_mm256_set_pd(b, b, a, a), _mm256_set_pd(b, a, b, a));
-            for (i, pi) in pv.iter().enumerate() {
-                let at = k * st + PRODUCTS * i;
-                _mm256_storeu_pd(lp.add(at), _mm256_mul_pd(*pi, x));
-                _mm256_storeu_pd(rp.add(at), y);
-            }
         }
     }
 }
@@ -285,12 +221,6 @@ impl Term for QuadraticMembrane {
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let (p, d) = self.prefactors(at.r());
         let np = self.monos.len();
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::MembraneJacobian) {
-            // SAFETY: AVX is available (`simd::avx` checked).
-            unsafe { self.jacobian_avx(at, jac, &p[..np], &d[..np]) };
-            return;
-        }
         self.jacobian_with(at, jac, |c| row_sums(c, &p[..np], &d[..np]));
     }
 }
@@ -308,41 +238,7 @@ fn row_sums(c: &[f64], p: &[f64], d: &[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS
     (cp, cd)
 }
 
-/// [`row_sums`] with the four products in one AVX register: the same products and sums per
-/// lane, so bit for bit its result.
-///
-/// # Safety
-/// AVX available.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-#[inline]
-unsafe fn row_sums_avx(c: &[f64], p: &[f64], d: &[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS]) {
-    use std::arch::x86_64::*;
-    // SAFETY: each load is of a 4-entry chunk of `c` and each store into a 4-entry array;
-    // AVX is available (the caller's contract).
-    unsafe {
-        let (mut cp, mut cd) = (_mm256_setzero_pd(), _mm256_setzero_pd());
-        for (ci, (pi, di)) in c.chunks_exact(PRODUCTS).zip(p.iter().zip(d)) {
-            let x = _mm256_loadu_pd(ci.as_ptr());
-            cp = _mm256_add_pd(cp, _mm256_mul_pd(x, _mm256_set1_pd(*pi)));
-            cd = _mm256_add_pd(cd, _mm256_mul_pd(x, _mm256_set1_pd(*di)));
-        }
-        let (mut a, mut b) = ([0.0; PRODUCTS], [0.0; PRODUCTS]);
-        _mm256_storeu_pd(a.as_mut_ptr(), cp);
-        _mm256_storeu_pd(b.as_mut_ptr(), cd);
-        (a, b)
-    }
-}
-
 impl QuadraticMembrane {
-    /// [`Term::add_jacobian`] with the rows' prefactor sums in AVX registers ([`row_sums_avx`]).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn jacobian_avx(&self, at: &At<'_>, jac: &mut LoadJacobian, p: &[f64], d: &[f64]) {
-        // SAFETY: AVX is enabled on this function (and so on the closure inlined into it).
-        self.jacobian_with(at, jac, |c| unsafe { row_sums_avx(c, p, d) });
-    }
-
     /// The Jacobian's walk over the rows, `sums(c)` a row's [`row_sums`].
     #[inline(always)]
     fn jacobian_with(&self, at: &At<'_>, jac: &mut LoadJacobian, sums: impl Fn(&[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS])) {
@@ -376,7 +272,3 @@ impl QuadraticMembrane {
         }
     }
 }
-
-#[cfg(test)]
-#[path = "quadratic_membrane_tests.rs"]
-mod tests;

@@ -9,9 +9,9 @@
 //! `num_complex` on interleaved values (a·b = (a.re b.re − a.im b.im, a.re b.im + a.im b.re)),
 //! so the results are the interleaved loops' to the bit.
 //!
-//! Each kernel is written once, `#[inline(always)]`, and compiled twice: as it is (the build's
-//! baseline x86-64, SSE2) and inside an `avx` function chosen at run time when the processor has
-//! AVX (4 lanes of f64; no FMA, so the same roundings), as `model/effects/pair_rows.rs` does.
+//! The kernels are compiled for the build's baseline (x86-64: SSE2, two lanes per register);
+//! an AVX build of them earned at most 1 % of the monolithic run and was removed (the SIMD policy,
+//! docs/performance.md).
 
 use super::nodes::{self, per_q};
 use super::pool;
@@ -152,18 +152,6 @@ impl TriBatch {
 
     /// x ← (σI − L_k)⁻¹ x for every mode k at once (x node-major, split like the factors).
     pub fn solve(&self, x: &mut Split) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::VorticityBatch) {
-            // SAFETY: the processor supports AVX (`simd::avx` checked); the kernel is safe code.
-            unsafe { self.solve_avx(x) };
-            return;
-        }
-        self.solve_body(x);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn solve_avx(&self, x: &mut Split) {
         self.solve_body(x);
     }
 
@@ -189,17 +177,6 @@ impl TriBatch {
     /// split vector: for complex factors the imaginary parts are pushed by the sweep (no zeroed
     /// buffer), and `src` is read by the forward sweep (no copy first).
     pub fn solve_real_rhs(&self, src: &[V]) -> Split {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::VorticityBatch) {
-            // SAFETY: the processor supports AVX (`simd::avx` checked); the kernel is safe code.
-            return unsafe { self.solve_real_rhs_avx(src) };
-        }
-        self.solve_real_rhs_body(src)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn solve_real_rhs_avx(&self, src: &[V]) -> Split {
         self.solve_real_rhs_body(src)
     }
 

@@ -5,7 +5,7 @@
 //! order are those of `num_complex` on interleaved values (a·b = (a.re b.re − a.im b.im,
 //! a.re b.im + a.im b.re), then x − a·b), so the results are the interleaved LU's to the bit
 //! (the forward substitution column by column subtracts, from each entry, the same products in
-//! the same order as the row-by-row one). Kernels compiled with AVX when the processor has it.
+//! the same order as the row-by-row one).
 
 use super::batch::Lane;
 use super::dense_rows as rows;
@@ -32,17 +32,6 @@ pub struct DenseLu<T> {
 impl<T: Lane> DenseLu<T> {
     /// Factors the row-major n × n `a`; `None` when a pivot is zero or not finite.
     pub fn new(n: usize, a: &[T]) -> Option<Self> {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::VorticityDense) {
-            // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
-            return unsafe { Self::new_avx(n, a) };
-        }
-        Self::new_body(n, a)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn new_avx(n: usize, a: &[T]) -> Option<Self> {
         Self::new_body(n, a)
     }
 
@@ -86,25 +75,11 @@ impl<T: Lane> DenseLu<T> {
 
     /// x ← A⁻¹ x, x split (`xi` empty for a real T).
     pub fn solve(&self, xr: &mut [f64], xi: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::VorticityDense) {
-            // SAFETY: the processor supports AVX (`simd::avx` checked); the row kernels are called with `AVX` only from here.
-            unsafe { self.solve_avx(xr, xi) };
-            return;
-        }
-        self.solve_body::<false>(xr, xi)
+        self.solve_body(xr, xi)
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn solve_avx(&self, xr: &mut [f64], xi: &mut [f64]) {
-        self.solve_body::<true>(xr, xi)
-    }
-
-    /// `AVX`: the back substitution's rows by [`rows::complex_avx`] / [`rows::real_avx`] (only
-    /// from [`solve_avx`](Self::solve_avx)).
     #[inline(always)]
-    fn solve_body<const AVX: bool>(&self, xr: &mut [f64], xi: &mut [f64]) {
+    fn solve_body(&self, xr: &mut [f64], xi: &mut [f64]) {
         let n = self.n;
         let (xr, xi) = (&mut xr[..n], &mut xi[..if T::CPLX { n } else { 0 }]);
         for (k, &p) in self.piv.iter().enumerate() {
@@ -120,10 +95,10 @@ impl<T: Lane> DenseLu<T> {
             if T::CPLX {
                 let (ur, ui) = (&self.ur[row.clone()], &self.ui[row]);
                 let (tr, ti) = (&xr[i + 1..], &xi[i + 1..]);
-                let (sr, si) = rows::complex::<AVX>((xr[i], xi[i]), (ur, ui), (tr, ti));
+                let (sr, si) = rows::complex((xr[i], xi[i]), (ur, ui), (tr, ti));
                 (xr[i], xi[i]) = (sr * self.dr[i] - si * self.di[i], sr * self.di[i] + si * self.dr[i]);
             } else {
-                let s = rows::real::<AVX>(xr[i], &self.ur[row], &xr[i + 1..]);
+                let s = rows::real(xr[i], &self.ur[row], &xr[i + 1..]);
                 xr[i] = s * self.dr[i];
             }
         }

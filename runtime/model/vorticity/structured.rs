@@ -267,26 +267,11 @@ impl StructuredJacobian {
 impl<T: Lane> StructuredLu<T> {
     /// Solves (σI − J) x = b in place (state layout of the monolithic system).
     pub fn solve(&self, b: &mut [T]) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::VorticityStructured) {
-            // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
-            unsafe { self.solve_avx(b) };
-            return;
-        }
-        self.solve_body::<false>(b);
+        self.solve_body(b);
     }
 
-    /// [`solve`](Self::solve) compiled with AVX (the same operations; module `batch`).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn solve_avx(&self, b: &mut [T]) {
-        self.solve_body::<true>(b);
-    }
-
-    /// `AVX`: the s_k sums by [`dense_rows::dot`]'s AVX form (only from
-    /// [`solve_avx`](Self::solve_avx)).
     #[inline(always)]
-    fn solve_body<const AVX: bool>(&self, b: &mut [T]) {
+    fn solve_body(&self, b: &mut [T]) {
         let j = &*self.jac;
         let (m, nz, nb) = (j.m, j.nz, j.nb);
         let q = per_node(m);
@@ -336,9 +321,9 @@ impl<T: Lane> StructuredLu<T> {
                 b[2 + k * nb + c] = x(2 + 3 * k + c);
             }
             // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
-            s[k / L][k % L] = dense_rows::dot::<AVX>(xr, row);
+            s[k / L][k % L] = dense_rows::dot(xr, row);
             if T::CPLX {
-                s[q + k / L][k % L] = dense_rows::dot::<AVX>(xi, row);
+                s[q + k / L][k % L] = dense_rows::dot(xi, row);
             }
         }
         let [uc, ur, urd] = &self.u;

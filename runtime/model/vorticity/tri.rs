@@ -61,17 +61,6 @@ fn div(a: V, b: V) -> V {
 /// (1/β, γ) node-major and split (`im` parts empty for a real σ), or `None` when some β of a
 /// mode is zero. Padding lanes are zero.
 pub fn factors<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 2]> {
-    #[cfg(target_arch = "x86_64")]
-    if crate::simd::avx(crate::simd::Kernel::VorticityTri) {
-        // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
-        return unsafe { factors_avx(sigma, rows) };
-    }
-    factors_body(sigma, rows)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn factors_avx<T: Lane>(sigma: T, rows: &TriRows) -> Option<[(Vec<V>, Vec<V>); 2]> {
     factors_body(sigma, rows)
 }
 

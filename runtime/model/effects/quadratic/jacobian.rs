@@ -21,19 +21,6 @@ impl QuadraticCoupling {
     /// [`SecondOrderTerm::add_jacobian`](super::super::second_order::SecondOrderTerm::add_jacobian)
     /// (module doc).
     pub(super) fn jacobian_rows(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::QuadraticJacobian) {
-            // SAFETY: AVX is available (`simd::avx` checked); the body is safe code.
-            unsafe { self.jacobian_avx(at, first, grad, jac) };
-            return;
-        }
-        self.jacobian_body(at, first, grad, jac);
-    }
-
-    /// [`jacobian_body`](Self::jacobian_body) compiled with AVX (the same operations).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn jacobian_avx(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
         self.jacobian_body(at, first, grad, jac);
     }
 

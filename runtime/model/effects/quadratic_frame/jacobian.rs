@@ -13,8 +13,7 @@
 //! K(n, j, i) exactly, so the walk's sum over l into a b_k column is this sum over the partner
 //! in the same order): bit for bit its Jacobian ([`FrameMap::jacobian_reference`], kept for
 //! the test below), so the run's step sequence and series.csv do not move. The frame change
-//! and J(z^L)'s share are walked as before. Compiled with AVX where the processor has it (no
-//! FMA).
+//! and J(z^L)'s share are walked as before.
 
 use std::cell::RefCell;
 
@@ -74,21 +73,8 @@ impl FrameMap {
     pub(super) fn jacobian(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian) {
         SCRATCH.with(|s| {
             let ws = &mut *s.borrow_mut();
-            #[cfg(target_arch = "x86_64")]
-            if crate::simd::avx(crate::simd::Kernel::FrameJacobian) {
-                // SAFETY: AVX is available (`simd::avx` checked); the body is safe code.
-                unsafe { self.jacobian_avx(at, first, grad, jac, ws) };
-                return;
-            }
             self.jacobian_with(at, first, grad, jac, ws);
         });
-    }
-
-    /// [`jacobian_with`](Self::jacobian_with) compiled with AVX (the same operations).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn jacobian_avx(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch) {
-        self.jacobian_with(at, first, grad, jac, ws);
     }
 
     /// The Jacobian in the work space `ws` (module doc).
