@@ -50,17 +50,13 @@ pub enum Kernel {
     PairRows512,
     /// The frame map's dense and sparse sweeps (model/effects/frame_sweep.rs).
     FrameSweep,
-    /// The fluid coupling's pair factors, AVX2 (model/effects/quadratic.rs).
-    QuadraticFactors,
-    /// The vorticity operator's rows (model/vorticity/operator.rs, `apply_shared`).
-    VorticityOperator,
     /// The vorticity functionals' 4-lane sums (model/vorticity/operator.rs).
     VorticityFunctionals,
 }
 
 impl Kernel {
     /// Every kernel, in the order of their bits.
-    pub const ALL: [Kernel; 7] = [Kernel::Expm, Kernel::PairRows, Kernel::PairRows512, Kernel::FrameSweep, Kernel::QuadraticFactors, Kernel::VorticityOperator, Kernel::VorticityFunctionals];
+    pub const ALL: [Kernel; 5] = [Kernel::Expm, Kernel::PairRows, Kernel::PairRows512, Kernel::FrameSweep, Kernel::VorticityFunctionals];
 
     /// The name `MAGBUBBLE_PORTABLE` takes.
     pub fn name(self) -> &'static str {
@@ -69,8 +65,6 @@ impl Kernel {
             Kernel::PairRows => "pair_rows",
             Kernel::PairRows512 => "pair_rows_avx512",
             Kernel::FrameSweep => "frame_sweep",
-            Kernel::QuadraticFactors => "quadratic_factors",
-            Kernel::VorticityOperator => "vorticity_operator",
             Kernel::VorticityFunctionals => "vorticity_functionals",
         }
     }

@@ -25,6 +25,26 @@ fn apply_avx(rows: &PairRows, left: &[f64], right: &[f64], w: &mut [f64], start:
     out
 }
 
+/// The AVX-512 kernel for a stride that is a multiple of 8 (as [`apply_avx`]; the caller checks
+/// AVX-512F).
+#[cfg(target_arch = "x86_64")]
+fn apply_avx512(rows: &PairRows, left: &[f64], right: &[f64], w: &mut [f64], start: f64) -> Vec<f64> {
+    assert!(crate::simd::detected() >= crate::simd::Level::Avx512);
+    let mut out = vec![start; rows.out_at.len()];
+    // SAFETY: the processor has AVX-512F (asserted just above); the callers' lengths are those
+    // apply asserts.
+    unsafe {
+        match rows.stride() {
+            8 => rows.apply_avx512::<1>(left, right, w, &mut out),
+            16 => rows.apply_avx512::<2>(left, right, w, &mut out),
+            24 => rows.apply_avx512::<3>(left, right, w, &mut out),
+            32 => rows.apply_avx512::<4>(left, right, w, &mut out),
+            st => panic!("no AVX-512 kernel for stride {st}"),
+        }
+    }
+    out
+}
+
 /// The sparse sums equal the plain double loop over every (output, pair, slot).
 #[test]
 fn eval_is_the_plain_sum() {
@@ -96,6 +116,13 @@ fn avx_kernel_is_the_portable_one_bit_for_bit() {
                 assert_eq!(a.to_bits(), b.to_bits(), "stride {st} (AVX): {a} against {b}");
             }
         }
+        #[cfg(target_arch = "x86_64")]
+        if st % 8 == 0 && crate::simd::test_can_run(crate::simd::Level::Avx512, "pair rows: AVX-512 kernel against the portable one") {
+            let wide = apply_avx512(&rows, &left, &right, &mut w, 0.5);
+            for (a, b) in portable.iter().zip(&wide) {
+                assert_eq!(a.to_bits(), b.to_bits(), "stride {st} (AVX-512): {a} against {b}");
+            }
+        }
     }
 }
 
@@ -130,6 +157,13 @@ fn twins_change_no_bit() {
             let avx = apply_avx(&rows, &left, &right, &mut w, 0.25);
             for (a, b) in all.iter().zip(&avx) {
                 assert_eq!(a.to_bits(), b.to_bits(), "stride {st}, {modes} modes (AVX): {a} against {b}");
+            }
+        }
+        #[cfg(target_arch = "x86_64")]
+        if st % 8 == 0 && crate::simd::test_can_run(crate::simd::Level::Avx512, "pair rows: AVX-512 twin loop against the portable one") {
+            let wide = apply_avx512(&rows, &left, &right, &mut w, 0.25);
+            for (a, b) in all.iter().zip(&wide) {
+                assert_eq!(a.to_bits(), b.to_bits(), "stride {st}, {modes} modes (AVX-512): {a} against {b}");
             }
         }
         for (o, &got) in all.iter().enumerate() {

@@ -14,9 +14,8 @@
 //! l ≤ m (symmetric products folded), each with one coefficient per *slot* — a table term's
 //! product first(l)·second(m), or for an asymmetric term also first(m)·second(l)
 //! ([`super::pair_rows`]: the slot products once per pair, prefactor included, then one
-//! contiguous dot product per output); a mode's left and right factors are two lane
-//! permutations each of one register [a, ȧ, ä⁽¹⁾, 0] (AVX2; the sides planned once). No
-//! allocation. The radial-only terms (the gas at the
+//! contiguous dot product per output); a mode's left and right factors are gathered from
+//! [a, ȧ, ä⁽¹⁾, 0] by the slots' sides (planned once). No allocation. The radial-only terms (the gas at the
 //! exact volume) are a short scalar list. The Jacobian is exact (chain rule through R̈⁽¹⁾, ä⁽¹⁾
 //! and p_g(R)) and walks the same rows: per output the derivatives with respect to the 3M
 //! amplitudes and the prefactor symbols, then the chain rule once.
@@ -79,9 +78,6 @@ pub struct QuadraticCoupling {
     gather: Vec<(usize, usize)>,
     /// per slot, which of (a, ȧ, ä) of mode l and of mode m it multiplies (3: padding, a zero)
     sides: [(usize, usize); MAX_SLOTS],
-    /// the sides as f32 lane permutations of amp, for slots 0–3 and 4–7 of the left, then of the
-    /// right factors ([`factors_avx2`](Self::factors_avx2): f64 lane x = f32 lanes 2x, 2x + 1)
-    perm: [[i32; 8]; 4],
     /// the (output, pair) rows: output 0 radial, 1 + i mode index i
     rows: PairRows,
     /// the radial-only terms (j = 0, l = m), scalar
@@ -154,12 +150,6 @@ impl QuadraticCoupling {
             // one factor of each mode: (l side, m side)
             *sd = if x < 3 { (x, y - 3) } else { (y, x - 3) };
         }
-        let perm = std::array::from_fn(|q| {
-            std::array::from_fn(|i| {
-                let (f, g) = sides[4 * (q % 2) + i / 2];
-                2 * (if q < 2 { f } else { g } & 3) as i32 + (i % 2) as i32
-            })
-        });
         let (mut steps, mut step_at) = (Vec::new(), Vec::new());
         for (_, _, e) in &kinds {
             let a = steps.len();
@@ -169,7 +159,7 @@ impl QuadraticCoupling {
             steps.extend(each(-1));
             step_at.push((a, b, steps.len()));
         }
-        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, steps, step_at, slots, gather, sides, perm, rows, radial_only }
+        Self { rho, gamma, kappa: three_kappa / 3.0, pg0, r0, orders: orders.to_vec(), kinds, steps, step_at, slots, gather, sides, rows, radial_only }
     }
 
     /// Number of (unordered pair, target) rows the rhs evaluates.
@@ -230,50 +220,10 @@ impl QuadraticCoupling {
     /// amp_i[g_s], amp = [a, ȧ, ä⁽¹⁾, 0], (f_s, g_s) the slot's sides (padding: 3, a zero).
     fn factors(&self, z: &[f64], add: &[f64], pre: &[f64; MAX_SLOTS], left: &mut [f64], right: &mut [f64]) {
         let st = self.rows.stride();
-        #[cfg(target_arch = "x86_64")]
-        if st == 8 && crate::simd::avx(crate::simd::Kernel::QuadraticFactors) {
-            assert!(z.len() >= 2 + 3 * add.len() && left.len() >= 8 * add.len() && right.len() >= 8 * add.len(), "quadratic factors");
-            // SAFETY: AVX2 is available (`simd::avx` checked); the lengths asserted above.
-            unsafe { self.factors_avx2(z, add, pre, left, right) };
-            return;
-        }
-        self.factors_portable(z, add, pre, left, right);
-    }
-
-    /// [`factors`](Self::factors) slot by slot.
-    fn factors_portable(&self, z: &[f64], add: &[f64], pre: &[f64; MAX_SLOTS], left: &mut [f64], right: &mut [f64]) {
-        let st = self.rows.stride();
         for (i, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate().take(add.len()) {
             let a4 = [z[2 + 3 * i], z[3 + 3 * i], add[i], 0.0];
             for (((x, y), &(f, g)), p) in lv.iter_mut().zip(rv.iter_mut()).zip(&self.sides).zip(pre) {
                 (*x, *y) = (p * a4[f & 3], a4[g & 3]);
-            }
-        }
-    }
-
-    /// [`factors`](Self::factors) for 8 slots: amp in one register, each side's 8 factors two
-    /// lane permutations of it (the same products, so bit for bit the portable result).
-    ///
-    /// # Safety
-    /// AVX2 available; stride 8; `z` ≥ 2 + 3n, `left`, `right` ≥ 8n long (n = `add.len()`).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn factors_avx2(&self, z: &[f64], add: &[f64], pre: &[f64; MAX_SLOTS], left: &mut [f64], right: &mut [f64]) {
-        use std::arch::x86_64::*;
-        // SAFETY: the caller's contract (# Safety): stride 8 and the asserted lengths keep every
-        // load from `z`, `pre`, `perm` and every store to `left`, `right` in range; AVX2 is enabled.
-        unsafe {
-            let perm = |q: usize| _mm256_loadu_si256(self.perm[q].as_ptr().cast());
-            let (f0, f1, g0, g1) = (perm(0), perm(1), perm(2), perm(3));
-            let (p0, p1) = (_mm256_loadu_pd(pre.as_ptr()), _mm256_loadu_pd(pre.as_ptr().add(4)));
-            let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
-            for (i, &ad) in add.iter().enumerate() {
-                let a4 = _mm256_castpd_ps(_mm256_set_m128d(_mm_set_sd(ad), _mm_loadu_pd(zp.add(2 + 3 * i))));
-                let side = |idx| _mm256_castps_pd(_mm256_permutevar8x32_ps(a4, idx));
-                _mm256_storeu_pd(lp.add(8 * i), _mm256_mul_pd(p0, side(f0)));
-                _mm256_storeu_pd(lp.add(8 * i + 4), _mm256_mul_pd(p1, side(f1)));
-                _mm256_storeu_pd(rp.add(8 * i), side(g0));
-                _mm256_storeu_pd(rp.add(8 * i + 4), side(g1));
             }
         }
     }
@@ -356,22 +306,5 @@ mod tests {
                 assert_eq!(q.prefactor_of(t, &s).to_bits(), QuadraticCoupling::prefactor(e, &s).to_bits(), "term {t}");
             }
         }
-    }
-
-    /// The AVX2 factors are the portable ones bit for bit.
-    #[test]
-    fn avx2_factors_are_the_portable_ones() {
-        let orders: Vec<f64> = (1..=8).map(|i| 2.0 * i as f64).collect();
-        let q = QuadraticCoupling::new(1.0, 0.1, 4.2, 1.0, 1.0, &orders);
-        let v = |i: usize| (0.37 * i as f64 + 0.1).sin();
-        let z: Vec<f64> = (0..2 + 3 * 8).map(v).collect();
-        let add: Vec<f64> = (0..8).map(|i| v(100 + i)).collect();
-        let pre: [f64; MAX_SLOTS] = std::array::from_fn(|s| if s < q.slots.len() { 1.0 + v(200 + s) } else { 0.0 });
-        let (mut l0, mut r0, mut l1, mut r1) = (vec![7.0; 64], vec![7.0; 64], vec![9.0; 64], vec![9.0; 64]);
-        q.factors_portable(&z, &add, &pre, &mut l0, &mut r0);
-        q.factors(&z, &add, &pre, &mut l1, &mut r1);
-        let bits = |x: &[f64]| x.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
-        assert_eq!(bits(&l0), bits(&l1));
-        assert_eq!(bits(&r0), bits(&r1));
     }
 }

@@ -184,21 +184,8 @@ impl ModeOperator {
 
     /// [`apply`](Self::apply) from the [`SharedRows`] at (r, rdot, nu): row i is
     /// l_i T_{i−1} + (d_i − νk(k+1)/(R² y_i²)) T_i + u_i T_{i+1} (the same operator; the diagonal
-    /// summed in another order, so equal to rounding). One pass the compiler vectorises; with
-    /// AVX when the processor has it (no FMA: the same roundings).
+    /// summed in another order, so equal to rounding). One pass the compiler vectorises.
     pub fn apply_shared(&self, rows: &SharedRows, tw: f64, t: &[f64], out: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx(crate::simd::Kernel::VorticityOperator) {
-            // SAFETY: the processor supports AVX (`simd::avx` checked); the body is safe code.
-            unsafe { self.apply_shared_avx(rows, tw, t, out) };
-            return;
-        }
-        self.apply_shared_body(rows, tw, t, out);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    fn apply_shared_avx(&self, rows: &SharedRows, tw: f64, t: &[f64], out: &mut [f64]) {
         self.apply_shared_body(rows, tw, t, out);
     }
 
