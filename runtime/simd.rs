@@ -29,7 +29,7 @@ pub enum Level {
 }
 
 impl Level {
-    /// The name in `magbubble --version`-style reports and the tests.
+    /// The name the tests print.
     pub fn name(self) -> &'static str {
         match self {
             Level::Portable => "portable",

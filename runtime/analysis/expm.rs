@@ -196,8 +196,9 @@ where
 
 /// `out` ← exp(A) (see the module doc), with the buffers of `w`; every product is one gemm.
 /// A is balanced first ([`balance_sweep`], continuing from the previous call's D):
-/// exp(A) = D exp(D⁻¹AD) D⁻¹. On x86-64 with AVX the elementwise loops and the Padé solve run
-/// 4 wide (the same operations in the same order: the result does not depend on it).
+/// exp(A) = D exp(D⁻¹AD) D⁻¹. With AVX (`crate::simd`, kernel `expm`) the elementwise loops
+/// and the Padé solve run 4 wide (the same operations in the same order: the result does not
+/// depend on it).
 pub fn expm_into<D: Dim>(a: &OMatrix<f64, D, D>, w: &mut ExpmWork<D>, out: &mut OMatrix<f64, D, D>)
 where
     DefaultAllocator: Allocator<D, D> + Allocator<D>,
