@@ -26,6 +26,7 @@ mod jacobian;
 use super::pair_rows::PairRows;
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
 use super::{At, LoadJacobian, Loads, MAX_MODES};
+use crate::model::layout::StateLayout;
 use crate::coefficients::quadratic::{Term as QTerm, FREE_BUBBLE};
 
 /// Symbols of the prefactors, in this order.
@@ -112,7 +113,7 @@ impl QuadraticCoupling {
                     let v = t.value(0, kl, km);
                     if v != 0.0 {
                         let (first, second) = (t.first.order(), t.second.order());
-                        let at = |i: usize, f: usize| if f < 3 { 3 * i + f } else { 3 * nm };
+                        let at = |i: usize, f: usize| if f < 3 { StateLayout::x_a(i) + f } else { StateLayout::x_dim(nm) };
                         radial_only.push(Entry { l, m, term, value: v, flat: (at(l, first), at(m, second)) });
                     }
                 }
@@ -232,7 +233,7 @@ impl QuadraticCoupling {
         let st = self.rows.stride();
         #[cfg(target_arch = "x86_64")]
         if st == 8 && std::arch::is_x86_feature_detected!("avx2") {
-            assert!(z.len() >= 2 + 3 * add.len() && left.len() >= 8 * add.len() && right.len() >= 8 * add.len(), "quadratic factors");
+            assert!(z.len() >= StateLayout::reduced(add.len()).dim() && left.len() >= 8 * add.len() && right.len() >= 8 * add.len(), "quadratic factors");
             // SAFETY: AVX2 is available (checked just above); the lengths asserted above.
             unsafe { self.factors_avx2(z, add, pre, left, right) };
             return;
@@ -244,7 +245,8 @@ impl QuadraticCoupling {
     fn factors_portable(&self, z: &[f64], add: &[f64], pre: &[f64; MAX_SLOTS], left: &mut [f64], right: &mut [f64]) {
         let st = self.rows.stride();
         for (i, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate().take(add.len()) {
-            let a4 = [z[2 + 3 * i], z[3 + 3 * i], add[i], 0.0];
+            let l = StateLayout::reduced(add.len());
+            let a4 = [z[l.a(i)], z[l.adot(i)], add[i], 0.0];
             for (((x, y), &(f, g)), p) in lv.iter_mut().zip(rv.iter_mut()).zip(&self.sides).zip(pre) {
                 (*x, *y) = (p * a4[f & 3], a4[g & 3]);
             }
@@ -255,7 +257,7 @@ impl QuadraticCoupling {
     /// lane permutations of it (the same products, so bit for bit the portable result).
     ///
     /// # Safety
-    /// AVX2 available; stride 8; `z` ≥ 2 + 3n, `left`, `right` ≥ 8n long (n = `add.len()`).
+    /// AVX2 available; stride 8; `z` ≥ 2 + 3n (a reduced state of n modes), `left`, `right` ≥ 8n long (n = `add.len()`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn factors_avx2(&self, z: &[f64], add: &[f64], pre: &[f64; MAX_SLOTS], left: &mut [f64], right: &mut [f64]) {
@@ -263,9 +265,10 @@ impl QuadraticCoupling {
         let perm = |q: usize| _mm256_loadu_si256(self.perm[q].as_ptr().cast());
         let (f0, f1, g0, g1) = (perm(0), perm(1), perm(2), perm(3));
         let (p0, p1) = (_mm256_loadu_pd(pre.as_ptr()), _mm256_loadu_pd(pre.as_ptr().add(4)));
-        let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
+        let (zp, lp, rp, l) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr(), StateLayout::reduced(add.len()));
         for (i, &ad) in add.iter().enumerate() {
-            let a4 = _mm256_castpd_ps(_mm256_set_m128d(_mm_set_sd(ad), _mm_loadu_pd(zp.add(2 + 3 * i))));
+            // a, ȧ adjacent in the layout
+            let a4 = _mm256_castpd_ps(_mm256_set_m128d(_mm_set_sd(ad), _mm_loadu_pd(zp.add(l.a(i)))));
             let side = |idx| _mm256_castps_pd(_mm256_permutevar8x32_ps(a4, idx));
             _mm256_storeu_pd(lp.add(8 * i), _mm256_mul_pd(p0, side(f0)));
             _mm256_storeu_pd(lp.add(8 * i + 4), _mm256_mul_pd(p1, side(f1)));
@@ -296,14 +299,16 @@ impl SecondOrderTerm for QuadraticCoupling {
         for (p, slot) in pre.iter_mut().zip(&self.slots) {
             *p = tp[slot.term];
         }
-        let (z, add) = (&at.z[..2 + 3 * n], &first.add[..n]);
-        // [a, ȧ, ä⁽¹⁾] of each mode index in a row, then one 0 (the entries' `flat`)
-        let mut amp = [0.0; 3 * MAX_MODES + 1];
-        amp[..3 * n].copy_from_slice(&z[2..]);
+        let l = StateLayout::reduced(n);
+        let (z, add) = (&at.z[..l.dim()], &first.add[..n]);
+        // [a, ȧ, ä⁽¹⁾] of each mode index in a row (x's layout, ä⁽¹⁾ in b's place), then one 0
+        // (the entries' `flat`)
+        let mut amp = [0.0; StateLayout::x_dim(MAX_MODES) + 1];
+        amp[..StateLayout::x_dim(n)].copy_from_slice(&z[l.shape()]);
         for (i, &x) in add.iter().enumerate() {
-            amp[3 * i + 2] = x;
+            amp[StateLayout::x_b(i)] = x;
         }
-        let amp = &amp[..=3 * n];
+        let amp = &amp[..=StateLayout::x_dim(n)];
         let mut out = [0.0; MAX_MODES + 1];
         for e in &self.radial_only {
             out[0] += e.value * tp[e.term] * amp[e.flat.0] * amp[e.flat.1];
@@ -360,7 +365,7 @@ mod tests {
         let orders: Vec<f64> = (1..=8).map(|i| 2.0 * i as f64).collect();
         let q = QuadraticCoupling::new(1.0, 0.1, 4.2, 1.0, 1.0, &orders);
         let v = |i: usize| (0.37 * i as f64 + 0.1).sin();
-        let z: Vec<f64> = (0..2 + 3 * 8).map(v).collect();
+        let z: Vec<f64> = (0..StateLayout::reduced(8).dim()).map(v).collect();
         let add: Vec<f64> = (0..8).map(|i| v(100 + i)).collect();
         let pre: [f64; MAX_SLOTS] = std::array::from_fn(|s| if s < q.slots.len() { 1.0 + v(200 + s) } else { 0.0 });
         let (mut l0, mut r0, mut l1, mut r1) = (vec![7.0; 64], vec![7.0; 64], vec![9.0; 64], vec![9.0; 64]);

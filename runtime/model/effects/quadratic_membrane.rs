@@ -17,7 +17,8 @@
 //! per rhs. The Jacobian walks the same rows.
 
 use super::pair_rows::PairRows;
-use super::{a_index, zeroed, At, LoadJacobian, Loads, Term};
+use super::{zeroed, At, LoadJacobian, Loads, Term, MAX_DIM};
+use crate::model::layout::StateLayout;
 use crate::coefficients::quadratic_lookup::ppp;
 use crate::coefficients::quadratic_membrane::{Ab, Form, Law, LAWS};
 use crate::coefficients::Load;
@@ -182,7 +183,7 @@ fn factors(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         let n = left.len() / st;
-        assert!(right.len() >= n * st && at.z.len() >= 2 + 3 * n, "quadratic membrane factors");
+        assert!(right.len() >= n * st && at.z.len() >= StateLayout::reduced(n).dim(), "quadratic membrane factors");
         // SAFETY: AVX is available (checked just above); the lengths asserted above.
         unsafe {
             match p.len() {
@@ -219,7 +220,7 @@ fn factors_portable(at: &At<'_>, p: &[f64], left: &mut [f64], right: &mut [f64])
 /// broadcast once: the same products p_i · a_k, p_i · b_k, so bit for bit the portable result.
 ///
 /// # Safety
-/// AVX available; `p.len()` = `NP`; `z` ≥ 2 + 3n, `left` and `right` ≥ n · 4 · `NP` long.
+/// AVX available; `p.len()` = `NP`; `z` ≥ 2 + 3n (a reduced state of n modes), `left` and `right` ≥ n · 4 · `NP` long.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 unsafe fn factors_avx<const NP: usize>(z: &[f64], p: &[f64], n: usize, left: &mut [f64], right: &mut [f64]) {
@@ -227,9 +228,9 @@ unsafe fn factors_avx<const NP: usize>(z: &[f64], p: &[f64], n: usize, left: &mu
     debug_assert_eq!(p.len(), NP);
     let st = PRODUCTS * NP;
     let pv: [__m256d; NP] = std::array::from_fn(|i| _mm256_set1_pd(*p.get_unchecked(i)));
-    let (zp, lp, rp) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr());
+    let (zp, lp, rp, l) = (z.as_ptr(), left.as_mut_ptr(), right.as_mut_ptr(), StateLayout::reduced(n));
     for k in 0..n {
-        let (a, b) = (*zp.add(2 + 3 * k), *zp.add(4 + 3 * k));
+        let (a, b) = (*zp.add(l.a(k)), *zp.add(l.b(k)));
         // _mm256_set_pd takes the lanes from the highest down
         let (x, y) = (_mm256_set_pd(b, b, a, a), _mm256_set_pd(b, a, b, a));
         for (i, pi) in pv.iter().enumerate() {
@@ -330,7 +331,7 @@ impl QuadraticMembrane {
     /// The Jacobian's walk over the rows, `sums(c)` a row's [`row_sums`].
     #[inline(always)]
     fn jacobian_with(&self, at: &At<'_>, jac: &mut LoadJacobian, sums: impl Fn(&[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS])) {
-        let n = jac.n;
+        let (n, lay) = (jac.n, jac.layout());
         let nm = self.modes;
         for o in 0..1 + 2 * nm {
             let (row, sign): (&mut [f64], f64) = match o {
@@ -339,9 +340,9 @@ impl QuadraticMembrane {
                 o => (&mut jac.gt[(o - 1 - nm) * n..(o - nm) * n], 1.0),
             };
             // ∂/∂R and ∂/∂z_x of the output, summed locally (no chain through memory)
-            let (mut dr, mut dz) = (0.0, [0.0; 2 + 3 * super::MAX_MODES]);
+            let (mut dr, mut dz) = (0.0, [0.0; MAX_DIM]);
             for ((l, m), c) in self.rows.rows(o) {
-                let (ia, ib, ja, jb) = (a_index(l), a_index(l) + 2, a_index(m), a_index(m) + 2);
+                let (ia, ib, ja, jb) = (lay.a(l), lay.b(l), lay.a(m), lay.b(m));
                 // (x, y) state indices of each product
                 let idx = [(ia, ja), (ia, jb), (ja, ib), (ib, jb)];
                 // the prefactors summed per product: value and ∂/∂R
@@ -354,7 +355,7 @@ impl QuadraticMembrane {
                 }
             }
             row[0] += sign * dr;
-            for (rj, dj) in row.iter_mut().zip(&dz).skip(2) {
+            for (rj, dj) in row.iter_mut().zip(&dz).skip(StateLayout::RADIAL) {
                 *rj += sign * dj;
             }
         }

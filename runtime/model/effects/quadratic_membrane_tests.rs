@@ -22,7 +22,7 @@ fn avx_jacobian_is_the_portable_one() {
         assert_eq!(b.map(f64::to_bits), y.map(f64::to_bits), "{np} prefactors");
     }
     let modes = 6;
-    let z: Vec<f64> = (0..2 + 3 * modes).map(|i| if i == 0 { 1.1 } else { 0.05 * v(i, 2.1) }).collect();
+    let z: Vec<f64> = (0..crate::model::layout::StateLayout::reduced(modes).dim()).map(|i| if i == 0 { 1.1 } else { 0.05 * v(i, 2.1) }).collect();
     let at = At { t: 0.0, z: &z };
     for np in 1..=MAXP {
         let p: Vec<f64> = (0..np).map(|i| v(i, 0.77) * 3.0).collect();
