@@ -396,14 +396,16 @@ mod tests {
             let h = 1e-4 * (1.0 + step as f64);
             let mut a = DMatrix::zeros(6, 6);
             for (m, (w, g)) in [(2e3, 30.0), (7e2, 9.0)].into_iter().enumerate() {
-                let i = 3 * m;
-                a[(i, i + 1)] = 1.0;
-                a[(i + 1, i)] = -w * w;
-                a[(i + 1, i + 1)] = -g;
-                a[(i + 1, i + 2)] = 4e2;
-                a[(i + 2, i)] = 5.0;
-                a[(i + 2, i + 2)] = -4e3;
-                a[(i + 1, (i + 3) % 6)] = 0.3 * w * w; // the k ± 2 coupling
+                // two shape modes' (a, ȧ, b) rows of A(t)
+                use crate::model::layout::StateLayout as L;
+                let (ia, iad, ib) = (L::x_a(m), L::x_adot(m), L::x_b(m));
+                a[(ia, iad)] = 1.0;
+                a[(iad, ia)] = -w * w;
+                a[(iad, iad)] = -g;
+                a[(iad, ib)] = 4e2;
+                a[(ib, ia)] = 5.0;
+                a[(ib, ib)] = -4e3;
+                a[(iad, L::x_a((m + 1) % 2))] = 0.3 * w * w; // the k ± 2 coupling
             }
             let a = a * h;
             expm_into(&a, &mut work, &mut out);

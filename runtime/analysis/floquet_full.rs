@@ -25,6 +25,7 @@ use crate::model::vorticity::structured::{StructuredJacobian, StructuredLu};
 use crate::model::vorticity::Grid;
 use crate::integrate::OdeSystem;
 use crate::model::effects::LoadJacobian;
+use crate::model::layout::StateLayout;
 use crate::model::vorticity::ModeCoupling;
 use nalgebra::DMatrix;
 use std::cell::RefCell;
@@ -114,8 +115,9 @@ fn propagate(
     period: f64,
     steps: usize,
 ) -> Result<DMatrix<f64>, FloquetError> {
-    let n = sys.dim();
-    let ns = n - 2; // shape state = monolithic state without R, Ṙ
+    let (n, lay) = (sys.dim(), sys.layout());
+    let s0 = lay.shape().start; // shape state = monolithic state without R, Ṙ
+    let ns = lay.shape().len();
     let mut x = DMatrix::<f64>::identity(ns, ns);
     let h = period / steps as f64;
     let sigma = 1.0 / (h * GAMMA);
@@ -132,8 +134,8 @@ fn propagate(
             if !(r.is_finite() && rd.is_finite()) {
                 return Err(FloquetError::NonFiniteMatrix { t: tc, row: 0, col: 1 });
             }
-            y[0] = r;
-            y[1] = rd;
+            y[lay.r()] = r;
+            y[lay.rdot()] = rd;
             let jac = StructuredJacobian::shape_only(sys, tc, &y);
             lus.push(jac.factor(sigma).ok_or(FloquetError::SingularStage { t: tc })?);
         }
@@ -144,19 +146,19 @@ fn propagate(
                 for i in 0..ns {
                     let mut v = xn[i];
                     for (j, a) in A[st].iter().enumerate().take(st) {
-                        v += h * a * k[j][2 + i];
+                        v += h * a * k[j][s0 + i];
                     }
-                    u[2 + i] = v;
+                    u[s0 + i] = v;
                 }
                 w.iter_mut().zip(&u).for_each(|(wi, ui)| *wi = sigma * ui);
                 lu.solve(&mut w);
-                for i in 2..n {
+                for i in lay.shape() {
                     k[st][i] = (w[i] - u[i]) * sigma;
                 }
             }
             // stiffly accurate: x_{n+1} = W_5
             for i in 0..ns {
-                x[(i, col)] = w[2 + i];
+                x[(i, col)] = w[s0 + i];
             }
         }
     }
@@ -195,8 +197,8 @@ impl<'c> OneMode<'c> {
             b: zero(),
             gn: zero(),
             gt: zero(),
-            z: vec![0.0; 2 + 3 * total],
-            drdd: vec![0.0; 2 + 3 * total],
+            z: vec![0.0; StateLayout::reduced(total).dim()],
+            drdd: vec![0.0; StateLayout::reduced(total).dim()],
             jac: LoadJacobian::new(total),
         };
         Self { inner, m, order: [inner.orders()[m]], total, buf: RefCell::new(buf) }
@@ -241,19 +243,21 @@ impl ModeCoupling for OneMode<'_> {
     fn linearize(&self, t: f64, z: &[f64], drdd: &mut [f64], jac: &mut LoadJacobian) {
         let mut guard = self.buf.borrow_mut();
         let g = &mut *guard;
+        // z holds this one mode (index 0), g.z every mode of the inner coupling
+        let (one, all) = (StateLayout::reduced(1), StateLayout::reduced(self.total));
+        let (radial, mine, its) = (0..StateLayout::RADIAL, all.amplitudes(self.m), one.amplitudes(0));
         g.z.fill(0.0);
-        g.z[..2].copy_from_slice(&z[..2]);
-        let o = 2 + 3 * self.m;
-        g.z[o..o + 3].copy_from_slice(&z[2..5]);
+        g.z[radial.clone()].copy_from_slice(&z[radial.clone()]);
+        g.z[mine.clone()].copy_from_slice(&z[its.clone()]);
         self.inner.linearize(t, &g.z, &mut g.drdd, &mut g.jac);
         debug_assert_eq!(g.jac.modes(), self.total);
         let pick = |full: &[f64], out: &mut [f64]| {
-            out[..2].copy_from_slice(&full[..2]);
-            out[2..5].copy_from_slice(&full[o..o + 3]);
+            out[radial.clone()].copy_from_slice(&full[radial.clone()]);
+            out[its.clone()].copy_from_slice(&full[mine.clone()]);
         };
         pick(&g.drdd, drdd);
         pick(&g.jac.pressure, &mut jac.pressure);
-        pick(g.jac.gn_row(self.m), &mut jac.gn[..5]);
-        pick(g.jac.gt_row(self.m), &mut jac.gt[..5]);
+        pick(g.jac.gn_row(self.m), &mut jac.gn[..one.dim()]);
+        pick(g.jac.gt_row(self.m), &mut jac.gt[..one.dim()]);
     }
 }

@@ -18,7 +18,8 @@
 //! for every k (issue 13 part 6).
 //! Without a field: ω_k² = 12(c1+c2)(k−1)(k+1)(k+2)/[ρR0³(2k²+2k−1)].
 
-use crate::model::effects::{a_index, LoadJacobian};
+use crate::model::effects::LoadJacobian;
+use crate::model::layout::StateLayout;
 use crate::model::{Model, ModelError};
 use crate::scene::Scene;
 use nalgebra::DMatrix;
@@ -98,8 +99,9 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
     // The exact linear structure of the loads at (R0, Ṙ = 0, a = b = 0), t = 0.
     let eq = bl.equations();
     let n = bl.modes().len();
-    let mut z = vec![0.0; 2 + 3 * n];
-    z[0] = r;
+    let lay = StateLayout::reduced(n);
+    let mut z = vec![0.0; lay.dim()];
+    z[lay.r()] = r;
     let mut lj = LoadJacobian::new(n);
     eq.load_jacobian(0.0, &z, &mut lj);
 
@@ -107,17 +109,17 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
     let pressure = eq.loads(0.0, &z, &mut [], &mut []);
     let mut grad = vec![0.0; z.len()];
     eq.acceleration_gradient_at(0.0, &z, pressure, &lj.pressure, &mut grad);
-    let w0 = (-grad[0]).max(0.0).sqrt();
+    let w0 = (-grad[lay.r()]).max(0.0).sqrt();
     let radial = RadialFrequency { omega_rad_s: w0 / ts, f_hz: w0 / ts / (2.0 * std::f64::consts::PI) };
 
     // Even modes, coupled by the field: A = ∂G_n/∂a, B = ∂G_n/∂b, A_a = ∂G_t/∂a, B_b = ∂G_t/∂b.
-    let pick = |normal: bool, offset: usize| {
+    let pick = |normal: bool, at: fn(StateLayout, usize) -> usize| {
         DMatrix::from_fn(n, n, |m, j| {
             let row = if normal { lj.gn_row(m) } else { lj.gt_row(m) };
-            row[a_index(j) + offset]
+            row[at(lay, j)]
         })
     };
-    let (a, b, aa, bb) = (pick(true, 0), pick(true, 2), pick(false, 0), pick(false, 2));
+    let (a, b, aa, bb) = (pick(true, StateLayout::a), pick(true, StateLayout::b), pick(false, StateLayout::a), pick(false, StateLayout::b));
     let scale: Vec<f64> = bl.modes().iter().map(|md| (md.k + 1.0) / (p.rho * p.r0)).collect();
     let mut shape: Vec<ShapeFrequency> =
         quasi_static_spectrum(a, b, aa, bb, &scale)?.into_iter().map(|(m, w2)| wrap(w2, 2 * (m + 1), true)).collect();
@@ -148,8 +150,9 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
         }
         let source = crate::field::FieldSource::from_scene(field, &s.shell, s.bubble.radius)?;
         let loads = crate::field::loads::MagneticLoads::odd(&source, no, sc.length, sc.pressure, sc.time)?;
-        let mut y = vec![0.0; 2 + 3 * no];
-        y[0] = r;
+        let lay = StateLayout::reduced(no);
+        let mut y = vec![0.0; lay.dim()];
+        y[lay.r()] = r;
         let f = loads.factors(0.0, r);
         for m in 0..no {
             let (mut gn, mut gt) = (vec![0.0; y.len()], vec![0.0; y.len()]);
@@ -157,10 +160,10 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
             loads.add_row_gradient(&f, m + 1, &y, true, -1.0, &mut gn);
             loads.add_row_gradient(&f, m + 1, &y, false, -1.0, &mut gt);
             for j in 0..no {
-                a[(m, j)] += gn[a_index(j)];
-                b[(m, j)] += gn[a_index(j) + 2];
-                aa[(m, j)] += gt[a_index(j)];
-                bb[(m, j)] += gt[a_index(j) + 2];
+                a[(m, j)] += gn[lay.a(j)];
+                b[(m, j)] += gn[lay.b(j)];
+                aa[(m, j)] += gt[lay.a(j)];
+                bb[(m, j)] += gt[lay.b(j)];
             }
         }
     }

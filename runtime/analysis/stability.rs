@@ -237,7 +237,7 @@ pub fn prepare_on<'a>(
     let tp = drive_period_s / ts; // nondimensional
     let drive_period_s = (!freqs.is_empty()).then_some(drive_period_s);
     let full = bl.dim();
-    let n = full - 2;
+    let n = full - crate::model::layout::StateLayout::RADIAL; // the shape part x
     let full_shape = match scene.modes.viscous {
         Viscous::BoundaryLayer => None,
         Viscous::Vorticity => {
@@ -317,7 +317,9 @@ impl Prepared<'_> {
                 let mut mono = floquet::monodromy(&self.shape, 0.0, self.period, steps)?;
                 if self.shape.b_free() {
                     // the neutral b_k blocks of a free bubble are not part of the verdict (ShapeSystem::b_free)
-                    let keep: Vec<bool> = mono.blocks.iter().map(|b| !(b.len() == 1 && b[0] % 3 == 2)).collect();
+                    use crate::model::layout::StateLayout;
+                    let is_b = |i: usize| StateLayout::x_entry(i) == StateLayout::B;
+                    let keep: Vec<bool> = mono.blocks.iter().map(|b| !(b.len() == 1 && is_b(b[0]))).collect();
                     let mut k = keep.iter();
                     mono.blocks.retain(|_| *k.next().unwrap());
                     let mut k = keep.iter();

@@ -19,6 +19,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::{FieldError, FieldSource, TimeLaw};
 use crate::coefficients::{Amp, Load, KMAX};
+use crate::model::layout::StateLayout;
 
 /// Largest number of table components handled (COIL_H4 has 3: H2², H2H4, H4²).
 pub const MAX_COMPONENTS: usize = 4;
@@ -238,15 +239,21 @@ impl MagneticLoads {
     }
 
     /// The band of row `row`: (index j of the (a, b) coefficient pair in a component's band,
-    /// index of the source mode's a in y) for every source mode k ± 2d that exists.
+    /// mode index of the source) for every source mode k ± 2d that exists.
     #[inline]
     fn band_sources(&self, row: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
         let w = self.width as i64;
         let base = row * 2 * (2 * self.width + 1);
         (-w..=w).filter_map(move |d| {
             let src = row as i64 + d;
-            (src >= 1 && src <= self.modes as i64).then(|| (base + 2 * (d + w) as usize, 2 + 3 * (src as usize - 1)))
+            (src >= 1 && src <= self.modes as i64).then(|| (base + 2 * (d + w) as usize, src as usize - 1))
         })
+    }
+
+    /// The layout of the state y (the boundary-layer layout of the simulated modes).
+    #[inline]
+    fn layout(&self) -> StateLayout {
+        StateLayout::reduced(self.modes)
     }
 
     /// The offsets d ∈ [lo, hi) (index into the row's band, d = offset + W) whose source mode
@@ -257,7 +264,7 @@ impl MagneticLoads {
         let w = self.width;
         let lo = (w + 1).saturating_sub(row);
         let hi = (2 * w + 1).min((self.modes + w + 1).saturating_sub(row));
-        let at = if hi > lo { 2 + 3 * (row + lo - w - 1) } else { 0 };
+        let at = if hi > lo { self.layout().a(row + lo - w - 1) } else { 0 };
         (lo, hi.max(lo), at)
     }
 
@@ -269,14 +276,14 @@ impl MagneticLoads {
     fn row(&self, f: &Factors, row: usize, y: &[f64], normal: bool) -> f64 {
         let (lo, hi, at0) = self.source_range(row);
         let base = row * 2 * (2 * self.width + 1);
-        let ys = if hi > lo { &y[at0..at0 + 3 * (hi - lo - 1) + 3] } else { &y[..0] };
+        let ys = if hi > lo { &y[at0..at0 + StateLayout::AMPLITUDES * (hi - lo)] } else { &y[..0] };
         let mut total = 0.0;
         for (i, c) in self.comps.iter().enumerate() {
             let (zero, band) = if normal { (&c.zero_n, &c.band_n) } else { (&c.zero_t, &c.band_t) };
             let coeffs = &band[base + 2 * lo..base + 2 * hi];
             let mut s = -0.0;
-            for (ab, yk) in coeffs.chunks_exact(2).zip(ys.chunks(3)) {
-                s += ab[0] * yk[0] + ab[1] * yk[2];
+            for (ab, yk) in coeffs.chunks_exact(2).zip(ys.chunks(StateLayout::AMPLITUDES)) {
+                s += ab[0] * yk[StateLayout::A] + ab[1] * yk[StateLayout::B];
             }
             total += f.zero[i] * zero[row] + f.coupling[i] * s;
         }
@@ -293,12 +300,12 @@ impl MagneticLoads {
         for (row, &(b0, count, at0)) in self.plan[..rows].iter().enumerate() {
             // the sources' (a, ȧ, b) and the row's interleaved band as pre-cut slices (no index
             // checks in the loop; the same operations in the same order as the indexed loop)
-            let ys = &y[at0..at0 + 3 * count];
+            let ys = &y[at0..at0 + StateLayout::AMPLITUDES * count];
             let (mut tn, mut tt) = (0.0, 0.0);
             for (i, c) in self.comps.iter().enumerate() {
                 let (mut sn, mut st) = (-0.0, -0.0);
-                for (yk, q) in ys.chunks_exact(3).zip(c.band_nt[b0..b0 + 4 * count].chunks_exact(4)) {
-                    let (ya, yb) = (yk[0], yk[2]);
+                for (yk, q) in ys.chunks_exact(StateLayout::AMPLITUDES).zip(c.band_nt[b0..b0 + 4 * count].chunks_exact(4)) {
+                    let (ya, yb) = (yk[StateLayout::A], yk[StateLayout::B]);
                     sn += q[0] * ya + q[1] * yb;
                     st += q[2] * ya + q[3] * yb;
                 }
@@ -318,14 +325,14 @@ impl MagneticLoads {
     /// with respect to the state y = [R, Ṙ, (a_k, ȧ_k, b_k)_k] to `grad` (length of y). The loads
     /// are affine in (a, b) with coefficients ∝ R^p, so this is exact (model Jacobian, issue 16).
     pub fn add_row_gradient(&self, f: &Factors, row: usize, y: &[f64], normal: bool, scale: f64, grad: &mut [f64]) {
-        let r = y[0];
+        let (r, l) = (y[0], self.layout());
         for (i, c) in self.comps.iter().enumerate() {
             let (zero, band) = if normal { (&c.zero_n, &c.band_n) } else { (&c.zero_t, &c.band_t) };
             let mut s = 0.0;
-            for (j, at) in self.band_sources(row) {
-                s += band[j] * y[at] + band[j + 1] * y[at + 2];
-                grad[at] += scale * f.coupling[i] * band[j];
-                grad[at + 2] += scale * f.coupling[i] * band[j + 1];
+            for (j, m) in self.band_sources(row) {
+                s += band[j] * y[l.a(m)] + band[j + 1] * y[l.b(m)];
+                grad[l.a(m)] += scale * f.coupling[i] * band[j];
+                grad[l.b(m)] += scale * f.coupling[i] * band[j + 1];
             }
             grad[0] += scale
                 * (c.zero_power as f64 * f.zero[i] * zero[row] + c.coupling_power as f64 * f.coupling[i] * s)
@@ -336,12 +343,12 @@ impl MagneticLoads {
     /// ∂M0/∂R: entry 0 of [`add_row_gradient`](Self::add_row_gradient) of row 0 (normal,
     /// scale 1) into a zeroed gradient, the same sums in the same order, without the buffer.
     pub fn radial_gradient(&self, f: &Factors, y: &[f64]) -> f64 {
-        let r = y[0];
+        let (r, l) = (y[0], self.layout());
         let mut g = 0.0;
         for (i, c) in self.comps.iter().enumerate() {
             let mut s = 0.0;
-            for (j, at) in self.band_sources(0) {
-                s += c.band_n[j] * y[at] + c.band_n[j + 1] * y[at + 2];
+            for (j, m) in self.band_sources(0) {
+                s += c.band_n[j] * y[l.a(m)] + c.band_n[j + 1] * y[l.b(m)];
             }
             g += 1.0 * (c.zero_power as f64 * f.zero[i] * c.zero_n[0] + c.coupling_power as f64 * f.coupling[i] * s) / r;
         }
@@ -373,21 +380,20 @@ impl MagneticLoads {
     /// `dq_shape`, and ∂(∂M0/∂b)/∂R in `db_dr`. With M0 = Σ_c K_c(t)[R^{p0} z_c + R^{p1} S_c],
     /// S_c = Σ (α a + β b) over the row-0 band: affine in (a, b), powers of R, so all exact.
     pub fn add_radial_rate(&self, t: f64, y: &[f64], scale: f64, rate: &mut crate::model::effects::PressureRate) {
-        let (r, rd) = (y[0], y[1]);
+        let (r, rd, l) = (y[0], y[1], self.layout());
         let f = self.factors_uncounted(t, r);
         let fd = self.factors_dt(t, r);
         for (i, c) in self.comps.iter().enumerate() {
             let (p0, p1) = (c.zero_power as f64, c.coupling_power as f64);
             let (z, f0, f1, f0d, f1d) = (c.zero_n[0], f.zero[i], f.coupling[i], fd.zero[i], fd.coupling[i]);
             let (mut s, mut sa) = (0.0, 0.0); // S_c and Σ α ȧ
-            for (j, at) in self.band_sources(0) {
+            for (j, m) in self.band_sources(0) {
                 let (al, be) = (c.band_n[j], c.band_n[j + 1]);
-                s += al * y[at] + be * y[at + 2];
-                sa += al * y[at + 1];
-                let m = (at - 2) / 3;
-                rate.dq_shape[3 * m] += scale * (f1d * al + rd * p1 * f1 * al / r);
-                rate.dq_shape[3 * m + 1] += scale * f1 * al;
-                rate.dq_shape[3 * m + 2] += scale * (f1d * be + rd * p1 * f1 * be / r);
+                s += al * y[l.a(m)] + be * y[l.b(m)];
+                sa += al * y[l.adot(m)];
+                rate.dq_shape[StateLayout::x_a(m)] += scale * (f1d * al + rd * p1 * f1 * al / r);
+                rate.dq_shape[StateLayout::x_adot(m)] += scale * f1 * al;
+                rate.dq_shape[StateLayout::x_b(m)] += scale * (f1d * be + rd * p1 * f1 * be / r);
                 rate.db[m] += scale * f1 * be;
                 rate.db_dr[m] += scale * p1 * f1 * be / r;
             }

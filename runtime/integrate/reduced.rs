@@ -162,8 +162,9 @@ mod tests {
             jac[p * n + v] = 1.0;
         };
         unit(0, 1);
+        let l = crate::model::layout::StateLayout::reduced(4);
         for k in 0..4 {
-            unit(2 + 3 * k, 3 + 3 * k);
+            unit(l.a(k), l.adot(k));
         }
         let so = PositionRows::new(&jac, n).expect("position rows");
         assert_eq!(so.0.kept.len(), n - 5);

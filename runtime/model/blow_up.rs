@@ -1,6 +1,8 @@
 //! The one blow-up classifier of magbubble (FORMULATION §5: a blow-up is a result, reported
 //! with the mode and time).
 
+use super::layout::StateLayout;
+
 /// Classifies a nondimensional state y = [R̄, Ṙ̄, (ā_k, ǡ_k, b̄_k)_k] (lengths / R0).
 /// Returns the offending mode — "nonfinite", "R" (R ≤ 0), or "a{k}" / "b{k}" when
 /// |a_k|/R0 or |b_k|/R0 exceeds `threshold` (the largest such one) — or `None`.
@@ -11,9 +13,9 @@ pub fn classify(y: &[f64], orders: &[usize], threshold: f64) -> Option<String> {
     if y[0] <= 0.0 {
         return Some("R".into());
     }
-    let mut worst: Option<(f64, String)> = None;
+    let (mut worst, l): (Option<(f64, String)>, _) = (None, StateLayout::reduced(orders.len()));
     for (m, k) in orders.iter().enumerate() {
-        for (v, name) in [(y[2 + 3 * m].abs(), "a"), (y[4 + 3 * m].abs(), "b")] {
+        for (v, name) in [(y[l.a(m)].abs(), "a"), (y[l.b(m)].abs(), "b")] {
             if v > threshold && worst.as_ref().is_none_or(|w| v > w.0) {
                 worst = Some((v, format!("{name}{k}")));
             }
@@ -33,8 +35,8 @@ pub fn margin(y: &[f64], orders: &[usize], threshold: f64) -> f64 {
     }
     // y is finite here, so a comparison is the maximum (no NaN case of `f64::max` to handle)
     let mut g = -y[0];
-    for zk in y[2..2 + 3 * orders.len()].chunks_exact(3) {
-        for v in [zk[0].abs() - threshold, zk[2].abs() - threshold] {
+    for zk in y[StateLayout::reduced(orders.len()).shape()].chunks_exact(StateLayout::AMPLITUDES) {
+        for v in [zk[StateLayout::A].abs() - threshold, zk[StateLayout::B].abs() - threshold] {
             if v > g {
                 g = v;
             }
@@ -46,9 +48,9 @@ pub fn margin(y: &[f64], orders: &[usize], threshold: f64) -> f64 {
 /// The credible-range check of a quadratic run (issue 12): the mode "a{k}" with the largest
 /// |a_k|/R0 above `bound`, or `None`.
 pub fn out_of_range(y: &[f64], orders: &[usize], bound: f64) -> Option<String> {
-    let mut worst: Option<(f64, usize)> = None;
+    let (mut worst, l): (Option<(f64, usize)>, _) = (None, StateLayout::reduced(orders.len()));
     for (m, &k) in orders.iter().enumerate() {
-        let v = y[2 + 3 * m].abs();
+        let v = y[l.a(m)].abs();
         if v > bound && worst.is_none_or(|w| v > w.0) {
             worst = Some((v, k));
         }
@@ -58,7 +60,8 @@ pub fn out_of_range(y: &[f64], orders: &[usize], bound: f64) -> Option<String> {
 
 /// Its event function: max_k |a_k|/R0 − bound (positive exactly when [`out_of_range`] reports).
 pub fn range_margin(y: &[f64], orders: &[usize], bound: f64) -> f64 {
-    (0..orders.len()).map(|m| y[2 + 3 * m].abs() - bound).fold(f64::NEG_INFINITY, f64::max)
+    let l = StateLayout::reduced(orders.len());
+    (0..orders.len()).map(|m| y[l.a(m)].abs() - bound).fold(f64::NEG_INFINITY, f64::max)
 }
 
 #[cfg(test)]

@@ -18,6 +18,7 @@
 use super::effects::second_order::{FirstOrder, MaterialLoads};
 use super::effects::{zeroed, BdotLoads, Loads, MAX_MODES};
 use super::equations::{mode_rates, mode_shift, wall_source, Equations, Wall, WallLinear};
+use super::layout::StateLayout;
 use super::params::Params;
 
 /// Per-mode constants.
@@ -117,21 +118,27 @@ impl BoundaryLayerSystem {
         &self.modes
     }
 
+    /// The state layout, y = [R, Ṙ, (a_k, ȧ_k, b_k)_k].
+    #[inline]
+    pub fn layout(&self) -> StateLayout {
+        StateLayout::reduced(self.modes.len())
+    }
+
     /// Writes (ȧ_k, ä_k, ḃ_k) for every mode into `dy[2..]`, for given R, Ṙ, R̈ and loads G_n,k,
     /// G_t,k (the radial entries of `y` are not read). Affine in the mode amplitudes.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub fn mode_rates(&self, r: f64, rd: f64, rdd: f64, gn: &[f64], gt: &[f64], y: &[f64], dy: &mut [f64]) {
         let (rho, eta) = (self.eq.params.rho, self.eq.params.eta);
+        let l = self.layout();
         for (m, mc) in self.modes.iter().enumerate() {
             let k = mc.k;
-            let i = 2 + 3 * m;
-            let (a, ad, b) = (y[i], y[i + 1], y[i + 2]);
+            let (a, ad, b) = (y[l.a(m)], y[l.adot(m)], y[l.b(m)]);
             let w = mc.wall(eta, r, wall_source(k, eta, r, rd, a, ad, gt[m]));
             let (add, bd) = mode_rates(k, rho, eta, r, rd, rdd, a, ad, b, gn[m], &w);
-            dy[i] = ad;
-            dy[i + 1] = add;
-            dy[i + 2] = bd;
+            dy[l.a(m)] = ad;
+            dy[l.adot(m)] = add;
+            dy[l.b(m)] = bd;
         }
     }
 
@@ -164,8 +171,8 @@ impl BoundaryLayerSystem {
     fn solve_bdot(&self, y: &[f64], j: usize, gt: f64, ct: f64) -> f64 {
         let (r, rd, eta) = (y[0], y[1], self.eq.params.eta);
         let mc = &self.modes[j];
-        let (k, i) = (mc.k, 2 + 3 * j);
-        let (a, ad, b) = (y[i], y[i + 1], y[i + 2]);
+        let (k, l) = (mc.k, self.layout());
+        let (a, ad, b) = (y[l.a(j)], y[l.adot(j)], y[l.b(j)]);
         let e = rd * b / r - ad / (k + 1.0) - 2.0 * rd * a / ((k + 1.0) * r);
         let delta = mc.delta(r);
         let cw = delta / (r + 2.0 * delta);
@@ -229,9 +236,10 @@ impl BoundaryLayerSystem {
         // [`mode_shift`]) — or the mode rates again if a tangential load changed (with ḃ loads,
         // ḃ solved again with the completed G_t: [`resolve_bdot`](Self::resolve_bdot); the
         // rate, Keller–Miksis, is refused with second-pass terms)
+        let lay = self.layout();
         for j in 0..m {
-            add[j] = dy[3 + 3 * j];
-            bd[j] = dy[4 + 3 * j];
+            add[j] = dy[lay.adot(j)];
+            bd[j] = dy[lay.b(j)];
         }
         let mut l = Loads { pressure: 0.0, gn: dgn, gt: dgt };
         let material = MaterialLoads { pressure: pm, gn: mgn, gt: mgt };
@@ -241,8 +249,8 @@ impl BoundaryLayerSystem {
         if dgt.iter().all(|&x| x == 0.0) {
             let rho = self.eq.params.rho;
             for (j, mc) in self.modes.iter().enumerate() {
-                let (s_rdd, s_gn) = mode_shift(mc.k, rho, r, y[2 + 3 * j]);
-                dy[3 + 3 * j] += s_rdd * (rdd2 - rdd) + s_gn * dgn[j];
+                let (s_rdd, s_gn) = mode_shift(mc.k, rho, r, y[lay.a(j)]);
+                dy[lay.adot(j)] += s_rdd * (rdd2 - rdd) + s_gn * dgn[j];
             }
         } else {
             for j in 0..m {
@@ -269,7 +277,7 @@ impl BoundaryLayerSystem {
         self.mode_rates(y[0], y[1], 0.0, gn, gt, y, dy);
         let mut bd = [0.0; MAX_MODES];
         for (j, b) in bd[..m].iter_mut().enumerate() {
-            *b = dy[4 + 3 * j];
+            *b = dy[self.layout().b(j)];
         }
         self.eq.acceleration_with(t, y, p, &bd[..m])
     }
@@ -277,7 +285,7 @@ impl BoundaryLayerSystem {
 
 impl crate::integrate::OdeSystem for BoundaryLayerSystem {
     fn dim(&self) -> usize {
-        2 + 3 * self.modes.len()
+        self.layout().dim()
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
@@ -318,16 +326,19 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
     /// caller's dense LU) when J is not finite.
     fn structured_jacobian(&self, t: f64, y: &[f64]) -> Option<Box<dyn crate::integrate::linear::StructuredJacobian>> {
         use crate::integrate::{bordered::BorderedBand, linear::StructuredJacobian, reduced::PositionRows};
-        let n = y.len();
+        let (n, l) = (y.len(), StateLayout::reduced_of_dim(y.len()));
         let band = self.jacobian_pattern().band;
-        let w = 3 * band + 2;
-        let bordered_pays = 2 + 3 * band < n && n - (2 + 3 * band) > 2 * w + 1;
+        // the border: R, Ṙ and the `band` lowest modes; the half-width: a mode row reaches
+        // `band` blocks away, from its a to the last b (3·band + 2)
+        let border = l.blocks(0..band).end;
+        let w = l.b(band) - l.a(0);
+        let bordered_pays = border < n && n - border > 2 * w + 1;
         let mut jac = vec![0.0; n * n];
         self.jacobian_into(t, y, &mut jac);
-        if !bordered_pays || (n - 2) / 3 <= POSITION_ROWS_MAX_MODES {
+        if !bordered_pays || l.modes() <= POSITION_ROWS_MAX_MODES {
             PositionRows::new(&jac, n).map(|b| Box::new(b) as Box<dyn StructuredJacobian>)
         } else {
-            BorderedBand::new(&jac, n, 2 + 3 * band, w, w).map(|b| Box::new(b) as Box<dyn StructuredJacobian>)
+            BorderedBand::new(&jac, n, border, w, w).map(|b| Box::new(b) as Box<dyn StructuredJacobian>)
         }
     }
 }

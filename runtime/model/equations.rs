@@ -26,6 +26,7 @@ use super::effects::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTe
 use super::effects::{At, BdotLoads, LoadJacobian, Loads, PressureRate, Term};
 use super::params::Params;
 use super::radial::RadialForm;
+use super::layout::StateLayout;
 
 /// The assembled loads and the radial form of one scene (nondimensional).
 #[derive(Debug)]
@@ -180,7 +181,7 @@ impl Equations {
         if !self.form.needs_rate() {
             return false;
         }
-        let z = vec![1.0; 2 + 3 * self.orders.len()];
+        let z = vec![1.0; StateLayout::reduced(self.orders.len()).dim()];
         self.rate(0.0, &z).0.has_bdot()
     }
 
@@ -234,8 +235,8 @@ impl Equations {
             grad[j] += d[j] + d[3] * rate.dq[j] + d[4] * rate.ds[j];
         }
         let n = grad.len();
-        for j in 2..n {
-            grad[j] += d[3] * rate.dq_shape[j - 2];
+        for j in StateLayout::RADIAL..n {
+            grad[j] += d[3] * rate.dq_shape[StateLayout::x_of(j)];
         }
         if let Some((bd, dbd)) = bdot {
             for (m, x) in bd.iter().enumerate() {

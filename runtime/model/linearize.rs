@@ -12,7 +12,8 @@
 
 use super::boundary_layer::{BdotMode, BoundaryLayerSystem};
 use super::effects::second_order::{FirstOrder, FirstOrderGradient, MaterialLoads};
-use super::effects::{a_index, LoadJacobian, Loads, MAX_MODES};
+use super::effects::{LoadJacobian, Loads, MAX_DIM, MAX_MODES};
+use super::layout::StateLayout;
 use super::equations::{mode_partials, var, wall_source, wall_source_partials};
 use nalgebra::{DMatrix, DVector};
 
@@ -30,20 +31,21 @@ pub struct JacobianPattern {
 impl JacobianPattern {
     /// Whether ∂f_i/∂y_j may be non-zero.
     pub fn may_be_nonzero(&self, i: usize, j: usize) -> bool {
-        let block = |x: usize| (x - 2) / 3;
-        if i == 0 {
-            return j == 1;
+        let l = StateLayout::reduced(self.modes);
+        let (radial, block) = (|x: usize| x < StateLayout::RADIAL, |x: usize| l.mode_of(x));
+        if i == l.r() {
+            return j == l.rdot();
         }
         // R̈ sees R, Ṙ and the amplitudes within the band of the zero-order (P_0) row.
-        if i == 1 {
-            return j < 2 || block(j) < self.radial;
+        if i == l.rdot() {
+            return radial(j) || block(j) < self.radial;
         }
-        // ȧ_k' = ȧ_k
-        if (i - 2) % 3 == 0 {
-            return j == i + 1;
+        // a_k' = ȧ_k
+        if l.is_a(i) {
+            return j == l.adot(block(i));
         }
         // ä, ḃ rows: R, Ṙ, the band, and row 1's columns through R̈
-        j < 2 || block(i).abs_diff(block(j)) <= self.band || block(j) < self.radial
+        radial(j) || block(i).abs_diff(block(j)) <= self.band || block(j) < self.radial
     }
 }
 
@@ -69,7 +71,7 @@ impl BoundaryLayerSystem {
 
     fn lin(&self, t: f64, y: &[f64], rdd: Option<f64>) -> Lin {
         let m = self.modes.len();
-        let n = 2 + 3 * m;
+        let (n, lay) = (self.layout().dim(), self.layout());
         let mut lj = LoadJacobian::new(m);
         self.eq.load_jacobian(t, y, &mut lj);
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
@@ -85,7 +87,7 @@ impl BoundaryLayerSystem {
                 let mut l = Lin { lj, rdd: 0.0, drdd, gn, gt, bdot };
                 let mut dy = vec![0.0; n];
                 self.mode_rates(y[0], y[1], 0.0, &gn[..m], &gt[..m], y, &mut dy);
-                let bd: Vec<f64> = (0..m).map(|j| dy[4 + 3 * j]).collect();
+                let bd: Vec<f64> = (0..m).map(|j| dy[lay.b(j)]).collect();
                 let (mut dbd, mut scratch) = (vec![0.0; m * n], vec![0.0; n]);
                 for j in 0..m {
                     self.mode_rows(y, &l, j, &mut scratch, &mut dbd[j * n..(j + 1) * n]);
@@ -116,8 +118,9 @@ impl BoundaryLayerSystem {
         let (m, n) = (self.modes.len(), y.len());
         let mut dy = vec![0.0; n];
         self.mode_rates(y[0], y[1], l.rdd, &l.gn[..m], &l.gt[..m], y, &mut dy);
-        let add: Vec<f64> = (0..m).map(|j| dy[3 + 3 * j]).collect();
-        let bd: Vec<f64> = (0..m).map(|j| dy[4 + 3 * j]).collect();
+        let lay = self.layout();
+        let add: Vec<f64> = (0..m).map(|j| dy[lay.adot(j)]).collect();
+        let bd: Vec<f64> = (0..m).map(|j| dy[lay.b(j)]).collect();
         let (mut dadd, mut dbd) = (vec![0.0; m * n], vec![0.0; m * n]);
         for j in 0..m {
             let (ra, rb) = (&mut dadd[j * n..(j + 1) * n], &mut dbd[j * n..(j + 1) * n]);
@@ -157,8 +160,9 @@ impl BoundaryLayerSystem {
         let p = &self.eq.params;
         let mc = &self.modes[m];
         let (r, rd) = (y[0], y[1]);
-        let i = a_index(m);
-        let (a, ad, b) = (y[i], y[i + 1], y[i + 2]);
+        let lay = self.layout();
+        let (ia, iad, ib) = (lay.a(m), lay.adot(m), lay.b(m));
+        let (a, ad, b) = (y[ia], y[iad], y[ib]);
         let (gn, gt) = (l.gn[m], l.gt[m]);
         let src = wall_source(mc.k, p.eta, r, rd, a, ad, gt);
         let w = mc.wall_linear(r, src, &wall_source_partials(mc.k, p.eta, r, rd, a, gt));
@@ -167,7 +171,7 @@ impl BoundaryLayerSystem {
         // ḃ loads (cn, ct, cn_r, ct_r, ḃ): at fixed ḃ they add ḃ·(cn_r, ct_r) to the R column
         let c = l.bdot.as_ref().map(|v| v[m]);
         let (cn_r_b, ct_r_b) = c.map_or((0.0, 0.0), |c| (c[2] * c[4], c[3] * c[4]));
-        debug_assert!(cols.start == 0 || (cols.start >= 2 && cols.contains(&i) && cols.contains(&(i + 2))));
+        debug_assert!(cols.start == 0 || (cols.start >= StateLayout::RADIAL && cols.contains(&ia) && cols.contains(&ib)));
         for (out, d) in [(&mut *out_a, &da), (&mut *out_b, &db)] {
             for j in cols.clone() {
                 out[j] = d[RDD] * l.drdd[j] + d[GN] * gn_row[j] + d[GT] * gt_row[j];
@@ -176,9 +180,9 @@ impl BoundaryLayerSystem {
                 out[0] += d[R] + d[GN] * cn_r_b + d[GT] * ct_r_b;
                 out[1] += d[RD];
             }
-            out[i] += d[A];
-            out[i + 1] += d[AD];
-            out[i + 2] += d[B];
+            out[ia] += d[A];
+            out[iad] += d[AD];
+            out[ib] += d[B];
         }
         // and through ḃ itself: ḃ = ḃ_std(…, G_n0 + cn ḃ, G_t0 + ct ḃ) is solved exactly, so
         // dḃ = (partial row)/(1 − ∂ḃ_std/∂G_n cn − ∂ḃ_std/∂G_t ct), and ä gains (∂ä/∂G·c) dḃ
@@ -199,10 +203,11 @@ impl BoundaryLayerSystem {
         jac[..n * n].fill(0.0);
         jac[1] = 1.0;
         jac[n..2 * n].copy_from_slice(&l.drdd);
+        let lay = self.layout();
         for m in 0..self.modes.len() {
-            let i = a_index(m);
-            jac[i * n + i + 1] = 1.0;
-            let (ra, rest) = jac[(i + 1) * n..(i + 3) * n].split_at_mut(n);
+            // a' = ȧ; the ä and ḃ rows (adjacent) from mode_rows
+            jac[lay.a(m) * n + lay.adot(m)] = 1.0;
+            let (ra, rest) = jac[lay.adot(m) * n..(lay.b(m) + 1) * n].split_at_mut(n);
             self.mode_rows(y, &l, m, ra, rest);
         }
     }
@@ -215,7 +220,7 @@ impl BoundaryLayerSystem {
     /// issue 12) are left out — they and their derivatives vanish at x = 0, about which Floquet
     /// and the stability analyses linearise.
     pub fn linear_modes(&self, t: f64, r: f64, rd: f64, rdd: f64) -> (DMatrix<f64>, DVector<f64>) {
-        let n = 3 * self.modes.len();
+        let n = StateLayout::x_dim(self.modes.len());
         let (mut a, mut g) = (DMatrix::zeros(n, n), DVector::zeros(n));
         self.linear_modes_into(t, r, rd, rdd, &mut a, &mut g);
         (a, g)
@@ -226,46 +231,46 @@ impl BoundaryLayerSystem {
     /// assembly, entry for entry). Without a field (pattern band 0) they are all of A, and
     /// assembling them costs O(M) instead of O(M²) (issue 16: the Floquet monodromy's blocks).
     pub fn linear_mode_blocks_into(&self, t: f64, r: f64, rd: f64, rdd: f64, out: &mut [[f64; 9]]) {
-        let nm = self.modes.len();
-        let n = 2 + 3 * nm;
-        let mut y = [0.0; 2 + 3 * MAX_MODES];
+        let (nm, lay) = (self.modes.len(), self.layout());
+        let n = lay.dim();
+        let mut y = [0.0; MAX_DIM];
         let y = &mut y[..n];
-        y[0] = r;
-        y[1] = rd;
+        y[lay.r()] = r;
+        y[lay.rdot()] = rd;
         let l = self.lin(t, y, Some(rdd));
-        let (mut ra, mut rb) = ([0.0; 2 + 3 * MAX_MODES], [0.0; 2 + 3 * MAX_MODES]);
+        let (mut ra, mut rb) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
         for (m, o) in out.iter_mut().enumerate().take(nm) {
-            let i = a_index(m);
-            self.mode_rows_in(y, &l, m, i..i + 3, &mut ra[..n], &mut rb[..n]);
-            *o = [0.0, ra[i], rb[i], 1.0, ra[i + 1], rb[i + 1], 0.0, ra[i + 2], rb[i + 2]];
+            let (ia, iad, ib) = (lay.a(m), lay.adot(m), lay.b(m));
+            self.mode_rows_in(y, &l, m, lay.amplitudes(m), &mut ra[..n], &mut rb[..n]);
+            *o = [0.0, ra[ia], rb[ia], 1.0, ra[iad], rb[iad], 0.0, ra[ib], rb[ib]];
         }
     }
 
     /// [`linear_modes`](Self::linear_modes) into sized buffers (A: 3M × 3M, g: 3M).
     pub fn linear_modes_into(&self, t: f64, r: f64, rd: f64, rdd: f64, a: &mut DMatrix<f64>, g: &mut DVector<f64>) {
-        let nm = 3 * self.modes.len();
-        let n = 2 + nm;
+        let lay = self.layout();
+        let n = lay.dim();
         // stack buffers (no allocation per call: Floquet assembles A(t) twice per Magnus step)
-        let mut y = [0.0; 2 + 3 * MAX_MODES];
+        let mut y = [0.0; MAX_DIM];
         let y = &mut y[..n];
-        y[0] = r;
-        y[1] = rd;
+        y[lay.r()] = r;
+        y[lay.rdot()] = rd;
         let l = self.lin(t, y, Some(rdd));
-        let mut dy = [0.0; 2 + 3 * MAX_MODES];
+        let mut dy = [0.0; MAX_DIM];
         self.mode_rates(r, rd, rdd, &l.gn[..self.modes.len()], &l.gt[..self.modes.len()], y, &mut dy[..n]);
-        g.copy_from_slice(&dy[2..n]);
+        g.copy_from_slice(&dy[lay.shape()]);
         a.as_mut_slice().fill(0.0);
-        let (mut ra, mut rb) = ([0.0; 2 + 3 * MAX_MODES], [0.0; 2 + 3 * MAX_MODES]);
+        let (mut ra, mut rb) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
         // R̈ is prescribed, so mode k's rows see only the modes of the terms' band (module doc)
         let (mm, band) = (self.modes.len(), self.jacobian_pattern().band);
         for m in 0..mm {
-            let i = 3 * m;
-            a[(i, i + 1)] = 1.0;
-            let cols = a_index(m.saturating_sub(band))..a_index((m + band + 1).min(mm));
+            let (xa, xad, xb) = (StateLayout::x_a(m), StateLayout::x_adot(m), StateLayout::x_b(m));
+            a[(xa, xad)] = 1.0;
+            let cols = lay.blocks(m.saturating_sub(band)..(m + band + 1).min(mm));
             self.mode_rows_in(y, &l, m, cols.clone(), &mut ra[..n], &mut rb[..n]);
             for j in cols {
-                a[(i + 1, j - 2)] = ra[j];
-                a[(i + 2, j - 2)] = rb[j];
+                a[(xad, StateLayout::x_of(j))] = ra[j];
+                a[(xb, StateLayout::x_of(j))] = rb[j];
             }
         }
     }

@@ -16,6 +16,7 @@ pub mod dispersion;
 pub mod effects;
 pub mod equations;
 pub mod keller_miksis;
+pub mod layout;
 pub mod linearize;
 mod material;
 pub mod params;
@@ -146,7 +147,7 @@ impl Model {
         let material = if second.is_empty() { Vec::new() } else { (0..terms.len()).map(|i| material.contains(&i)).collect() };
         let eq = Equations { params, orders: kf, form, terms, second, material };
         if eq.form().needs_rate() {
-            let z = vec![1.0; 2 + 3 * orders.len()];
+            let z = vec![1.0; layout::StateLayout::reduced(orders.len()).dim()];
             if let Some(t) = eq.terms().find(|t| !t.add_rate(&effects::At { t: 0.0, z: &z }, &mut Default::default())) {
                 return Err(ModelError::Unsupported {
                     key: "liquid.sound_speed",
@@ -187,12 +188,15 @@ impl Model {
         };
         effects.extend(self_labels(eq_of(&system)));
 
-        let mut y0 = vec![scene.bubble.initial.radius / scales.length, scene.bubble.initial.velocity * scales.time / scales.length];
-        for &k in &orders {
+        let lay = layout::StateLayout::reduced(orders.len());
+        let mut y0 = vec![0.0; lay.dim()];
+        y0[lay.r()] = scene.bubble.initial.radius / scales.length;
+        y0[lay.rdot()] = scene.bubble.initial.velocity * scales.time / scales.length;
+        for (m, &k) in orders.iter().enumerate() {
             let g = |m: &std::collections::BTreeMap<usize, f64>| m.get(&k).copied().unwrap_or(0.0);
-            y0.push(g(&scene.bubble.initial.a) / scales.length);
-            y0.push(g(&scene.bubble.initial.a_velocity) * scales.time / scales.length);
-            y0.push(g(&scene.bubble.initial.b) / scales.length);
+            y0[lay.a(m)] = g(&scene.bubble.initial.a) / scales.length;
+            y0[lay.adot(m)] = g(&scene.bubble.initial.a_velocity) * scales.time / scales.length;
+            y0[lay.b(m)] = g(&scene.bubble.initial.b) / scales.length;
         }
         let r0 = scene.bubble.radius;
         let (c1, c2) = (scene.shell.c1, scene.shell.c2);
@@ -299,11 +303,11 @@ impl Model {
 
     /// [`to_si`](Self::to_si) into a buffer of length 1 + 2M.
     pub fn to_si_into(&self, y: &[f64], row: &mut [f64]) {
-        let l = self.scales.length;
-        row[0] = y[0] * l;
+        let (l, lay) = (self.scales.length, layout::StateLayout::reduced(self.orders.len()));
+        row[0] = y[lay.r()] * l;
         for m in 0..self.orders.len() {
-            row[1 + 2 * m] = y[2 + 3 * m] * l;
-            row[2 + 2 * m] = y[4 + 3 * m] * l;
+            row[1 + 2 * m] = y[lay.a(m)] * l;
+            row[2 + 2 * m] = y[lay.b(m)] * l;
         }
     }
 

@@ -4,6 +4,7 @@
 //! (integrate/reduced.rs) at k ≤ 16, the bordered band (integrate/bordered.rs) at k ≤ 32 where
 //! its split pays — and its solves of σI − J, real and complex σ, agree with a dense LU.
 
+use magbubble::model::layout::StateLayout;
 use magbubble::integrate::OdeSystem;
 use magbubble::model::Model;
 use magbubble::scene;
@@ -42,7 +43,8 @@ fn bordered_band_solve_of_every_shipped_scene_agrees_with_dense() {
             // The split pays only when the interior is wider than its band (border R, Ṙ and
             // `band` modes; interior half-width 3·band + 2): else a dense LU, by design.
             let band = bl.jacobian_pattern().band;
-            let (border, w) = (2 + 3 * band, 3 * band + 2);
+            let l = StateLayout::reduced_of_dim(n);
+            let (border, w) = (l.blocks(0..band).end, l.b(band) - l.a(0));
             let Some(structured) = bl.structured_jacobian(t, y) else {
                 assert!(n <= border + 2 * w + 1, "{name} {overrides:?} state {si}: dense fallback (band {band}, n = {n})");
                 small += 1;

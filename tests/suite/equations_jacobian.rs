@@ -6,6 +6,7 @@
 //! the vorticity closure's wall partials, the monolithic system's reduced Jacobian and the
 //! vorticity operator's R, Ṙ derivatives.
 
+use magbubble::model::layout::StateLayout;
 use magbubble::integrate::OdeSystem;
 use magbubble::model::equations::{var, wall_source, wall_source_partials};
 use magbubble::model::vorticity::equations::{reduced_jacobian, wall, wall_linear};
@@ -102,7 +103,7 @@ proptest! {
     #![proptest_config(config(24))]
 
     #[test]
-    fn boundary_layer_jacobian_matches_differences(which in 0usize..8, (t, y) in state(2 + 3 * 8)) {
+    fn boundary_layer_jacobian_matches_differences(which in 0usize..8, (t, y) in state(StateLayout::reduced(8).dim())) {
         let scene = &scenes()[which];
         let model = Model::from_scene(scene).unwrap();
         let bl = model.boundary_layer().unwrap();
@@ -136,7 +137,7 @@ proptest! {
     /// A(t), g(t) reproduce the mode rates at prescribed (R, Ṙ, R̈) for any amplitudes (the
     /// equations are affine in them), and ∂/∂x of the rhs is A.
     #[test]
-    fn linear_modes_reproduce_the_rates(which in 0usize..7, (t, y) in state(2 + 3 * 8), rdd in -2.0..2.0f64) {
+    fn linear_modes_reproduce_the_rates(which in 0usize..7, (t, y) in state(StateLayout::reduced(8).dim()), rdd in -2.0..2.0f64) {
         let scene = &scenes()[which];
         let model = Model::from_scene(scene).unwrap();
         let bl = model.boundary_layer().unwrap();
@@ -146,11 +147,12 @@ proptest! {
         bl.equations().loads(t, &y, &mut gn, &mut gt);
         let mut dy = vec![0.0; y.len()];
         bl.mode_rates(y[0], y[1], rdd, &gn, &gt, &y, &mut dy);
-        let x = nalgebra::DVector::from_column_slice(&y[2..]);
+        let l = StateLayout::reduced(m);
+        let x = nalgebra::DVector::from_column_slice(&y[l.shape()]);
         let lin = &a * &x + &g;
-        for i in 0..3 * m {
-            let scale = dy[2 + i].abs() + (a.row(i).abs() * x.abs())[0] + g[i].abs() + 1e-300;
-            prop_assert!((lin[i] - dy[2 + i]).abs() <= 1e-10 * scale, "row {i}: A x + g = {} vs rates {}", lin[i], dy[2 + i]);
+        for (i, yi) in l.shape().enumerate() {
+            let scale = dy[yi].abs() + (a.row(i).abs() * x.abs())[0] + g[i].abs() + 1e-300;
+            prop_assert!((lin[i] - dy[yi]).abs() <= 1e-10 * scale, "row {i}: A x + g = {} vs rates {}", lin[i], dy[yi]);
         }
     }
 
@@ -220,7 +222,7 @@ proptest! {
     /// The structured Jacobian's pieces of the monolithic vorticity system, exact.
     #[test]
     fn monolithic_reduced_jacobian_matches_differences(
-        which in 0usize..7, (t, z) in state(2 + 3 * 3), p in prop::collection::vec(-1e-2..1e-2f64, 6),
+        which in 0usize..7, (t, z) in state(StateLayout::reduced(3).dim()), p in prop::collection::vec(-1e-2..1e-2f64, 6),
     ) {
         let mut scene = scenes()[which].clone();
         scene.modes.max_order = 6;

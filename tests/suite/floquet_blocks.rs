@@ -2,6 +2,7 @@
 //! mode without a field): `linear_mode_blocks_into` gives exactly the diagonal 3 × 3 blocks of
 //! the dense A(t) of `linear_modes`, and the dense A has nothing outside them.
 
+use magbubble::model::layout::StateLayout;
 use magbubble::model::Model;
 use magbubble::scene::load;
 
@@ -23,10 +24,11 @@ fn mode_blocks_are_the_dense_matrix() {
             let mut blocks = vec![[0.0; 9]; nm];
             bl.linear_mode_blocks_into(t, r, rd, rdd, &mut blocks);
             let mut nonzero = 0;
-            for i in 0..3 * nm {
-                for j in 0..3 * nm {
-                    if i / 3 == j / 3 {
-                        let b = blocks[i / 3][(j % 3) * 3 + i % 3];
+            let (mode, entry) = (StateLayout::x_mode, StateLayout::x_entry);
+            for i in 0..StateLayout::x_dim(nm) {
+                for j in 0..StateLayout::x_dim(nm) {
+                    if mode(i) == mode(j) {
+                        let b = blocks[mode(i)][entry(j) * StateLayout::AMPLITUDES + entry(i)];
                         assert_eq!(b.to_bits(), a[(i, j)].to_bits(), "scene {s}: A[{i}][{j}] = {} vs block {b}", a[(i, j)]);
                         nonzero += (b != 0.0) as usize;
                     } else {

@@ -16,6 +16,7 @@
 
 use crate::support::membrane_loads::{loads_on, mode, normalise_projections, Law};
 use crate::support::shell_energy::{gauss_legendre, mixed, second, steps};
+use magbubble::model::layout::StateLayout;
 use magbubble::coefficients::quadratic_membrane::Form;
 use magbubble::model::effects::membrane::MembraneTerm;
 use magbubble::model::effects::quadratic_bending::QuadraticBending;
@@ -46,10 +47,11 @@ impl Stack {
     /// [−P, G_n,j…] and [0, G_t,j…] indexed by j/2 at a state with the given
     /// (mode index, is_b, value) amplitudes.
     fn loads(&self, amps: &[(usize, bool, f64)]) -> (Vec<f64>, Vec<f64>) {
-        let mut z = vec![0.0; 2 + 3 * MODES];
-        z[0] = R;
+        let l = StateLayout::reduced(MODES);
+        let mut z = vec![0.0; l.dim()];
+        z[l.r()] = R;
         for &(i, b, v) in amps {
-            z[2 + 3 * i + if b { 2 } else { 0 }] += v;
+            z[if b { l.b(i) } else { l.a(i) }] += v;
         }
         let (mut gn, mut gt) = (vec![0.0; MODES], vec![0.0; MODES]);
         let mut l = Loads { pressure: 0.0, gn: &mut gn, gt: &mut gt };
@@ -322,7 +324,7 @@ fn frame_term_jacobian_matches_differences() {
     use magbubble::model::effects::LoadJacobian;
     let modes = 6;
     let orders: Vec<f64> = (1..=modes).map(|i| 2.0 * i as f64).collect();
-    let n = 2 + 3 * modes;
+    let n = StateLayout::reduced(modes).dim();
     let mr = || MembraneTerm { law: Membrane::for_law(ShellLaw::MooneyRivlin, MembraneForm::Tension), r0: R0, c1: 0.9, c2: 0.3, orders: orders.clone() };
     let bend = || OneConstant { name: "bending", label: String::new(), table: bending_table(), value: 0.02, r0: R0, orders: orders.clone() };
     let visc = || ShellViscosity { kappa_s: 0.3, mu_s: 0.2, r0: R0, orders: orders.clone() };

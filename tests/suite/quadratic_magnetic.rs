@@ -13,7 +13,8 @@ use crate::support::quadrature::{linear_response, second_order_response, Setting
 use magbubble::coefficients::quadratic_membrane::Form;
 use magbubble::field::appendix::PaperField;
 use magbubble::model::effects::quadratic_membrane::QuadraticMembrane;
-use magbubble::model::effects::{a_index, At, LoadJacobian, Loads, Term};
+use magbubble::model::effects::{At, LoadJacobian, Loads, Term};
+use magbubble::model::layout::StateLayout;
 use magbubble::model::Model;
 use magbubble::scene::load;
 
@@ -25,8 +26,8 @@ fn worst_ratio(file: &str, overrides: &[&str], field: PaperField) -> f64 {
     let m = Model::from_scene(&s).expect("model");
     let modes = m.orders().len();
     let z = {
-        let mut z = vec![0.0; 2 + 3 * modes];
-        z[0] = 1.0; // R = R0 (lengths in units of R0)
+        let mut z = vec![0.0; StateLayout::reduced(modes).dim()];
+        z[StateLayout::reduced(modes).r()] = 1.0; // R = R0 (lengths in units of R0)
         z
     };
     let at = At { t: 0.0, z: &z };
@@ -34,7 +35,7 @@ fn worst_ratio(file: &str, overrides: &[&str], field: PaperField) -> f64 {
     let mut jac = LoadJacobian::new(modes);
     mag.add_jacobian(&at, &mut jac);
     // the linear a_2 → G_n,2 coupling, model units, against the oracle's, units of ℋ
-    let model_lin = jac.gn_row(0)[a_index(0)];
+    let model_lin = jac.gn_row(0)[jac.layout().a(0)];
     let set = Setting { r: 1.0, r0: 1.0, ..Setting::default() };
     let oracle_lin = linear_response(&set, field, 2, false, STEP).normal[2];
     let unit = model_lin / oracle_lin; // ℋ in model units (sign: G_n ∋ −M)
@@ -45,7 +46,7 @@ fn worst_ratio(file: &str, overrides: &[&str], field: PaperField) -> f64 {
     let orders: Vec<f64> = m.orders().iter().map(|&k| k as f64).collect();
     let memb = QuadraticMembrane::new(law, Form::Paper, p.r0, p.membrane_args, &orders).expect("term");
     let mut za = z.clone();
-    za[a_index(0)] = 1.0;
+    za[jac.layout().a(0)] = 1.0;
     let (mut gn, mut gt) = (vec![0.0; modes], vec![0.0; modes]);
     let mut l = Loads { pressure: 0.0, gn: &mut gn, gt: &mut gt };
     memb.add(&At { t: 0.0, z: &za }, &mut l);

@@ -7,6 +7,7 @@
 
 use crate::support::membrane_loads::{projected, Amp, Law};
 use crate::support::shell_energy::{mixed, second, steps};
+use magbubble::model::layout::StateLayout;
 use magbubble::coefficients::quadratic_membrane::Form;
 use magbubble::model::effects::quadratic_membrane::QuadraticMembrane;
 use magbubble::model::effects::{At, Loads, Term};
@@ -24,10 +25,11 @@ fn term(name: &str, form: Form, args: (f64, f64)) -> QuadraticMembrane {
 /// The term's loads at a state with the given (mode index, is_b, value) amplitudes:
 /// [−P, G_n,j…] and [G_t,j…] indexed by j/2 (entry 0 of the tangential unused).
 fn table(t: &QuadraticMembrane, amps: &[(usize, bool, f64)]) -> (Vec<f64>, Vec<f64>) {
-    let mut z = vec![0.0; 2 + 3 * MODES];
-    z[0] = R;
+    let l = StateLayout::reduced(MODES);
+    let mut z = vec![0.0; l.dim()];
+    z[l.r()] = R;
     for &(i, b, v) in amps {
-        z[2 + 3 * i + if b { 2 } else { 0 }] += v;
+        z[if b { l.b(i) } else { l.a(i) }] += v;
     }
     let (mut gn, mut gt) = (vec![0.0; MODES], vec![0.0; MODES]);
     let mut loads = Loads { pressure: 0.0, gn: &mut gn, gt: &mut gt };

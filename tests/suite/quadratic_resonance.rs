@@ -20,6 +20,7 @@
 //! 4(n−1)(n+1)(n+2)γ/R0 = 3κp0 + (6κ − 2)γ/R0.
 
 use crate::support::quadrature::{gauss_legendre, legendre_and_derivative};
+use magbubble::model::layout::StateLayout;
 use magbubble::integrate::{solve, Control, Method, Output};
 use magbubble::model::Model;
 use magbubble::scene::load;
@@ -73,16 +74,17 @@ fn run(n: usize, eps: f64, coupling: &str, duration: f64, dt: f64) -> Run {
     let at = m.orders().iter().position(|&k| k == n).expect("mode n is simulated");
     let (t_end, steps) = (duration / sc.time, (duration / dt).round());
     let mut out = Run { t: Vec::new(), rv: Vec::new(), a: Vec::new(), omega0, omega_n, secular };
+    let l = StateLayout::reduced(m.orders().len());
     solve(m.system(), 0.0, m.initial_state(), t_end, &Method::Dop853 { rtol: 1e-11, atol: 1e-14 }, Output::Every(t_end / steps), 50_000_000, &mut |t, y| {
         let volume: f64 = (0..x.len())
-            .map(|q| w[q] * (y[0] + basis.iter().enumerate().map(|(i, b)| y[2 + 3 * i] * b[q]).sum::<f64>()).powi(3))
+            .map(|q| w[q] * (y[0] + basis.iter().enumerate().map(|(i, b)| y[l.a(i)] * b[q]).sum::<f64>()).powi(3))
             .sum::<f64>()
             * 2.0
             * std::f64::consts::PI
             / 3.0;
         out.t.push(t);
         out.rv.push((3.0 * volume / (4.0 * std::f64::consts::PI)).cbrt() - 1.0);
-        out.a.push(y[2 + 3 * at]);
+        out.a.push(y[l.a(at)]);
         Control::Continue
     })
     .expect("integrates");

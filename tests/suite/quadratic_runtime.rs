@@ -3,6 +3,7 @@
 //! initial amplitude divides it by 4), and the energy drift of an undriven free bubble with
 //! surface tension and η → 0 (O(ε⁴) quadratic, O(ε³) linear: ≈16× and ≈8× on halving ε).
 
+use magbubble::model::layout::StateLayout;
 use magbubble::model::{simulate, Model};
 use magbubble::scene::{load, Scene};
 
@@ -102,7 +103,8 @@ fn energy_drift(eps: f64, coupling: &str) -> f64 {
     let oracle = Oracle::new(16);
     let energy = |y: &[f64]| {
         let flow = Flow { rho: p.rho, gamma, pg: 0.0, kappa: p.three_kappa / 3.0, p_inf: p.p0, radial: [y[0], y[1], 0.0] };
-        let modes: Vec<Mode> = m.orders().iter().enumerate().map(|(i, &k)| Mode { n: k, amp: [y[2 + 3 * i], y[3 + 3 * i], 0.0] }).collect();
+        let l = StateLayout::reduced(m.orders().len());
+        let modes: Vec<Mode> = m.orders().iter().enumerate().map(|(i, &k)| Mode { n: k, amp: [y[l.a(i)], y[l.adot(i)], 0.0] }).collect();
         oracle.energy(&flow, p.pg0, p.r0, &modes)
     };
     let e0 = energy(m.initial_state());

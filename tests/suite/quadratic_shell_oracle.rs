@@ -9,6 +9,7 @@
 
 use crate::support::shell_energy::{mixed, second, steps};
 use crate::support::surface_jets::{bending, projected, viscous, Mode};
+use magbubble::model::layout::StateLayout;
 use magbubble::model::effects::quadratic_bending::QuadraticBending;
 use magbubble::model::effects::quadratic_shell_viscosity::QuadraticShellViscosity;
 use magbubble::model::effects::second_order::{FirstOrder, MaterialLoads, SecondOrderTerm};
@@ -45,15 +46,16 @@ fn with(n: usize, k: K, v: f64) -> Mode {
 
 /// The runtime loads [−P, G_n,j…], [G_t,j…] (index j/2) at R, Ṙ with the given amplitudes.
 fn runtime(eval: &dyn Fn(&[f64], &[f64], &mut Loads<'_>), rd: f64, amps: &[(usize, K, f64)]) -> (Vec<f64>, Vec<f64>) {
-    let mut z = vec![0.0; 2 + 3 * MODES];
+    let l = StateLayout::reduced(MODES);
+    let mut z = vec![0.0; l.dim()];
     let mut bd = vec![0.0; MODES];
-    (z[0], z[1]) = (R, rd);
+    (z[l.r()], z[l.rdot()]) = (R, rd);
     for &(n, k, v) in amps {
-        let i = 2 + 3 * (n / 2 - 1);
+        let m = n / 2 - 1;
         match k {
-            K::A => z[i] += v,
-            K::Ad => z[i + 1] += v,
-            K::B => z[i + 2] += v,
+            K::A => z[l.a(m)] += v,
+            K::Ad => z[l.adot(m)] += v,
+            K::B => z[l.b(m)] += v,
             K::Bd => bd[n / 2 - 1] += v,
         }
     }

@@ -31,6 +31,7 @@
 //! δ = −(n−1)(n+2)(4n−1)γε²/(4(2n+1)ρR0²(ω0² − 4ω_n²)) cos 2ω_n t, ω0² = (3κp_g0 − 2γ/R0)/(ρR0²).
 
 use crate::support::potential_flow::{Flow, Mode, Oracle, Virial};
+use magbubble::model::layout::StateLayout;
 use magbubble::integrate::{solve, Control, Method, Output};
 use magbubble::model::Model;
 use magbubble::scene::load;
@@ -60,7 +61,8 @@ fn run(n: usize, eps: f64, coupling: &str, duration: f64, dt: f64, extra: &[&str
     let steps = (duration / dt).round();
     solve(m.system(), 0.0, m.initial_state(), t_end, &if rk4 { Method::Rk4 { dt: t_end / steps } } else { Method::Dop853 { rtol: 1e-13, atol: 1e-16 } }, Output::Every(t_end / steps), 50_000_000, &mut |t, y| {
         let flow = Flow { rho: p.rho, gamma, pg: 0.0, kappa: p.three_kappa / 3.0, p_inf: p.p0, radial: [y[0], y[1], 0.0] };
-        let modes: Vec<Mode> = m.orders().iter().enumerate().map(|(i, &k)| Mode { n: k, amp: [y[2 + 3 * i], y[3 + 3 * i], 0.0] }).collect();
+        let l = StateLayout::reduced(m.orders().len());
+        let modes: Vec<Mode> = m.orders().iter().enumerate().map(|(i, &k)| Mode { n: k, amp: [y[l.a(i)], y[l.adot(i)], 0.0] }).collect();
         out.push((t, oracle.virial(&flow, p.pg0, p.r0, &modes), p.p_inf(t)));
         Control::Continue
     })

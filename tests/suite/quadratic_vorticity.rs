@@ -6,6 +6,7 @@
 //! closures agree as closely as on the linear scene, and quadratic − linear under the vorticity
 //! closure scales as ε² (halving ε divides it by 4), for both time schemes.
 
+use magbubble::model::layout::StateLayout;
 use magbubble::analysis::compare::run_both;
 use magbubble::integrate::OdeSystem;
 use magbubble::model::vorticity::equations::reduced_jacobian;
@@ -35,7 +36,7 @@ fn reduced_jacobian_error(scene: &Scene) -> (f64, f64) {
     let c = fm.coupling();
     let sys = Monolithic::new(&c, fm.grid.clone());
     let m = fm.base().orders().len();
-    let (nz, np) = (2 + 3 * m, 2 * m);
+    let (nz, np) = (StateLayout::reduced(m).dim(), 2 * m);
     let y = generic_state(sys.dim());
     let (mut z, mut p) = (vec![0.0; nz], vec![0.0; np]);
     sys.split(&y, &mut z, &mut p);

@@ -16,7 +16,8 @@
 use crate::support::jacobian::assert_jacobian_matches_fd_step;
 use crate::support::prony::prony;
 use magbubble::analysis::dispersion::{LinearMode, C64};
-use magbubble::model::effects::{a_index, BdotLoads, LoadJacobian};
+use magbubble::model::effects::{BdotLoads, LoadJacobian};
+use magbubble::model::layout::StateLayout;
 use magbubble::model::Model;
 use magbubble::scene;
 
@@ -58,7 +59,8 @@ fn per_mode(m: &Model) -> Vec<(f64, [f64; 4], [f64; 4], f64, Vec<C64>)> {
     let bl = m.boundary_layer().unwrap();
     let eq = bl.equations();
     let nm = bl.modes().len();
-    let z = vec![0.0; 2 + 3 * nm].into_iter().enumerate().map(|(i, x)| if i == 0 { 1.0 } else { x }).collect::<Vec<_>>();
+    let l = StateLayout::reduced(nm);
+    let z = (0..l.dim()).map(|i| if i == l.r() { 1.0 } else { 0.0 }).collect::<Vec<_>>();
     let mut lj = LoadJacobian::new(nm);
     eq.load_jacobian(0.0, &z, &mut lj);
     let (mut cn, mut ct, mut cnr, mut ctr) = (vec![0.0; nm], vec![0.0; nm], vec![0.0; nm], vec![0.0; nm]);
@@ -66,11 +68,11 @@ fn per_mode(m: &Model) -> Vec<(f64, [f64; 4], [f64; 4], f64, Vec<C64>)> {
     let (a, _) = bl.linear_modes(0.0, 1.0, 0.0, 0.0);
     (0..nm)
         .map(|j| {
-            let ia = a_index(j);
+            let (ia, iad, ib) = (l.a(j), l.adot(j), l.b(j));
             let (gn, gt) = (lj.gn_row(j), lj.gt_row(j));
-            let block = a.view((3 * j, 3 * j), (3, 3)).clone_owned();
+            let block = a.view((StateLayout::x_a(j), StateLayout::x_a(j)), (3, 3)).clone_owned();
             let eig = block.complex_eigenvalues().iter().map(|e| C64::new(e.re, e.im)).collect();
-            (bl.modes()[j].k, [gn[ia], gn[ia + 1], gn[ia + 2], cn[j]], [gt[ia], gt[ia + 1], gt[ia + 2], ct[j]], bl.delta(j, 1.0), eig)
+            (bl.modes()[j].k, [gn[ia], gn[iad], gn[ib], cn[j]], [gt[ia], gt[iad], gt[ib], ct[j]], bl.delta(j, 1.0), eig)
         })
         .collect()
 }

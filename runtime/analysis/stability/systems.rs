@@ -6,6 +6,7 @@ use crate::analysis::floquet::LinearPeriodic;
 use crate::analysis::periodic::{PeriodicOrbit, RkFlow};
 use super::StabilityError;
 use crate::integrate::OdeSystem;
+use crate::model::layout::StateLayout;
 use crate::model::{BoundaryLayerSystem, Model};
 use nalgebra::DMatrix;
 
@@ -46,7 +47,7 @@ impl Radial<'_> {
         }
         match self.full {
             n if n <= 56 => Some(fill::<56, T>(n, y, f)),
-            n if n <= 2 + 3 * 64 => Some(fill::<{ 2 + 3 * 64 }, T>(n, y, f)),
+            n if n <= StateLayout::reduced(64).dim() => Some(fill::<{ StateLayout::reduced(64).dim() }, T>(n, y, f)),
             _ => None,
         }
     }
@@ -152,13 +153,15 @@ impl LinearPeriodic for ShapeSystem<'_> {
         }
         let (r, rd, rdd) = (self.radial)(t);
         let mut mb = [[0.0; 9]; crate::model::effects::MAX_MODES];
-        self.bl.linear_mode_blocks_into(t, r, rd, rdd, &mut mb[..self.n / 3]);
+        self.bl.linear_mode_blocks_into(t, r, rd, rdd, &mut mb[..self.bl.modes().len()]);
+        // x's entries by (mode, entry of its (a, ȧ, b)); the blocks are 3 × 3 column-major
+        let (mode, entry) = (StateLayout::x_mode, StateLayout::x_entry);
         for (idx, o) in blocks.iter().zip(out) {
-            let base = idx[0] - idx[0] % 3;
+            let m = mode(idx[0]);
             for (bj, &j) in idx.iter().enumerate() {
                 for (bi, &i) in idx.iter().enumerate() {
-                    debug_assert!(i / 3 == base / 3 && j / 3 == base / 3, "a block spans two modes");
-                    o[(bi, bj)] = mb[base / 3][(j - base) * 3 + (i - base)];
+                    debug_assert!(mode(i) == m && mode(j) == m, "a block spans two modes");
+                    o[(bi, bj)] = mb[m][entry(j) * StateLayout::AMPLITUDES + entry(i)];
                 }
             }
         }
@@ -167,9 +170,9 @@ impl LinearPeriodic for ShapeSystem<'_> {
         if self.bl.jacobian_pattern().band > 0 {
             vec![(0..self.n).collect()]
         } else if self.b_free() {
-            (0..self.n / 3).flat_map(|m| [vec![3 * m, 3 * m + 1], vec![3 * m + 2]]).collect()
+            (0..self.bl.modes().len()).flat_map(|m| [vec![StateLayout::x_a(m), StateLayout::x_adot(m)], vec![StateLayout::x_b(m)]]).collect()
         } else {
-            (0..self.n / 3).map(|m| vec![3 * m, 3 * m + 1, 3 * m + 2]).collect()
+            (0..self.bl.modes().len()).map(|m| vec![StateLayout::x_a(m), StateLayout::x_adot(m), StateLayout::x_b(m)]).collect()
         }
     }
 }
@@ -185,7 +188,8 @@ impl ShapeSystem<'_> {
             return false;
         }
         let (a, _) = self.bl.linear_modes(0.1, 1.1, 0.3, -0.2);
-        (0..self.n / 3).all(|m| (0..self.n).all(|i| i % 3 == 2 || a[(i, 3 * m + 2)] == 0.0))
+        let is_b = |i: usize| StateLayout::x_entry(i) == StateLayout::B;
+        (0..self.bl.modes().len()).all(|m| (0..self.n).all(|i| is_b(i) || a[(i, StateLayout::x_b(m))] == 0.0))
     }
 }
 

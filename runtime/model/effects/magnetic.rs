@@ -43,7 +43,7 @@ impl Term for MagneticTerm {
     fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
         let l = &self.loads;
         let f = l.factors(at.t, at.r());
-        let mut g = [0.0; 2 + 3 * super::MAX_MODES];
+        let mut g = [0.0; super::MAX_DIM];
         l.add_row_gradient(&f, 0, at.z, true, 1.0, &mut g[..at.z.len()]);
         dp[0] += g[0];
         dp[1] += g[1];

@@ -4,7 +4,7 @@
 //! chosen by `shell.form`; they depend on R and k only and are evaluated once per mode per call,
 //! all modes in one call of `Membrane::modes` in the right-hand side.
 
-use super::{a_index, At, LoadJacobian, Loads, PressureRate, Term};
+use super::{At, LoadJacobian, Loads, PressureRate, Term};
 use crate::model::params::Membrane;
 
 #[derive(Debug, Clone)]
@@ -84,14 +84,14 @@ impl Term for MembraneTerm {
             let k = self.orders[m];
             let (s, d) = (self.stiffness(r, k), self.stiffness_dr(r, k));
             let (a, b) = (at.a(m), at.b(m));
+            let (ia, ib) = (jac.layout().a(m), jac.layout().b(m));
             let (gn, gt) = (&mut jac.gn[m * n..(m + 1) * n], &mut jac.gt[m * n..(m + 1) * n]);
-            let ia = a_index(m);
             gn[0] += d.s1 * a + d.s2 * b;
             gt[0] += d.s11 * a + d.s12 * b;
             gn[ia] += s.s1;
-            gn[ia + 2] += s.s2;
+            gn[ib] += s.s2;
             gt[ia] += s.s11;
-            gt[ia + 2] += s.s12;
+            gt[ib] += s.s12;
         }
     }
     /// P = −Ŝ0(R): q = −Ŝ0′(R) Ṙ (generated Ŝ0′), s = 0. ∂q/∂R = −Ŝ0″(R) Ṙ: codegen emits no

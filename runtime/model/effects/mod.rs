@@ -35,8 +35,13 @@ pub mod viscosity;
 mod frame_sweep;
 mod pair_rows;
 
+use super::layout::StateLayout;
+
 /// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.
 pub const MAX_MODES: usize = crate::coefficients::KMAX / 2 + 1;
+
+/// Largest boundary-layer state, 2 + 3·[`MAX_MODES`]; bounds the stack buffers of a state.
+pub const MAX_DIM: usize = StateLayout::reduced(MAX_MODES).dim();
 
 /// `buf` filled with zeros, as a slice of f64: a stack buffer of a rhs zeroed only where it is
 /// used (not its whole MAX_MODES capacity).
@@ -58,35 +63,35 @@ pub struct At<'a> {
 }
 
 impl At<'_> {
+    /// The layout of z (the boundary-layer layout, whose offsets do not depend on the mode
+    /// count: the accessors below compile to fixed offsets).
+    #[inline]
+    pub fn layout(&self) -> StateLayout {
+        StateLayout::reduced(self.z.len().saturating_sub(StateLayout::RADIAL) / StateLayout::AMPLITUDES)
+    }
     #[inline]
     pub fn r(&self) -> f64 {
-        self.z[0]
+        self.z[self.layout().r()]
     }
     #[inline]
     pub fn rdot(&self) -> f64 {
-        self.z[1]
+        self.z[self.layout().rdot()]
     }
     /// a_k of mode index m (k = 2(m+1)).
     #[inline]
     pub fn a(&self, m: usize) -> f64 {
-        self.z[2 + 3 * m]
+        self.z[self.layout().a(m)]
     }
     /// ȧ_k of mode index m.
     #[inline]
     pub fn adot(&self, m: usize) -> f64 {
-        self.z[3 + 3 * m]
+        self.z[self.layout().adot(m)]
     }
     /// b_k of mode index m.
     #[inline]
     pub fn b(&self, m: usize) -> f64 {
-        self.z[4 + 3 * m]
+        self.z[self.layout().b(m)]
     }
-}
-
-/// Index of a_k (mode index m) in z; ȧ_k and b_k follow.
-#[inline]
-pub const fn a_index(m: usize) -> usize {
-    2 + 3 * m
 }
 
 /// The two sums of one evaluation. `gn`, `gt` have one entry per mode the caller wants; empty
@@ -116,11 +121,15 @@ pub struct LoadJacobian {
 impl LoadJacobian {
     /// Zero derivatives for M modes.
     pub fn new(modes: usize) -> Self {
-        let n = 2 + 3 * modes;
+        let n = StateLayout::reduced(modes).dim();
         Self { n, pressure: vec![0.0; n], gn: vec![0.0; modes * n], gt: vec![0.0; modes * n] }
     }
     pub fn modes(&self) -> usize {
-        (self.n - 2) / 3
+        self.layout().modes()
+    }
+    /// The layout of the columns (the boundary-layer layout).
+    pub fn layout(&self) -> StateLayout {
+        StateLayout::reduced((self.n - StateLayout::RADIAL) / StateLayout::AMPLITUDES)
     }
     pub fn clear(&mut self) {
         self.pressure.fill(0.0);
@@ -161,7 +170,7 @@ pub struct PressureRate {
     /// (∂s/∂R, ∂s/∂Ṙ)
     pub ds: [f64; 2],
     /// ∂q/∂(a_m, ȧ_m, b_m) at index 3m, 3m + 1, 3m + 2 (zero unless P depends on the shape).
-    pub dq_shape: [f64; 3 * MAX_MODES],
+    pub dq_shape: [f64; StateLayout::x_dim(MAX_MODES)],
     /// ∂P/∂b_m: dP/dt ∋ Σ_m db[m] ḃ_m (see above).
     pub db: [f64; MAX_MODES],
     /// ∂db[m]/∂R (db depends on t and R only: the loads are affine in the amplitudes).
@@ -170,7 +179,7 @@ pub struct PressureRate {
 
 impl Default for PressureRate {
     fn default() -> Self {
-        Self { q: 0.0, s: 0.0, dq: [0.0; 2], ds: [0.0; 2], dq_shape: [0.0; 3 * MAX_MODES], db: [0.0; MAX_MODES], db_dr: [0.0; MAX_MODES] }
+        Self { q: 0.0, s: 0.0, dq: [0.0; 2], ds: [0.0; 2], dq_shape: [0.0; StateLayout::x_dim(MAX_MODES)], db: [0.0; MAX_MODES], db_dr: [0.0; MAX_MODES] }
     }
 }
 

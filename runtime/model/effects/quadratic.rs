@@ -25,6 +25,7 @@ mod jacobian;
 use super::pair_rows::PairRows;
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
 use super::{At, LoadJacobian, Loads, MAX_MODES};
+use crate::model::layout::StateLayout;
 use crate::coefficients::quadratic::{Term as QTerm, FREE_BUBBLE};
 
 /// Symbols of the prefactors, in this order.
@@ -108,7 +109,7 @@ impl QuadraticCoupling {
                     let v = t.value(0, kl, km);
                     if v != 0.0 {
                         let (first, second) = (t.first.order(), t.second.order());
-                        let at = |i: usize, f: usize| if f < 3 { 3 * i + f } else { 3 * nm };
+                        let at = |i: usize, f: usize| if f < 3 { StateLayout::x_a(i) + f } else { StateLayout::x_dim(nm) };
                         radial_only.push(Entry { l, m, term, value: v, flat: (at(l, first), at(m, second)) });
                     }
                 }
@@ -220,8 +221,9 @@ impl QuadraticCoupling {
     /// amp_i[g_s], amp = [a, ȧ, ä⁽¹⁾, 0], (f_s, g_s) the slot's sides (padding: 3, a zero).
     fn factors(&self, z: &[f64], add: &[f64], pre: &[f64; MAX_SLOTS], left: &mut [f64], right: &mut [f64]) {
         let st = self.rows.stride();
+        let l = StateLayout::reduced(add.len());
         for (i, (lv, rv)) in left.chunks_exact_mut(st).zip(right.chunks_exact_mut(st)).enumerate().take(add.len()) {
-            let a4 = [z[2 + 3 * i], z[3 + 3 * i], add[i], 0.0];
+            let a4 = [z[l.a(i)], z[l.adot(i)], add[i], 0.0];
             for (((x, y), &(f, g)), p) in lv.iter_mut().zip(rv.iter_mut()).zip(&self.sides).zip(pre) {
                 (*x, *y) = (p * a4[f & 3], a4[g & 3]);
             }
@@ -250,14 +252,16 @@ impl SecondOrderTerm for QuadraticCoupling {
         for (p, slot) in pre.iter_mut().zip(&self.slots) {
             *p = tp[slot.term];
         }
-        let (z, add) = (&at.z[..2 + 3 * n], &first.add[..n]);
-        // [a, ȧ, ä⁽¹⁾] of each mode index in a row, then one 0 (the entries' `flat`)
-        let mut amp = [0.0; 3 * MAX_MODES + 1];
-        amp[..3 * n].copy_from_slice(&z[2..]);
+        let l = StateLayout::reduced(n);
+        let (z, add) = (&at.z[..l.dim()], &first.add[..n]);
+        // [a, ȧ, ä⁽¹⁾] of each mode index in a row (x's layout, ä⁽¹⁾ in b's place), then one 0
+        // (the entries' `flat`)
+        let mut amp = [0.0; StateLayout::x_dim(MAX_MODES) + 1];
+        amp[..StateLayout::x_dim(n)].copy_from_slice(&z[l.shape()]);
         for (i, &x) in add.iter().enumerate() {
-            amp[3 * i + 2] = x;
+            amp[StateLayout::x_b(i)] = x;
         }
-        let amp = &amp[..=3 * n];
+        let amp = &amp[..=StateLayout::x_dim(n)];
         let mut out = [0.0; MAX_MODES + 1];
         for e in &self.radial_only {
             out[0] += e.value * tp[e.term] * amp[e.flat.0] * amp[e.flat.1];

@@ -40,7 +40,8 @@ mod jacobian;
 
 use super::frame_sweep::{Factors, FrameRows};
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
-use super::{a_index, At, BdotLoads, LoadJacobian, Loads, Term, MAX_MODES};
+use super::{At, BdotLoads, LoadJacobian, Loads, Term, MAX_DIM, MAX_MODES};
+use crate::model::layout::StateLayout;
 use crate::coefficients::quadratic::P1P1P;
 
 /// ∫ P¹_l P¹_m P_j dx of the generated tensor (0 outside the selection rules).
@@ -66,7 +67,8 @@ pub struct FrameMap {
 
 /// The (value, rate) rows of target n in z: R, Ṙ for n = 0, a, ȧ of mode n − 1 otherwise.
 fn rows(n: usize) -> (usize, usize) {
-    if n == 0 { (0, 1) } else { (a_index(n - 1), a_index(n - 1) + 1) }
+    let l = StateLayout::reduced(n);
+    if n == 0 { (l.r(), l.rdot()) } else { (l.a(n - 1), l.adot(n - 1)) }
 }
 
 /// The rhs's work space (per thread, grown once): the sweep's per-mode factors and sums, z^L
@@ -96,7 +98,8 @@ fn sweep_factors<'a>(zs: impl Iterator<Item = &'a [f64]>, g: &[f64], bd: &[f64],
             Some(g) => g + cn(i) * b,
             None => 0.0,
         };
-        (*u, *v) = ([zk[0], zk[1], f, zk[0]], [zk[2], zk[2], zk[2], b]);
+        let (a, ad, bk) = (zk[StateLayout::A], zk[StateLayout::ADOT], zk[StateLayout::B]);
+        (*u, *v) = ([a, ad, f, a], [bk, bk, bk, b]);
     }
 }
 
@@ -192,7 +195,7 @@ impl FrameMap {
         if w.sums.len() <= m {
             *w = Work { u: vec![[0.0; 4]; m], v: vec![[0.0; 4]; m], sums: vec![[0.0; 4]; m + 1], ..Work::default() };
         }
-        let (g, zs) = (first.material.gn, z[2..2 + 3 * m].chunks_exact(3));
+        let (g, zs) = (first.material.gn, z[StateLayout::reduced(m).shape()].chunks_exact(StateLayout::AMPLITUDES));
         let (u, v) = (&mut w.u[..m], &mut w.v[..m]);
         // F_l; without ḃ loads cn = 0 (the same sum)
         if self.bdot {
@@ -211,12 +214,12 @@ impl FrameMap {
             *x += d / r;
             *xd += s / r - rd * d / (r * r);
         };
-        let (head, modes) = w.zl.split_at_mut(2);
+        let (head, modes) = w.zl.split_at_mut(StateLayout::RADIAL);
         let [x, xd] = head else { unreachable!("the state has R and Ṙ") };
         shift(x, xd, &w.sums[0]);
-        for (zk, o) in modes[..3 * m].chunks_exact_mut(3).zip(&w.sums[1..=m]) {
-            let (x, rest) = zk.split_first_mut().expect("three entries per mode");
-            shift(x, &mut rest[0], o);
+        for (zk, o) in modes[..StateLayout::x_dim(m)].chunks_exact_mut(StateLayout::AMPLITUDES).zip(&w.sums[1..=m]) {
+            let [a, ad, _] = zk else { unreachable!("three entries per mode") };
+            shift(a, ad, o);
         }
     }
 
@@ -234,9 +237,9 @@ impl FrameMap {
     }
 
     /// The material state z^L (R^L, Ṙ^L, a^L, ȧ^L, b) of z.
-    fn material(&self, z: &[f64], d: &[f64], s: &[f64]) -> [f64; 2 + 3 * MAX_MODES] {
+    fn material(&self, z: &[f64], d: &[f64], s: &[f64]) -> [f64; MAX_DIM] {
         let (r, rd) = (z[0], z[1]);
-        let mut zl = [0.0; 2 + 3 * MAX_MODES];
+        let mut zl = [0.0; MAX_DIM];
         zl[..z.len()].copy_from_slice(z);
         for n in 0..=self.modes {
             let (p, v) = rows(n);

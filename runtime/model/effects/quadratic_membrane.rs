@@ -17,7 +17,8 @@
 //! per rhs. The Jacobian walks the same rows.
 
 use super::pair_rows::PairRows;
-use super::{a_index, zeroed, At, LoadJacobian, Loads, Term};
+use super::{zeroed, At, LoadJacobian, Loads, Term, MAX_DIM};
+use crate::model::layout::StateLayout;
 use crate::coefficients::quadratic_lookup::ppp;
 use crate::coefficients::quadratic_membrane::{Ab, Form, Law, LAWS};
 use crate::coefficients::Load;
@@ -242,7 +243,7 @@ impl QuadraticMembrane {
     /// The Jacobian's walk over the rows, `sums(c)` a row's [`row_sums`].
     #[inline(always)]
     fn jacobian_with(&self, at: &At<'_>, jac: &mut LoadJacobian, sums: impl Fn(&[f64]) -> ([f64; PRODUCTS], [f64; PRODUCTS])) {
-        let n = jac.n;
+        let (n, lay) = (jac.n, jac.layout());
         let nm = self.modes;
         for o in 0..1 + 2 * nm {
             let (row, sign): (&mut [f64], f64) = match o {
@@ -251,9 +252,9 @@ impl QuadraticMembrane {
                 o => (&mut jac.gt[(o - 1 - nm) * n..(o - nm) * n], 1.0),
             };
             // ∂/∂R and ∂/∂z_x of the output, summed locally (no chain through memory)
-            let (mut dr, mut dz) = (0.0, [0.0; 2 + 3 * super::MAX_MODES]);
+            let (mut dr, mut dz) = (0.0, [0.0; MAX_DIM]);
             for ((l, m), c) in self.rows.rows(o) {
-                let (ia, ib, ja, jb) = (a_index(l), a_index(l) + 2, a_index(m), a_index(m) + 2);
+                let (ia, ib, ja, jb) = (lay.a(l), lay.b(l), lay.a(m), lay.b(m));
                 // (x, y) state indices of each product
                 let idx = [(ia, ja), (ia, jb), (ja, ib), (ib, jb)];
                 // the prefactors summed per product: value and ∂/∂R
@@ -266,7 +267,7 @@ impl QuadraticMembrane {
                 }
             }
             row[0] += sign * dr;
-            for (rj, dj) in row.iter_mut().zip(&dz).skip(2) {
+            for (rj, dj) in row.iter_mut().zip(&dz).skip(StateLayout::RADIAL) {
                 *rj += sign * dj;
             }
         }

@@ -17,7 +17,7 @@
 //! to G_t,j.
 
 use super::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
-use super::{a_index, At, LoadJacobian, Loads};
+use super::{At, LoadJacobian, Loads};
 use crate::coefficients::quadratic_membrane::{Ab, Form, Law, Term as Table};
 use crate::coefficients::Load;
 
@@ -138,11 +138,11 @@ impl QuadraticShellViscosity {
     /// The value of a factor at the state, and its state index (None for ḃ, from the first pass).
     #[inline]
     fn factor(f: Factor, at: &At<'_>, first: &FirstOrder<'_>) -> (f64, Option<usize>) {
-        let i = a_index(f.mode);
+        let l = at.layout();
         match f.kind {
-            Ab::A => (at.z[i], Some(i)),
-            Ab::Ad => (at.z[i + 1], Some(i + 1)),
-            Ab::B => (at.z[i + 2], Some(i + 2)),
+            Ab::A => (at.a(f.mode), Some(l.a(f.mode))),
+            Ab::Ad => (at.adot(f.mode), Some(l.adot(f.mode))),
+            Ab::B => (at.b(f.mode), Some(l.b(f.mode))),
             Ab::Bd => (first.bd[f.mode], None),
         }
     }

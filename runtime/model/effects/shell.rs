@@ -14,7 +14,7 @@
 //! Nondimensional as everything else (FORMULATION §4.5): γ like c1 (N/m), k_b in units of
 //! pressure·length³, κ_s of pressure·length·time.
 
-use super::{a_index, At, BdotLoads, LoadJacobian, Loads, PressureRate, Term};
+use super::{At, BdotLoads, LoadJacobian, Loads, PressureRate, Term};
 use crate::coefficients::membrane::{bending, surface_tension, viscous};
 use crate::model::params::Scales;
 use crate::scene::Shell;
@@ -90,15 +90,15 @@ impl Term for OneConstant {
         for m in 0..jac.modes() {
             let k = self.orders[m];
             let (a, b) = (at.a(m), at.b(m));
-            let ia = a_index(m);
+            let (ia, ib) = (jac.layout().a(m), jac.layout().b(m));
             let gn = &mut jac.gn[m * n..(m + 1) * n];
             gn[0] += d1(r, r0, v, k) * a + d2(r, r0, v, k) * b;
             gn[ia] += s1(r, r0, v, k);
-            gn[ia + 2] += s2(r, r0, v, k);
+            gn[ib] += s2(r, r0, v, k);
             let gt = &mut jac.gt[m * n..(m + 1) * n];
             gt[0] += d11(r, r0, v, k) * a + d12(r, r0, v, k) * b;
             gt[ia] += s11(r, r0, v, k);
-            gt[ia + 2] += s12(r, r0, v, k);
+            gt[ib] += s12(r, r0, v, k);
         }
     }
     /// P ∋ −Ŝ0(R): q = −Ŝ0′(R) Ṙ (generated Ŝ0′; for γ, d/dt(−2γ/R) = 2γṘ/R²), s = 0,
@@ -165,19 +165,20 @@ impl Term for ShellViscosity {
         for m in 0..jac.modes() {
             let k = self.orders[m];
             let (a, ad, b) = (at.a(m), at.adot(m), at.b(m));
-            let ia = a_index(m);
+            let l = jac.layout();
+            let (ia, iad, ib) = (l.a(m), l.adot(m), l.b(m));
             let gn = &mut jac.gn[m * n..(m + 1) * n];
             gn[0] += v::s1_dr(r, r0, rd, mu, ks, k) * a + v::s2_dr(r, r0, rd, mu, ks, k) * b + v::s1d_dr(r, r0, rd, mu, ks, k) * ad;
             gn[1] += v::s1(r, r0, 1.0, mu, ks, k) * a + v::s2(r, r0, 1.0, mu, ks, k) * b;
             gn[ia] += v::s1(r, r0, rd, mu, ks, k);
-            gn[ia + 1] += v::s1d(r, r0, rd, mu, ks, k);
-            gn[ia + 2] += v::s2(r, r0, rd, mu, ks, k);
+            gn[iad] += v::s1d(r, r0, rd, mu, ks, k);
+            gn[ib] += v::s2(r, r0, rd, mu, ks, k);
             let gt = &mut jac.gt[m * n..(m + 1) * n];
             gt[0] += v::s11_dr(r, r0, rd, mu, ks, k) * a + v::s12_dr(r, r0, rd, mu, ks, k) * b + v::s11d_dr(r, r0, rd, mu, ks, k) * ad;
             gt[1] += v::s11(r, r0, 1.0, mu, ks, k) * a + v::s12(r, r0, 1.0, mu, ks, k) * b;
             gt[ia] += v::s11(r, r0, rd, mu, ks, k);
-            gt[ia + 1] += v::s11d(r, r0, rd, mu, ks, k);
-            gt[ia + 2] += v::s12(r, r0, rd, mu, ks, k);
+            gt[iad] += v::s11d(r, r0, rd, mu, ks, k);
+            gt[ib] += v::s12(r, r0, rd, mu, ks, k);
         }
     }
     /// P ∋ −Ŝ0(R, Ṙ) with Ŝ0 linear in Ṙ (generated): dP/dt = −Ŝ0_R Ṙ − Ŝ0(R, 1) R̈, so

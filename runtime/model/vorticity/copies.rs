@@ -9,17 +9,20 @@
 
 use super::batch::{Lane, Split, L, V};
 use super::nodes;
+use crate::model::layout::StateLayout;
 
 /// The T rows of the state `b` (2 + M·nb entries), mode by mode: `ni` entries from offset 3 of
 /// each block of nb after R, Ṙ.
 #[inline(always)]
 fn t_rows<T>(b: &[T], nb: usize, ni: usize) -> impl Iterator<Item = &[T]> {
-    b[2..].chunks_exact(nb).map(move |blk| &blk[3..3 + ni])
+    const T0: usize = StateLayout::AMPLITUDES;
+    b[StateLayout::RADIAL..].chunks_exact(nb).map(move |blk| &blk[T0..T0 + ni])
 }
 
 #[inline(always)]
 fn t_rows_mut<T>(b: &mut [T], nb: usize, ni: usize) -> impl Iterator<Item = &mut [T]> {
-    b[2..].chunks_exact_mut(nb).map(move |blk| &mut blk[3..3 + ni])
+    const T0: usize = StateLayout::AMPLITUDES;
+    b[StateLayout::RADIAL..].chunks_exact_mut(nb).map(move |blk| &mut blk[T0..T0 + ni])
 }
 
 /// b_T,k (mode-major in the state `b`) into the node-major split copy `xt`, with the nodes as
@@ -140,10 +143,9 @@ mod tests {
     #[test]
     fn vector_copies_match_the_entry_copies() {
         let ni = 11;
-        let nb = 3 + ni;
         for m in [1usize, 4, 7, 8, 9, 13] {
-            let q = m.div_ceil(L);
-            let n = 2 + m * nb;
+            let (lay, q) = (StateLayout::monolithic(m, ni), m.div_ceil(L));
+            let (n, nb) = (lay.dim(), lay.block());
             let bc: Vec<Complex<f64>> = (0..n).map(|i| Complex::new(i as f64 * 0.5 - 3.0, (i as f64).sin())).collect();
             let br: Vec<f64> = bc.iter().map(|c| c.im).collect();
             let fresh = |cplx: bool| Split { q, re: vec![[7.0; L]; ni * q], im: if cplx { vec![[-7.0; L]; ni * q] } else { Vec::new() } };

@@ -11,6 +11,7 @@
 
 use super::ModeCoupling;
 use crate::model::effects::MAX_MODES;
+use crate::model::layout::StateLayout;
 use nalgebra::DMatrix;
 
 /// Everything the mode equations need at one instant, for all M modes (index m ↔ k = orders[m]).
@@ -146,10 +147,11 @@ pub fn completed_loads(c: &dyn ModeCoupling, t: f64, x: &ModeInputs<'_>, gn: &mu
 /// solve's small dense system, [`super::structured`]), so the structure is unchanged.
 pub fn reduced_jacobian(c: &dyn ModeCoupling, t: f64, z: &[f64], p: &[f64], w0: f64, gz: &mut DMatrix<f64>, gp: &mut DMatrix<f64>) {
     let m = c.orders().len();
-    let nz = 2 + 3 * m;
-    let (r, rd) = (z[0], z[1]);
-    let pick = |o: usize| (0..m).map(|i| z[2 + 3 * i + o]).collect::<Vec<f64>>();
-    let (a, ad, b) = (pick(0), pick(1), pick(2));
+    let l = StateLayout::reduced(m);
+    let nz = l.dim();
+    let (r, rd) = (z[l.r()], z[l.rdot()]);
+    let pick = |at: fn(StateLayout, usize) -> usize| (0..m).map(|i| z[at(l, i)]).collect::<Vec<f64>>();
+    let (a, ad, b) = (pick(StateLayout::a), pick(StateLayout::adot), pick(StateLayout::b));
     let mut ls = LoadScratch::new(m);
     let rdd = ls.eval(c, t, r, rd, &a, &ad, &b);
     let mut lj = crate::model::effects::LoadJacobian::new(m);
@@ -171,10 +173,10 @@ pub fn reduced_jacobian(c: &dyn ModeCoupling, t: f64, z: &[f64], p: &[f64], w0: 
     for mi in 0..m {
         let row = &mut dadd[mi * ne..(mi + 1) * ne];
         for j in 0..nz {
-            row[j] = gz[(3 + 3 * mi, j)];
+            row[j] = gz[(l.adot(mi), j)];
         }
         for q in 0..2 * m {
-            row[nz + q] = gp[(3 + 3 * mi, q)];
+            row[nz + q] = gp[(l.adot(mi), q)];
         }
     }
     let (mut gn, mut gt) = (ls.gn.clone(), ls.gt.clone());
@@ -215,39 +217,41 @@ fn fill_rows(c: &dyn ModeCoupling, z: &[f64], p: &[f64], w0: f64, x: &Pass<'_>, 
     use eqs::var::*;
     let orders = c.orders();
     let m = orders.len();
-    let nz = 2 + 3 * m;
+    let l = StateLayout::reduced(m);
+    let nz = l.dim();
     let extra = x.lj.n - nz;
     let (rho, eta) = (c.density(), c.viscosity());
-    let (r, rd) = (z[0], z[1]);
+    let (r, rd) = (z[l.r()], z[l.rdot()]);
     gz.fill(0.0);
     gp.fill(0.0);
-    gz[(0, 1)] = 1.0;
+    gz[(l.r(), l.rdot())] = 1.0;
     for j in 0..nz {
-        gz[(1, j)] = x.drdd[j];
+        gz[(l.rdot(), j)] = x.drdd[j];
     }
     for q in 0..extra {
-        gp[(1, q)] = x.drdd[nz + q];
+        gp[(l.rdot(), q)] = x.drdd[nz + q];
     }
     for (mi, &k) in orders.iter().enumerate() {
         let kf = k as f64;
-        let i = 2 + 3 * mi;
-        let (a, ad, b) = (z[i], z[i + 1], z[i + 2]);
-        gz[(i, i + 1)] = 1.0;
+        let (ia, iad, ib) = (l.a(mi), l.adot(mi), l.b(mi));
+        let (a, ad, b) = (z[ia], z[iad], z[ib]);
+        gz[(ia, iad)] = 1.0;
         let (gn, gt) = (x.gn[mi], x.gt[mi]);
         let src = wall_source(kf, eta, r, rd, a, ad, gt);
         let d_src = eqs::wall_source_partials(kf, eta, r, rd, a, gt);
         let w = wall_linear(r, src, &d_src, p[mi], p[m + mi], w0);
         let (da, db) = eqs::mode_partials(kf, rho, eta, r, rd, x.rdd, a, ad, b, gn, &w);
         let (gn_row, gt_row) = (x.lj.gn_row(mi), x.lj.gt_row(mi));
-        for (row, d) in [(i + 1, &da), (i + 2, &db), (nz + mi, &w.d_tw)] {
+        // the ä, ḃ rows and, past z, the T_w row of the mode
+        for (row, d) in [(iad, &da), (ib, &db), (nz + mi, &w.d_tw)] {
             for j in 0..nz {
                 gz[(row, j)] = d[RDD] * x.drdd[j] + d[GN] * gn_row[j] + d[GT] * gt_row[j];
             }
-            gz[(row, 0)] += d[R];
-            gz[(row, 1)] += d[RD];
-            gz[(row, i)] += d[A];
-            gz[(row, i + 1)] += d[AD];
-            gz[(row, i + 2)] += d[B];
+            gz[(row, l.r())] += d[R];
+            gz[(row, l.rdot())] += d[RD];
+            gz[(row, ia)] += d[A];
+            gz[(row, iad)] += d[AD];
+            gz[(row, ib)] += d[B];
             for q in 0..extra {
                 gp[(row, q)] = d[RDD] * x.drdd[nz + q] + d[GN] * gn_row[nz + q] + d[GT] * gt_row[nz + q];
             }

@@ -144,13 +144,13 @@ impl ModeCoupling for LinearCoupling {
     fn linearize(&self, _t: f64, _z: &[f64], drdd: &mut [f64], jac: &mut crate::model::effects::LoadJacobian) {
         drdd.fill(0.0);
         jac.clear();
-        let n = jac.n;
+        let (n, l) = (jac.n, jac.layout());
         for (m, md) in self.modes.iter().enumerate() {
-            let ia = crate::model::effects::a_index(m);
+            let (ia, ib) = (l.a(m), l.b(m));
             jac.gn[m * n + ia] = md.s1;
-            jac.gn[m * n + ia + 2] = md.s2;
+            jac.gn[m * n + ib] = md.s2;
             jac.gt[m * n + ia] = md.s11;
-            jac.gt[m * n + ia + 2] = md.s12;
+            jac.gt[m * n + ib] = md.s12;
         }
     }
     fn mode_stiffness(&self, _t: f64, _r: f64) -> Vec<[f64; 4]> {

@@ -2,7 +2,7 @@
 //! Every interior T node is an ODE state; T_w is eliminated algebraically from (TS) at every
 //! evaluation, so the system is an explicit ODE (not a DAE) of size 2 + M(3 + n − 2).
 //!
-//! State layout (mode-major, so a mode's unknowns are contiguous):
+//! State layout (mode-major, so a mode's unknowns are contiguous; [`StateLayout::monolithic`]):
 //! `[R, Ṙ, (a_k, ȧ_k, b_k, T_k,1 … T_k,n−2) for k = 2, 4, …, N]`.
 //!
 //! Jacobian structure: per mode, the T block is tridiagonal except for its first row (T_w
@@ -15,12 +15,14 @@ use super::equations::{coupled_mode_rates, LoadScratch, ModeInputs, ModeRates};
 use super::operator::{ModeOperator, SharedRows};
 use super::{FullState, Grid, ModeCoupling};
 use crate::integrate::OdeSystem;
+use crate::model::layout::StateLayout;
 use std::cell::RefCell;
 
 /// The full model as one ODE system.
 pub struct Monolithic<'c> {
     coupling: &'c dyn ModeCoupling,
     pub grid: Grid,
+    layout: StateLayout,
     ops: Vec<ModeOperator>,
     scratch: RefCell<Scratch>,
     /// The reduced state and its rates, reused by every `rhs` call (no allocation per call).
@@ -62,45 +64,43 @@ impl<'c> Monolithic<'c> {
             tw: z(),
             shared: SharedRows::default(),
         };
-        let reduced_buf = ReducedBuf { z: vec![0.0; 2 + 3 * m], p: vec![0.0; 2 * m], fz: vec![0.0; 2 + 3 * m], tw: z() };
-        Self { coupling, grid, ops, scratch: RefCell::new(scratch), reduced_buf: RefCell::new(reduced_buf) }
+        let layout = StateLayout::monolithic(m, grid.interior());
+        let zl = layout.boundary_layer();
+        let reduced_buf = ReducedBuf { z: vec![0.0; zl.dim()], p: vec![0.0; 2 * m], fz: vec![0.0; zl.dim()], tw: z() };
+        Self { coupling, grid, layout, ops, scratch: RefCell::new(scratch), reduced_buf: RefCell::new(reduced_buf) }
     }
 
-    /// Length of one mode block, 3 + n − 2.
-    pub fn block(&self) -> usize {
-        3 + self.grid.interior()
-    }
-
-    /// Offset of mode index m's block (its a_k).
-    pub fn offset(&self, m: usize) -> usize {
-        2 + m * self.block()
+    /// The state layout: mode blocks of 3 + n − 2 ([`StateLayout::monolithic`]).
+    #[inline]
+    pub fn layout(&self) -> StateLayout {
+        self.layout
     }
 
     /// Packs a [`FullState`] into the ODE state vector.
     pub fn pack(&self, s: &FullState) -> Vec<f64> {
-        let mut y = vec![0.0; self.dim()];
-        y[0] = s.r;
-        y[1] = s.rdot;
-        for m in 0..self.ops.len() {
-            let o = self.offset(m);
-            y[o] = s.a[m];
-            y[o + 1] = s.adot[m];
-            y[o + 2] = s.b[m];
-            y[o + 3..o + self.block()].copy_from_slice(&s.t_nodes[m]);
+        let l = self.layout;
+        let mut y = vec![0.0; l.dim()];
+        y[l.r()] = s.r;
+        y[l.rdot()] = s.rdot;
+        for m in 0..l.modes() {
+            y[l.a(m)] = s.a[m];
+            y[l.adot(m)] = s.adot[m];
+            y[l.b(m)] = s.b[m];
+            y[l.node_range(m)].copy_from_slice(&s.t_nodes[m]);
         }
         y
     }
 
     /// Unpacks an ODE state vector at time t.
     pub fn unpack(&self, t: f64, y: &[f64]) -> FullState {
-        let m = self.ops.len();
-        let mut s = FullState::new(t, y[0], y[1], vec![0.0; m], vec![0.0; m], vec![0.0; m], self.grid.interior());
+        let l = self.layout;
+        let m = l.modes();
+        let mut s = FullState::new(t, y[l.r()], y[l.rdot()], vec![0.0; m], vec![0.0; m], vec![0.0; m], l.nodes());
         for mi in 0..m {
-            let o = self.offset(mi);
-            s.a[mi] = y[o];
-            s.adot[mi] = y[o + 1];
-            s.b[mi] = y[o + 2];
-            s.t_nodes[mi].copy_from_slice(&y[o + 3..o + self.block()]);
+            s.a[mi] = y[l.a(mi)];
+            s.adot[mi] = y[l.adot(mi)];
+            s.b[mi] = y[l.b(mi)];
+            s.t_nodes[mi].copy_from_slice(&y[l.node_range(mi)]);
         }
         s
     }
@@ -121,16 +121,16 @@ impl Monolithic<'_> {
     pub fn reduced(&self, t: f64, z: &[f64], p: &[f64], fz: &mut [f64], tw: &mut [f64]) {
         let mut guard = self.scratch.borrow_mut();
         let sc = &mut *guard;
-        let m = self.ops.len();
-        let (r, rdot) = (z[0], z[1]);
+        let (m, zl) = (self.ops.len(), self.layout.boundary_layer());
+        let (r, rdot) = (z[zl.r()], z[zl.rdot()]);
         for mi in 0..m {
-            sc.a[mi] = z[2 + 3 * mi];
-            sc.adot[mi] = z[3 + 3 * mi];
-            sc.b[mi] = z[4 + 3 * mi];
+            sc.a[mi] = z[zl.a(mi)];
+            sc.adot[mi] = z[zl.adot(mi)];
+            sc.b[mi] = z[zl.b(mi)];
         }
         let rddot = sc.loads.eval(self.coupling, t, r, rdot, &sc.a, &sc.adot, &sc.b);
-        fz[0] = rdot;
-        fz[1] = rddot;
+        fz[zl.r()] = rdot;
+        fz[zl.rdot()] = rddot;
         let inputs = ModeInputs {
             r,
             rdot,
@@ -146,25 +146,20 @@ impl Monolithic<'_> {
             tw_fixed: None,
         };
         // with second-pass loads (issue 12) R̈ of the completed radial balance
-        fz[1] = coupled_mode_rates(self.coupling, t, &inputs, ModeRates { add: &mut sc.add, bdot: &mut sc.bdot, tw });
+        fz[zl.rdot()] = coupled_mode_rates(self.coupling, t, &inputs, ModeRates { add: &mut sc.add, bdot: &mut sc.bdot, tw });
         for mi in 0..m {
-            fz[2 + 3 * mi] = sc.adot[mi];
-            fz[3 + 3 * mi] = sc.add[mi];
-            fz[4 + 3 * mi] = sc.bdot[mi];
+            fz[zl.a(mi)] = sc.adot[mi];
+            fz[zl.adot(mi)] = sc.add[mi];
+            fz[zl.b(mi)] = sc.bdot[mi];
         }
     }
 
     /// Splits a state into z (ODE part) and p (vorticity functionals).
     pub fn split(&self, y: &[f64], z: &mut [f64], p: &mut [f64]) {
-        let m = self.ops.len();
-        let nb = self.block();
-        z[0] = y[0];
-        z[1] = y[1];
+        let (m, l) = (self.ops.len(), self.layout);
+        l.gather_amplitudes(y, z);
         for (mi, op) in self.ops.iter().enumerate() {
-            let o = 2 + mi * nb;
-            z[2 + 3 * mi..5 + 3 * mi].copy_from_slice(&y[o..o + 3]);
-            let tn = &y[o + 3..o + nb];
-            (p[mi], p[m + mi]) = op.functionals_lanes(tn);
+            (p[mi], p[m + mi]) = op.functionals_lanes(&y[l.node_range(mi)]);
         }
     }
 
@@ -181,7 +176,7 @@ impl Monolithic<'_> {
 
 impl OdeSystem for Monolithic<'_> {
     fn dim(&self) -> usize {
-        2 + self.ops.len() * self.block()
+        self.layout.dim()
     }
 
     /// The bordered-tridiagonal structure of J ([`super::structured`]): implicit steppers solve
@@ -191,25 +186,24 @@ impl OdeSystem for Monolithic<'_> {
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let nb = self.block();
+        let l = self.layout;
         let mut buf = self.reduced_buf.borrow_mut();
         let ReducedBuf { z, p, fz, tw } = &mut *buf;
         self.split(y, z, p);
         self.reduced(t, z, p, fz, tw);
-        dy[0] = fz[0];
-        dy[1] = fz[1];
+        dy[..StateLayout::RADIAL].copy_from_slice(&fz[..StateLayout::RADIAL]);
         let mut guard = self.scratch.borrow_mut();
         let sc = &mut *guard;
         sc.tw.copy_from_slice(tw);
-        let (r, rdot) = (y[0], y[1]);
+        let (r, rdot) = (y[l.r()], y[l.rdot()]);
         let nu = self.coupling.viscosity() / self.coupling.density();
         if let Some(op) = self.ops.first() {
             op.shared_rows(r, rdot, nu, &mut sc.shared);
         }
+        let zl = l.boundary_layer();
         for (mi, op) in self.ops.iter().enumerate() {
-            let o = 2 + mi * nb;
-            dy[o..o + 3].copy_from_slice(&fz[2 + 3 * mi..5 + 3 * mi]);
-            op.apply_shared(&sc.shared, tw[mi], &y[o + 3..o + nb], &mut dy[o + 3..o + nb]);
+            dy[l.amplitudes(mi)].copy_from_slice(&fz[zl.amplitudes(mi)]);
+            op.apply_shared(&sc.shared, tw[mi], &y[l.node_range(mi)], &mut dy[l.node_range(mi)]);
         }
     }
 }

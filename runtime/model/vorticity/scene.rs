@@ -11,6 +11,7 @@ use crate::integrate::{drive, stepper, Control, IntegrateError, Method, OdeSyste
 use crate::model::executor::{execute, Plan};
 use crate::model::effects::second_order::{FirstOrder, FirstOrderGradient, MaterialLoads};
 use crate::model::effects::{LoadJacobian, Loads, MAX_MODES};
+use crate::model::layout::StateLayout;
 use crate::model::{method_of, BoundaryLayerSystem, Model, ModelError, RunReport};
 use crate::scene::{Run, Scene, Viscous, VorticityScheme};
 use serde::Serialize;
@@ -43,7 +44,7 @@ impl<'m> SceneCoupling<'m> {
     pub fn of(model: &'m Model) -> Option<Self> {
         let bl = model.boundary_layer()?;
         let orders = model.orders();
-        Some(SceneCoupling { bl, orders, y: RefCell::new(vec![0.0; 2 + 3 * orders.len()]), second: bl.equations().has_second_order() })
+        Some(SceneCoupling { bl, orders, y: RefCell::new(vec![0.0; bl.layout().dim()]), second: bl.equations().has_second_order() })
     }
 
     /// The same coupling without the second-pass terms (the quadratic coupling, issue 12): the
@@ -66,13 +67,13 @@ impl<'m> SceneCoupling<'m> {
 
     /// Fills the boundary-layer state layout z = [R, Ṙ, (a, ȧ, b)_k] the terms read.
     fn fill(&self, r: f64, rdot: f64, a: &[f64], adot: &[f64], b: &[f64]) -> std::cell::RefMut<'_, Vec<f64>> {
-        let mut y = self.y.borrow_mut();
-        y[0] = r;
-        y[1] = rdot;
+        let (mut y, l) = (self.y.borrow_mut(), self.bl.layout());
+        y[l.r()] = r;
+        y[l.rdot()] = rdot;
         for m in 0..a.len() {
-            y[2 + 3 * m] = a[m];
-            y[3 + 3 * m] = adot[m];
-            y[4 + 3 * m] = b[m];
+            y[l.a(m)] = a[m];
+            y[l.adot(m)] = adot[m];
+            y[l.b(m)] = b[m];
         }
         y
     }
@@ -105,9 +106,9 @@ impl ModeCoupling for SceneCoupling<'_> {
         self.bl.equations().load_jacobian(t, &y, &mut lj);
         (0..m)
             .map(|i| {
-                let ia = crate::model::effects::a_index(i);
+                let (ia, ib) = (lj.layout().a(i), lj.layout().b(i));
                 let (gn, gt) = (lj.gn_row(i), lj.gt_row(i));
-                [gn[ia], gn[ia + 2], gt[ia], gt[ia + 2]]
+                [gn[ia], gn[ib], gt[ia], gt[ib]]
             })
             .collect()
     }
@@ -225,16 +226,18 @@ impl FullModel {
     /// Nondimensional initial state (T = 0).
     pub fn initial_state(&self) -> FullState {
         let y0 = self.model.initial_state();
-        let m = self.model.orders().len();
-        let pick = |c: usize| (0..m).map(|i| y0[2 + 3 * i + c]).collect::<Vec<f64>>();
-        FullState::new(0.0, y0[0], y0[1], pick(0), pick(1), pick(2), self.grid.interior())
+        let l = StateLayout::reduced(self.model.orders().len());
+        let pick = |at: fn(StateLayout, usize) -> usize| (0..l.modes()).map(|i| y0[at(l, i)]).collect::<Vec<f64>>();
+        FullState::new(0.0, y0[l.r()], y0[l.rdot()], pick(StateLayout::a), pick(StateLayout::adot), pick(StateLayout::b), self.grid.interior())
     }
 
     /// The boundary-layer layout [R, Ṙ, (a, ȧ, b)_k] of a full state (for output and blow-up).
     pub fn bl_layout(s: &FullState) -> Vec<f64> {
-        let mut z = vec![s.r, s.rdot];
-        for m in 0..s.a.len() {
-            z.extend_from_slice(&[s.a[m], s.adot[m], s.b[m]]);
+        let l = StateLayout::reduced(s.a.len());
+        let mut z = vec![0.0; l.dim()];
+        (z[l.r()], z[l.rdot()]) = (s.r, s.rdot);
+        for m in 0..l.modes() {
+            (z[l.a(m)], z[l.adot(m)], z[l.b(m)]) = (s.a[m], s.adot[m], s.b[m]);
         }
         z
     }
@@ -283,21 +286,22 @@ impl FullModel {
         let ts = self.model.time_scale();
         let c = self.coupling();
         let sys = Monolithic::new(&c, self.grid.clone());
-        let (nb, orders) = (sys.block(), self.model.orders());
+        let (lay, orders) = (sys.layout(), self.model.orders());
         let t_end = run.duration / ts;
         let method = method_of(&run.integrator, ts);
         let (st, land) = self.scheme_stepper(&c, &sys, self.scheme, &method, run.integrator.dt / ts, t_end);
-        let layout: Vec<usize> = [0, 1].into_iter().chain((0..orders.len()).flat_map(|mi| 2 + mi * nb..5 + mi * nb)).collect();
-        let component_mode = |c: usize| match c {
-            0 | 1 => "R".to_string(),
-            c => {
-                let (mi, pos) = ((c - 2) / nb, (c - 2) % nb);
-                let k = orders.get(mi).copied().unwrap_or(0);
-                match pos {
-                    0 | 1 => format!("a{k}"),
-                    2 => format!("b{k}"),
-                    _ => format!("nonfinite (vorticity of mode k = {k})"),
-                }
+        // the monolithic index of each boundary-layer component, in the boundary-layer order
+        let layout: Vec<usize> = (0..lay.dim()).filter(|&i| lay.to_boundary_layer(i).is_some()).collect();
+        let component_mode = |c: usize| {
+            if c < StateLayout::RADIAL {
+                return "R".to_string();
+            }
+            let mi = lay.mode_of(c);
+            let k = orders.get(mi).copied().unwrap_or(0);
+            match c {
+                c if c == lay.a(mi) || c == lay.adot(mi) => format!("a{k}"),
+                c if c == lay.b(mi) => format!("b{k}"),
+                _ => format!("nonfinite (vorticity of mode k = {k})"),
             }
         };
         let plan = Plan {
@@ -366,7 +370,7 @@ pub fn damped_spectrum(scene: &Scene) -> Result<DampedSpectrum, FullModelError> 
                 let found = (0..fm.model.orders().len())
                     .map(|j| {
                         let size = if free { 2 } else { 3 };
-                        let block = a.view((3 * j, 3 * j), (size, size)).clone_owned();
+                        let block = a.view((StateLayout::x_a(j), StateLayout::x_a(j)), (size, size)).clone_owned();
                         // bounded QR sweeps: nalgebra's unbounded iteration never returns on a non-finite block
                         let eig = match nalgebra::linalg::Schur::try_new(block, f64::EPSILON, 30 * size) {
                             Some(schur) => schur.complex_eigenvalues().iter().copied().collect::<Vec<_>>(),

@@ -15,9 +15,10 @@ use super::equations::{completed_loads, coupled_mode_rates, wall_source, LoadScr
 use super::operator::{backward_euler_pair, ModeOperator, Rows};
 use super::{FullState, Grid, ModeCoupling, VorticityError};
 use crate::integrate::{rk4_step, IntegrateError, OdeSystem, Rk4Workspace, Stats, Stepper};
+use crate::model::layout::StateLayout;
 use std::cell::RefCell;
 
-/// Step 1's ODE: u = [R, Ṙ, a(M), ȧ(M), b(M)] with the integrals lagged at T^n (and T_w too
+/// Step 1's ODE: u = [R, Ṙ, a(M), ȧ(M), b(M)] ([`StateLayout::component_major`]) with the integrals lagged at T^n (and T_w too
 /// with [`WallCoupling::Lagged`]); T_w of the last evaluation is left in `tw`.
 struct LaggedOde<'a> {
     coupling: &'a dyn ModeCoupling,
@@ -31,21 +32,20 @@ struct LaggedOde<'a> {
 
 impl OdeSystem for LaggedOde<'_> {
     fn dim(&self) -> usize {
-        2 + 3 * self.i_int.len()
+        StateLayout::reduced(self.i_int.len()).dim()
     }
     fn rhs(&self, t: f64, u: &[f64], du: &mut [f64]) {
-        let m = self.i_int.len();
-        let (r, rdot) = (u[0], u[1]);
-        let a = &u[2..2 + m];
-        let adot = &u[2 + m..2 + 2 * m];
-        let b = &u[2 + 2 * m..2 + 3 * m];
+        let l = StateLayout::reduced(self.i_int.len());
+        let [ia, iad, ib] = l.component_major();
+        let (r, rdot) = (u[l.r()], u[l.rdot()]);
+        let (a, adot, b) = (&u[ia.clone()], &u[iad.clone()], &u[ib]);
         let mut loads = self.loads.borrow_mut();
         let rddot = loads.eval(self.coupling, t, r, rdot, a, adot, b);
-        du[0] = rdot;
-        du[1] = rddot;
-        du[2..2 + m].copy_from_slice(adot);
-        let (_, rest) = du.split_at_mut(2 + m);
-        let (add, bdot) = rest.split_at_mut(m);
+        du[l.r()] = rdot;
+        du[l.rdot()] = rddot;
+        du[ia].copy_from_slice(adot);
+        let (_, rest) = du.split_at_mut(iad.start);
+        let (add, bdot) = rest.split_at_mut(iad.len());
         let inputs = ModeInputs {
             r,
             rdot,
@@ -62,7 +62,7 @@ impl OdeSystem for LaggedOde<'_> {
         };
         let mut tw = self.tw.borrow_mut();
         // with second-pass loads (issue 12) R̈ of the completed radial balance
-        du[1] = coupled_mode_rates(self.coupling, t, &inputs, ModeRates { add, bdot, tw: &mut tw[..] });
+        du[l.rdot()] = coupled_mode_rates(self.coupling, t, &inputs, ModeRates { add, bdot, tw: &mut tw[..] });
     }
 }
 
@@ -109,7 +109,7 @@ impl<'c> Staggered<'c> {
         let m = coupling.orders().len();
         let ops: Vec<ModeOperator> = coupling.orders().iter().map(|&k| ModeOperator::new(&grid, k)).collect();
         let ni = grid.interior();
-        let dim = 2 + 3 * m;
+        let dim = StateLayout::reduced(m).dim();
         Ok(Self {
             coupling,
             grid,
@@ -161,15 +161,16 @@ impl<'c> Staggered<'c> {
             self.j_over_r[mi] = op.j_over_r(&s.t_nodes[mi]);
         }
         // step 1: classical RK4 (the shared one) on the ODE part
-        let dim = 2 + 3 * m;
+        let l = StateLayout::reduced(m);
+        let [ia, iad, ib] = l.component_major();
         let mut u0 = std::mem::take(&mut self.u0);
         let mut u1 = std::mem::take(&mut self.u1);
-        u0[0] = s.r;
-        u0[1] = s.rdot;
-        u0[2..2 + m].copy_from_slice(&s.a);
-        u0[2 + m..2 + 2 * m].copy_from_slice(&s.adot);
-        u0[2 + 2 * m..].copy_from_slice(&s.b);
-        debug_assert_eq!(u0.len(), dim);
+        u0[l.r()] = s.r;
+        u0[l.rdot()] = s.rdot;
+        u0[ia.clone()].copy_from_slice(&s.a);
+        u0[iad.clone()].copy_from_slice(&s.adot);
+        u0[ib.clone()].copy_from_slice(&s.b);
+        debug_assert_eq!(u0.len(), l.dim());
         let (w0, tw_fixed) = wall_inputs(&self.ops, self.wall, &self.tw_lagged);
         let ode = LaggedOde {
             coupling: self.coupling,
@@ -183,11 +184,11 @@ impl<'c> Staggered<'c> {
         rk4_step(&ode, s.t, &u0, dt, &mut u1, &mut self.rk4);
         std::mem::swap(&mut u0, &mut u1);
         s.t += dt;
-        s.r = u0[0];
-        s.rdot = u0[1];
-        s.a.copy_from_slice(&u0[2..2 + m]);
-        s.adot.copy_from_slice(&u0[2 + m..2 + 2 * m]);
-        s.b.copy_from_slice(&u0[2 + 2 * m..]);
+        s.r = u0[l.r()];
+        s.rdot = u0[l.rdot()];
+        s.a.copy_from_slice(&u0[ia]);
+        s.adot.copy_from_slice(&u0[iad]);
+        s.b.copy_from_slice(&u0[ib]);
         self.u0 = u0;
         self.u1 = u1;
         if let Some(what) = s.non_finite() {

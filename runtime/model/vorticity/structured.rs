@@ -24,6 +24,7 @@ use super::operator::Rows;
 use super::tri::TriRows;
 use crate::integrate::linear::{self, Factorization};
 use crate::integrate::OdeSystem;
+use crate::model::layout::StateLayout;
 use nalgebra::{Complex, DMatrix};
 use std::rc::Rc;
 
@@ -33,6 +34,8 @@ pub struct StructuredJacobian {
     nz: usize,    // 2 + 3M
     ni: usize,    // interior nodes per mode
     nb: usize,    // block length 3 + ni
+    /// the monolithic state's layout (`nb`, `ni` and `m` are its block, nodes and modes)
+    layout: StateLayout,
     /// ∂(f_z, T_w)/∂z: (nz + M) × nz
     gz: DMatrix<f64>,
     /// ∂(f_z, T_w)/∂p: (nz + M) × 2M
@@ -156,10 +159,9 @@ impl StructuredJacobian {
 
     fn build(sys: &Monolithic<'_>, t: f64, y: &[f64]) -> Self {
         let ops = sys.operators();
-        let m = ops.len();
-        let nz = 2 + 3 * m;
-        let ni = sys.grid.interior();
-        let nb = 3 + ni;
+        let layout = sys.layout();
+        let (m, nz) = (layout.modes(), layout.boundary_layer().dim());
+        let (ni, nb) = (layout.nodes(), layout.block());
         let mut z = vec![0.0; nz];
         let mut p = vec![0.0; 2 * m];
         sys.split(y, &mut z, &mut p);
@@ -188,7 +190,7 @@ impl StructuredJacobian {
                 .collect()
         };
         for (mi, op) in ops.iter().enumerate() {
-            let tn = &y[2 + mi * nb + 3..2 + (mi + 1) * nb];
+            let tn = &y[layout.node_range(mi)];
             let tw = tw_all[mi];
             let mut base = Rows::default();
             op.rows(r, rd, nu, &mut base);
@@ -212,7 +214,7 @@ impl StructuredJacobian {
                 c[k / L][k % L] = rw.lower[0];
             }
         }
-        Self { m, nz, ni, nb, gz, gp, tri_rows, c, r_r, r_rd, pw, g }
+        Self { m, nz, ni, nb, layout, gz, gp, tri_rows, c, r_r, r_rd, pw, g }
     }
 
     /// Factors σI − J. `None` if singular.
@@ -273,7 +275,8 @@ impl<T: Lane> StructuredLu<T> {
     #[inline(always)]
     fn solve_body(&self, b: &mut [T]) {
         let j = &*self.jac;
-        let (m, nz, nb) = (j.m, j.nz, j.nb);
+        let (m, nz, nb, lay) = (j.m, j.nz, j.nb, j.layout);
+        let zl = lay.boundary_layer();
         let q = per_node(m);
         let mut guard = self.scratch.borrow_mut();
         let Scratch { xt, rhs_r, rhs_i, d, s } = &mut *guard;
@@ -291,8 +294,8 @@ impl<T: Lane> StructuredLu<T> {
         put(0, b[0]);
         put(1, b[1]);
         for k in 0..m {
-            for c in 0..3 {
-                put(2 + 3 * k + c, b[2 + k * nb + c]);
+            for (i, o) in zl.amplitudes(k).zip(lay.amplitudes(k)) {
+                put(i, b[o]);
             }
         }
         {
@@ -317,8 +320,8 @@ impl<T: Lane> StructuredLu<T> {
         b[1] = x(1);
         let ns = xr.len();
         for (k, row) in self.tw_rows.chunks_exact(ns.max(1)).enumerate() {
-            for c in 0..3 {
-                b[2 + k * nb + c] = x(2 + 3 * k + c);
+            for (i, o) in zl.amplitudes(k).zip(lay.amplitudes(k)) {
+                b[o] = x(i);
             }
             // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
             s[k / L][k % L] = dense_rows::dot(xr, row);

@@ -6,7 +6,7 @@ use magbubble::model::effects::{LoadJacobian, Loads};
 
 /// The state z of dimension 2 + 3·`modes`: R = 1.2, every other entry 0.05 sin(1.7 i).
 pub fn finite_state(modes: usize) -> Vec<f64> {
-    (0..2 + 3 * modes).map(|i| if i == 0 { 1.2 } else { 0.05 * (1.7 * i as f64).sin() }).collect()
+    (0..magbubble::model::layout::StateLayout::reduced(modes).dim()).map(|i| if i == 0 { 1.2 } else { 0.05 * (1.7 * i as f64).sin() }).collect()
 }
 
 /// The loads `add` writes from zero, flattened as [P, G_n,k…, G_t,k…].

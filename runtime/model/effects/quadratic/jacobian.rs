@@ -14,7 +14,8 @@
 //! below), and the run's step sequence and series.csv do not move.
 
 use super::super::second_order::{FirstOrder, FirstOrderGradient};
-use super::super::{a_index, At, LoadJacobian, MAX_MODES};
+use super::super::{At, LoadJacobian, MAX_MODES};
+use crate::model::layout::StateLayout;
 use super::{QuadraticCoupling, MAX_SLOTS};
 
 impl QuadraticCoupling {
@@ -172,9 +173,10 @@ fn add_output_row<const N: usize>(row: &mut [f64], bare: &[f64; MAX_SLOTS], dpre
             *rj += via[2] * gj;
         }
     }
+    let l = StateLayout::reduced(d.len());
     for (i, di) in d.iter().enumerate() {
-        row[a_index(i)] += di[0];
-        row[a_index(i) + 1] += di[1];
+        row[l.a(i)] += di[0];
+        row[l.adot(i)] += di[1];
         if di[2] != 0.0 {
             for (rj, gj) in row.iter_mut().zip(g_add(i)) {
                 *rj += di[2] * gj;
@@ -195,7 +197,7 @@ mod tests {
         for nm in [8usize, 16] {
             let orders: Vec<f64> = (1..=nm).map(|i| 2.0 * i as f64).collect();
             let q = QuadraticCoupling::new(1.0, 0.07, 4.2, 1.3, 1.0, &orders);
-            let n = 2 + 3 * nm;
+            let n = StateLayout::reduced(nm).dim();
             for seed in 0..20u64 {
                 let v = |i: usize| (0.37 * i as f64 + 0.91 * seed as f64 + 0.1).sin();
                 let mut z: Vec<f64> = (0..n).map(|i| 1e-2 * v(i)).collect();

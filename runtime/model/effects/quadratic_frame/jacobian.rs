@@ -18,7 +18,7 @@
 use std::cell::RefCell;
 
 use super::super::second_order::{FirstOrder, FirstOrderGradient};
-use super::super::{a_index, At, LoadJacobian};
+use super::super::{At, LoadJacobian};
 use super::{rows, FrameMap};
 
 /// The Jacobian's work space (per thread, grown once).
@@ -80,7 +80,7 @@ impl FrameMap {
     /// The Jacobian in the work space `ws` (module doc).
     #[inline(always)]
     fn jacobian_with(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch) {
-        let (z, m, nc) = (at.z, self.modes, jac.n);
+        let (z, m, nc, lay) = (at.z, self.modes, jac.n, jac.layout());
         let nz = z.len();
         let (r, rd) = (z[0], z[1]);
         let (bd, f1) = self.first(at, first);
@@ -93,8 +93,7 @@ impl FrameMap {
         // c = K(n, i, j) = K(n, j, i) (module doc)
         let mut u = [[0.0; 4]; super::MAX_MODES];
         for (i, ui) in u.iter_mut().enumerate().take(m) {
-            let k = a_index(i);
-            *ui = [z[k + 2], bd[i], z[k], z[k + 1]];
+            *ui = [at.b(i), bd[i], at.a(i), at.adot(i)];
         }
         ws.kp.clear();
         ws.kp.resize((m + 1) * m, [0.0; 4]);
@@ -114,12 +113,12 @@ impl FrameMap {
             let (p, q) = rows(n);
             let (rp, rq) = (p * nc, q * nc);
             for l in 0..m {
-                let (x, ia) = (&kp[n * m + l], a_index(l));
+                let (x, ia, iad, ib) = (&kp[n * m + l], lay.a(l), lay.adot(l), lay.b(l));
                 dsh[rp + ia] = x[0];
-                dsh[rp + ia + 2] = x[2];
-                dsh[rq + ia + 1] = x[0];
+                dsh[rp + ib] = x[2];
+                dsh[rq + iad] = x[0];
                 dsh[rq + ia] = x[1];
-                dsh[rq + ia + 2] = x[3];
+                dsh[rq + ib] = x[3];
             }
             dsh[rp] -= d[n] / (r * r);
             dsh[rq] += -s[n] / (r * r) + 2.0 * rd * d[n] / (r * r * r);
@@ -141,7 +140,7 @@ impl FrameMap {
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn finish(&self, at: &At<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch, bd: &[f64], f1: &[f64], zl: &[f64]) {
-        let (z, m, nc) = (at.z, self.modes, jac.n);
+        let (z, m, nc, lay) = (at.z, self.modes, jac.n, jac.layout());
         let nz = z.len();
         let r = z[0];
         let dbd = |i: usize, col: usize| grad.dbd.get(i * nc + col).copied().unwrap_or(0.0);
@@ -194,9 +193,9 @@ impl FrameMap {
         // ∂fr_n = −(K/R)(b_k ∂F_l + F_l ∂b_k) + (K F_l b_k/R²) ∂R, per entry
         let dfr = zeroed(&mut ws.dfr, (m + 1) * nc);
         for &(n, l, k, c) in &self.entries {
-            let (f, bk) = (f1[l], z[a_index(k) + 2]);
+            let (f, bk) = (f1[l], at.b(k));
             let row = &mut dfr[n * nc..(n + 1) * nc];
-            row[a_index(k) + 2] -= c * f / r;
+            row[lay.b(k)] -= c * f / r;
             row[0] += c * f * bk / (r * r);
             let (dl, w) = (&df[l * nc..(l + 1) * nc], c * bk / r);
             for &col in &ws.nzc[ws.nz_start[l]..ws.nz_start[l + 1]] {
@@ -218,7 +217,7 @@ impl FrameMap {
     /// The entry-by-entry assembly the K-product one replaces (kept to test it against).
     #[cfg(test)]
     fn jacobian_reference(&self, at: &At<'_>, first: &FirstOrder<'_>, grad: &FirstOrderGradient<'_>, jac: &mut LoadJacobian, ws: &mut Scratch) {
-        let (z, m, nc) = (at.z, self.modes, jac.n);
+        let (z, m, nc, lay) = (at.z, self.modes, jac.n, jac.layout());
         let nz = z.len();
         let (r, rd) = (z[0], z[1]);
         let (bd, f1) = self.first(at, first);
@@ -232,11 +231,11 @@ impl FrameMap {
         let v = zeroed(&mut ws.v, (m + 1) * m);
         for &(n, l, k, c) in &self.entries {
             let (p, q) = rows(n);
-            let (ia, ib) = (a_index(l), a_index(k) + 2);
-            let (al, adl, bk) = (z[ia], z[ia + 1], z[ib]);
+            let (ia, iad, ib) = (lay.a(l), lay.adot(l), lay.b(k));
+            let (al, adl, bk) = (z[ia], z[iad], z[ib]);
             dsh[p * nc + ia] += c * bk / r;
             dsh[p * nc + ib] += c * al / r;
-            dsh[q * nc + ia + 1] += c * bk / r;
+            dsh[q * nc + iad] += c * bk / r;
             dsh[q * nc + ib] += c * adl / r - rd * c * al / (r * r);
             dsh[q * nc + ia] += c * bd[k] / r - rd * c * bk / (r * r);
             v[n * m + k] += c * al / r;
@@ -278,7 +277,7 @@ mod tests {
         let visc = ShellViscosity { kappa_s: 0.3, mu_s: 0.2, r0: 1.0, orders: orders.clone() };
         let lagrangian: Vec<Box<dyn Term>> = vec![Box::new(mr), Box::new(visc)];
         let fm = FrameMap::new(lagrangian, &orders).expect("frame map");
-        let n = 2 + 3 * nm;
+        let n = crate::model::layout::StateLayout::reduced(nm).dim();
         for seed in 0..20u64 {
             let v = |i: usize| (0.37 * i as f64 + 0.91 * seed as f64 + 0.1).sin();
             let mut z: Vec<f64> = (0..n).map(|i| 1e-2 * v(i)).collect();
