@@ -219,6 +219,19 @@ impl super::Stepper for Rk4 {
         }
         Ok(())
     }
+    fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], _t_end: f64) -> Result<(), IntegrateError> {
+        checked_rhs(sys, t, y, &mut self.f)?;
+        self.stats.rhs_evals += 1;
+        self.y.copy_from_slice(y);
+        self.y_prev.copy_from_slice(y);
+        self.f_prev.copy_from_slice(&self.f);
+        self.t = t;
+        self.t_prev = t;
+        // the grid t0 + i·dt carries on: i is the last grid point not after t
+        let i = ((t - self.t0) / self.dt).floor().max(0.0) as u64;
+        self.i = if self.t0 + (i + 1) as f64 * self.dt <= t + 1e-9 * self.dt { i + 1 } else { i };
+        Ok(())
+    }
     fn interpolate(&self, t: f64, out: &mut [f64]) {
         hermite(self.t_prev, self.t - self.t_prev, &self.y_prev, &self.f_prev, &self.y, &self.f, t, out);
     }
@@ -453,6 +466,25 @@ impl super::Stepper for ExplicitRk {
             self.stats.rejected += 1;
             self.h = self.control.reject(h, err, SAFE);
         }
+    }
+
+    fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], t_end: f64) -> Result<(), IntegrateError> {
+        checked_rhs(sys, t, y, &mut self.k[0])?;
+        self.stats.rhs_evals += 1;
+        self.y.copy_from_slice(y);
+        self.y_prev.copy_from_slice(y);
+        self.f_prev.copy_from_slice(&self.k[0]);
+        self.t = t;
+        self.t_prev = t;
+        self.h = match self.fixed {
+            Some(h) => h,
+            None => {
+                let order = self.tab.order as f64;
+                initial_step(sys, t, y, &self.k[0], order, self.rtol, self.atol, (t_end - t).abs(), &mut self.arg, &mut self.f_new, &mut self.stats)
+            }
+        };
+        self.control = StepController::pi(self.tab.controller_order, 0.04, self.tab.step_ratio);
+        Ok(())
     }
 
     fn interpolate(&self, t: f64, out: &mut [f64]) {

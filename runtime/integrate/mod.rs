@@ -46,6 +46,7 @@ pub mod linear;
 mod radau;
 mod rosenbrock;
 pub mod reduced;
+pub mod run_loop;
 mod split_lu;
 pub mod tableau;
 mod variational;
