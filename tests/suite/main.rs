@@ -10,6 +10,7 @@ mod accuracy;
 mod cli_run;
 mod equations_jacobian;
 mod pressure_gradient;
+mod run_loop;
 mod floquet_blocks;
 mod cli_run_real;
 mod cli_signal;
