@@ -3,7 +3,7 @@
 //! ([`Model::events`]). The run executor ([`super::executor`]) passes both to the loop.
 
 use super::Model;
-use crate::integrate::run_loop::{Action, Direction, Event};
+use crate::integrate::run_loop::Event;
 
 /// The blow-up threshold as an event: g = [`Model::blow_up_margin`] on the boundary-layer
 /// layout z = [R, Ṙ, (a, ȧ, b)_k], rising through 0, located to 1e-13 · max(t, t_end) on the
@@ -14,17 +14,9 @@ pub struct BlowUpEvent<'a> {
 }
 
 impl Event for BlowUpEvent<'_> {
+    // direction, tolerance and action: the defaults (rising, 1e-13, stop)
     fn g(&self, _t: f64, z: &[f64]) -> f64 {
         self.model.blow_up_margin(z)
-    }
-    fn direction(&self) -> Direction {
-        Direction::Rising
-    }
-    fn tolerance(&self) -> f64 {
-        1e-13
-    }
-    fn action(&self) -> Action {
-        Action::Stop
     }
     fn fires_at_start(&self) -> bool {
         true
@@ -51,8 +43,8 @@ impl Model {
     /// [`Model::stop_status`].
     ///
     /// **For a kinked shell law** (wire at merge): add one event per branch switch with
-    /// g = the law's branch-switch margin (e.g. strain − kink strain), [`Direction::Either`],
-    /// [`Action::Restart`], and [`Event::update`] setting the law's branch (interior
+    /// g = the law's branch-switch margin (e.g. strain − kink strain), `Direction::Either`,
+    /// `Action::Restart`, and [`Event::update`] setting the law's branch (interior
     /// mutability); the equations must evaluate the law on the current branch, not re-decide
     /// it from the state inside a step. The executor reports every Stop event by
     /// [`Model::stop_status`]: a new kind of Stop event adds its status there.
