@@ -27,8 +27,15 @@ pub trait Stepper {
     /// bounded by `t_end` and a fresh error history, no extrapolated starting values; the
     /// statistics carry on. The dense output is empty until the next step.
     fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], t_end: f64) -> Result<(), IntegrateError>;
-    /// Dense output: y(t) for t in [t_prev(), t()] into `out` (RK4, Dop853: cubic Hermite;
-    /// Dopri5: its 4th-order continuous extension; Radau5: the collocation polynomial).
+    /// Readies the dense output of the last step when it needs more evaluations of f (DOP853's
+    /// three extra stages); the run loop calls it before interpolating inside a step. Default:
+    /// nothing to do.
+    fn prepare_dense(&mut self, _sys: &dyn OdeSystem) {}
+    /// Dense output: y(t) for t in [t_prev(), t()] into `out`: each method's own — RK4: the cubic
+    /// Hermite from y and f at both ends (error O(h⁴), the order of RK4's global error);
+    /// Dopri5: its 4th-order continuous extension; Dop853: its 7th-order one (after
+    /// [`prepare_dense`](Self::prepare_dense), else the cubic Hermite); Radau5: the collocation
+    /// polynomial; Rosenbrock23: its 2nd-order continuous extension (ode23s).
     fn interpolate(&self, t: f64, out: &mut [f64]);
     /// Dense output of the components `idx` only: `out[j]` = y_{idx[j]}(t), the same values as
     /// [`interpolate`](Self::interpolate) gives them (a run writes 2 + 3M of the monolithic

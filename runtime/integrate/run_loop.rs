@@ -240,6 +240,10 @@ pub fn run(
             t_stop = s;
         }
         st.step(sys, t_stop)?;
+        let first_sample = t0 + sample as f64 * d;
+        if first_sample < st.t() && first_sample < t_end - 1e-9 * d {
+            st.prepare_dense(sys);
+        }
         // The points of this step in time order: the samples (emitted once the events are
         // checked there), then the step end.
         let mut t_left = st.t_prev();
@@ -251,7 +255,11 @@ pub fn run(
             for (g, e) in g_now.iter_mut().zip(events) {
                 *g = e.g(t_pt, &z);
             }
-            if let Some(ev) = first_event(st, &schedule, view, &g_last, &g_now, t_left, t_pt, &mut z) {
+            let crossed = events.iter().enumerate().any(|(i, e)| e.direction().crossed(g_last[i], g_now[i]));
+            if crossed {
+                st.prepare_dense(sys);
+            }
+            if let Some(ev) = crossed.then(|| first_event(st, &schedule, view, &g_last, &g_now, t_left, t_pt, &mut z)).flatten() {
                 let e = events[ev.index];
                 if e.action() == Action::Stop {
                     return finish(ev.t, StopReason::Event { index: ev.index }, &z);

@@ -15,6 +15,7 @@ mod floquet_blocks;
 mod cli_run_real;
 mod cli_signal;
 mod cli_streams;
+mod dense_output;
 mod codegen_algebra;
 mod codegen_errors;
 mod codegen_golden;
