@@ -9,9 +9,7 @@
 //! RK4 stage (the 2-state radial orbit on stack arrays). The loop's [`crate::integrate::Rk4`]
 //! on [`crate::integrate::Variational`] integrates the same equations but sums the stages in
 //! another order (and from another grid expression), so the shipped `floquet`/`stability`
-//! results would move in their last bits; its per-step dispatch would also cost on the radial
-//! search (measured: the three bodies on one closure-driven grid loop cost +7 % instructions on
-//! `stability scenes/no_field.toml --freq 1e6,2e6`, the fixed-size Φ no longer in registers). A drive with
+//! results would move in their last bits. A drive with
 //! discontinuities inside a period needs its stop times on this grid (whole steps).
 //!
 //! The period map P_m(y) = φ(t0 + mT; t0, y) is evaluated with a fixed-step classical RK4: a
