@@ -2,6 +2,16 @@
 //! [`RkFlow`] with its exact derivative, the orbit search (in [`super::shooting`], re-exported
 //! here), and the common period of several drives.
 //!
+//! **Why the period map does not run on the run loop** ([`crate::integrate::run_loop`], which
+//! the shooting's transient and every time integration use): P_m is a fixed map of y — a fixed
+//! grid of `steps_per_period` steps per period, no step control, no samples, no budget, no
+//! events — and Newton needs its derivative to the bit of the discrete map, the Jacobian at every
+//! RK4 stage (the 2-state radial orbit on stack arrays). The loop's [`crate::integrate::Rk4`]
+//! on [`crate::integrate::Variational`] integrates the same equations but sums the stages in
+//! another order (and from another grid expression), so the shipped `floquet`/`stability`
+//! results would move in their last bits. A drive with
+//! discontinuities inside a period needs its stop times on this grid (whole steps).
+//!
 //! The period map P_m(y) = φ(t0 + mT; t0, y) is evaluated with a fixed-step classical RK4: a
 //! fixed step count makes P_m a smooth function of y. Its Jacobian DP_m is the RK4 solution of
 //! the variational equations Φ' = J(t, y) Φ integrated with the same steps

@@ -1,9 +1,11 @@
-//! The driver [`solve`] and the one-step-at-a-time interface [`Stepper`].
+//! The one-step-at-a-time interface [`Stepper`], the constructor [`stepper`] of a [`Method`],
+//! and [`solve`] / [`drive`]: the run loop ([`super::run_loop`]) with sampling and a budget only.
 
 use super::explicit::{ExplicitRk, Rk4};
 use super::radau::Radau5;
 use super::rosenbrock::Rosenbrock23;
 use super::tableau::ButcherTableau;
+use super::run_loop::{run, Schedule, StopReason};
 use super::{Control, IntegrateError, Method, OdeSystem, Output, Solution, Stats};
 
 /// A stepper owns its state (t, y), advances it one accepted step at a time and interpolates
@@ -20,8 +22,20 @@ pub trait Stepper {
     /// Takes one accepted step (retrying internally after rejections), never beyond `t_stop`;
     /// the step lands exactly on `t_stop` when it reaches it.
     fn step(&mut self, sys: &dyn OdeSystem, t_stop: f64) -> Result<(), IntegrateError>;
-    /// Dense output: y(t) for t in [t_prev(), t()] into `out` (RK4, Dop853: cubic Hermite;
-    /// Dopri5: its 4th-order continuous extension; Radau5: the collocation polynomial).
+    /// Restarts at (t, y) as a new stepper would start there (the run loop's stop times and
+    /// events): f(t, y) re-evaluated (a first-same-as-last stage discarded), a fresh initial step
+    /// bounded by `t_end` and a fresh error history, no extrapolated starting values; the
+    /// statistics carry on. The dense output is empty until the next step.
+    fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], t_end: f64) -> Result<(), IntegrateError>;
+    /// Readies the dense output of the last step when it needs more evaluations of f (DOP853's
+    /// three extra stages); the run loop calls it before interpolating inside a step. Default:
+    /// nothing to do.
+    fn prepare_dense(&mut self, _sys: &dyn OdeSystem) {}
+    /// Dense output: y(t) for t in [t_prev(), t()] into `out`: each method's own — RK4: the cubic
+    /// Hermite from y and f at both ends (error O(h⁴), the order of RK4's global error);
+    /// Dopri5: its 4th-order continuous extension; Dop853: its 7th-order one (after
+    /// [`prepare_dense`](Self::prepare_dense), else the cubic Hermite); Radau5: the collocation
+    /// polynomial; Rosenbrock23: its 2nd-order continuous extension (ode23s).
     fn interpolate(&self, t: f64, out: &mut [f64]);
     /// Dense output of the components `idx` only: `out[j]` = y_{idx[j]}(t), the same values as
     /// [`interpolate`](Self::interpolate) gives them (a run writes 2 + 3M of the monolithic
@@ -81,7 +95,8 @@ pub fn solve(
 }
 
 /// [`solve`] with a stepper built elsewhere (e.g. a scheme outside this module), from its
-/// current (t, y). On an error, the stepper keeps its statistics.
+/// current (t, y): [`run_loop::run`](super::run_loop::run) without stop times or events. On an
+/// error, the stepper keeps its statistics.
 pub fn drive(
     st: &mut dyn Stepper,
     sys: &dyn OdeSystem,
@@ -90,59 +105,6 @@ pub fn drive(
     max_steps: u64,
     observer: &mut dyn FnMut(f64, &[f64]) -> Control,
 ) -> Result<Solution, IntegrateError> {
-    if let Output::Every(d) | Output::Landing(d) = output {
-        if !(d > 0.0 && d.is_finite()) {
-            return Err(IntegrateError::InvalidSetting { what: "output interval", value: d, reason: "must be positive and finite" });
-        }
-    }
-    let (t0, y0) = (st.t(), st.y().to_vec());
-    let y0 = &y0[..];
-    let done = |t: f64, y: &[f64], stats: Stats, stopped: bool| Solution { t, y: y.to_vec(), stats, stopped };
-    if observer(t0, y0) == Control::Stop {
-        return Ok(done(t0, y0, st.stats(), true));
-    }
-    let mut buf = vec![0.0; y0.len()];
-    let mut sample: u64 = 1;
-    while st.t() < t_end {
-        if st.stats().steps >= max_steps {
-            return Err(IntegrateError::MaxSteps { t: st.t(), steps: st.stats().steps });
-        }
-        let t_stop = match output {
-            Output::Landing(d) if t0 + sample as f64 * d < t_end - 1e-9 * d => t0 + sample as f64 * d,
-            _ => t_end,
-        };
-        st.step(sys, t_stop)?;
-        match output {
-            Output::Landing(_) => {
-                if st.t() >= t_stop {
-                    sample += 1;
-                    if observer(st.t(), st.y()) == Control::Stop {
-                        return Ok(done(st.t(), st.y(), st.stats(), true));
-                    }
-                }
-            }
-            Output::Steps => {
-                if observer(st.t(), st.y()) == Control::Stop {
-                    return Ok(done(st.t(), st.y(), st.stats(), true));
-                }
-            }
-            Output::Every(d) => {
-                loop {
-                    let ts = t0 + sample as f64 * d;
-                    if ts > st.t() || ts >= t_end - 1e-9 * d {
-                        break;
-                    }
-                    st.interpolate(ts, &mut buf);
-                    sample += 1;
-                    if observer(ts, &buf) == Control::Stop {
-                        return Ok(done(ts, &buf, st.stats(), true));
-                    }
-                }
-                if st.t() >= t_end && observer(t_end, st.y()) == Control::Stop {
-                    return Ok(done(t_end, st.y(), st.stats(), true));
-                }
-            }
-        }
-    }
-    Ok(done(st.t(), st.y(), st.stats(), false))
+    let fin = run(st, sys, Schedule::new(t_end, output, max_steps), observer)?;
+    Ok(Solution { t: fin.t, y: fin.z, stats: st.stats(), stopped: fin.reason == StopReason::Observer })
 }

@@ -219,6 +219,19 @@ impl super::Stepper for Rk4 {
         }
         Ok(())
     }
+    fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], _t_end: f64) -> Result<(), IntegrateError> {
+        checked_rhs(sys, t, y, &mut self.f)?;
+        self.stats.rhs_evals += 1;
+        self.y.copy_from_slice(y);
+        self.y_prev.copy_from_slice(y);
+        self.f_prev.copy_from_slice(&self.f);
+        self.t = t;
+        self.t_prev = t;
+        // the grid t0 + i·dt carries on: i is the last grid point not after t
+        let i = ((t - self.t0) / self.dt).floor().max(0.0) as u64;
+        self.i = if self.t0 + (i + 1) as f64 * self.dt <= t + 1e-9 * self.dt { i + 1 } else { i };
+        Ok(())
+    }
     fn interpolate(&self, t: f64, out: &mut [f64]) {
         hermite(self.t_prev, self.t - self.t_prev, &self.y_prev, &self.f_prev, &self.y, &self.f, t, out);
     }
@@ -241,8 +254,15 @@ pub struct ExplicitRk {
     f_new: Vec<f64>,
     /// Stage derivatives; k[0] = f(t, y) at the current point.
     k: Vec<Vec<f64>>,
-    /// Dopri5 dense-output coefficients of the last step (r1..r5 of `contd5`).
+    /// Dense-output coefficients of the last step: Dopri5's r1..r5 of `contd5`, computed with
+    /// the step; Dop853's y0, r1..r7 of `contd8` with its three extra stages in `extra`,
+    /// computed by [`Stepper::prepare_dense`](super::Stepper::prepare_dense) when `dense_ready`
+    /// is false.
     rcont: Vec<Vec<f64>>,
+    extra: Vec<Vec<f64>>,
+    dense_ready: bool,
+    /// Size of the last accepted step.
+    h_last: f64,
     /// PI step control (dopri5.f: β = 0.04, safe = 0.9).
     control: StepController,
     /// Fixed step (no error control) when set; see [`ExplicitRk::with_fixed_step`].
@@ -270,7 +290,11 @@ impl ExplicitRk {
         let mut arg = vec![0.0; n];
         let mut f_new = vec![0.0; n];
         let h = initial_step(sys, t0, y0, &k[0], tab.order as f64, rtol, atol, (t_end - t0).abs(), &mut arg, &mut f_new, &mut stats);
-        let nd = if matches!(tab.dense, DenseOutput::Dopri5 { .. }) { 5 } else { 0 };
+        let (nd, ne) = match tab.dense {
+            DenseOutput::Dopri5 { .. } => (5, 0),
+            DenseOutput::Dop853 => (8, 3),
+            DenseOutput::Hermite => (0, 0),
+        };
         Ok(ExplicitRk {
             rtol,
             atol,
@@ -285,6 +309,9 @@ impl ExplicitRk {
             f_new,
             k,
             rcont: vec![vec![0.0; n]; nd],
+            extra: vec![vec![0.0; n]; ne],
+            dense_ready: false,
+            h_last: 0.0,
             control: StepController::pi(tab.controller_order, 0.04, tab.step_ratio),
             fixed: None,
             stats,
@@ -445,6 +472,8 @@ impl super::Stepper for ExplicitRk {
                 self.t_prev = self.t;
                 self.t = t_new;
                 self.h = h_new;
+                self.h_last = h;
+                self.dense_ready = false;
                 self.stats.steps += 1;
                 return Ok(());
             }
@@ -453,6 +482,86 @@ impl super::Stepper for ExplicitRk {
             self.stats.rejected += 1;
             self.h = self.control.reject(h, err, SAFE);
         }
+    }
+
+    fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], t_end: f64) -> Result<(), IntegrateError> {
+        checked_rhs(sys, t, y, &mut self.k[0])?;
+        self.stats.rhs_evals += 1;
+        self.y.copy_from_slice(y);
+        self.y_prev.copy_from_slice(y);
+        self.f_prev.copy_from_slice(&self.k[0]);
+        self.t = t;
+        self.t_prev = t;
+        self.h = match self.fixed {
+            Some(h) => h,
+            None => {
+                let order = self.tab.order as f64;
+                initial_step(sys, t, y, &self.k[0], order, self.rtol, self.atol, (t_end - t).abs(), &mut self.arg, &mut self.f_new, &mut self.stats)
+            }
+        };
+        self.control = StepController::pi(self.tab.controller_order, 0.04, self.tab.step_ratio);
+        self.dense_ready = false;
+        Ok(())
+    }
+
+    /// DOP853: the three extra stages and r1 … r7 of the last step (3 rhs calls, once a step).
+    fn prepare_dense(&mut self, sys: &dyn OdeSystem) {
+        if self.tab.dense != DenseOutput::Dop853 || self.dense_ready {
+            return;
+        }
+        let (n, h) = (self.y.len(), self.h_last);
+        // k_j, j = 0 … 15: k1 = f_prev, the step's stages, k13 = f(t, y) (now k[0]), the extras
+        let rows = super::dop853_dense::extra_rows();
+        for e in 0..3 {
+            let (done, rest) = self.extra.split_at_mut(e);
+            let kj = |j: usize| -> &[f64] {
+                match j {
+                    0 => &self.f_prev,
+                    12 => &self.k[0],
+                    13.. => &done[j - 13],
+                    _ => &self.k[j],
+                }
+            };
+            for m in 0..n {
+                let mut acc = 0.0;
+                for (j, &a) in rows[e].iter().enumerate() {
+                    if a != 0.0 {
+                        acc += a * kj(j)[m];
+                    }
+                }
+                self.arg[m] = self.y_prev[m] + h * acc;
+            }
+            sys.rhs(self.t_prev + super::dop853_dense::C[e] * h, &self.arg, &mut rest[0]);
+        }
+        self.stats.rhs_evals += 3;
+        let kj = |j: usize| -> &[f64] {
+            match j {
+                0 => &self.f_prev,
+                12 => &self.k[0],
+                13.. => &self.extra[j - 13],
+                _ => &self.k[j],
+            }
+        };
+        let mut rc = std::mem::take(&mut self.rcont);
+        for m in 0..n {
+            let dy = self.y[m] - self.y_prev[m];
+            let bspl = h * self.f_prev[m] - dy;
+            rc[0][m] = self.y_prev[m];
+            rc[1][m] = dy;
+            rc[2][m] = bspl;
+            rc[3][m] = dy - h * self.k[0][m] - bspl;
+            for (r, d) in super::dop853_dense::D.iter().enumerate() {
+                let mut acc = 0.0;
+                for (j, &dj) in d.iter().enumerate() {
+                    if dj != 0.0 {
+                        acc += dj * kj(j)[m];
+                    }
+                }
+                rc[4 + r][m] = h * acc;
+            }
+        }
+        self.rcont = rc;
+        self.dense_ready = true;
     }
 
     fn interpolate(&self, t: f64, out: &mut [f64]) {
@@ -466,7 +575,16 @@ impl super::Stepper for ExplicitRk {
                     out[m] = r[0][m] + th * (r[1][m] + th1 * (r[2][m] + th * (r[3][m] + th1 * r[4][m])));
                 }
             }
-            DenseOutput::Hermite => hermite(self.t_prev, h, &self.y_prev, &self.f_prev, &self.y, &self.k[0], t, out),
+            DenseOutput::Dop853 if self.dense_ready => {
+                let th = (t - self.t_prev) / self.h_last;
+                for (m, o) in out.iter_mut().enumerate() {
+                    *o = super::dop853_dense::eval(&self.rcont, th, m);
+                }
+            }
+            // Dop853 without `prepare_dense` (a caller stepping by hand): the cubic Hermite
+            DenseOutput::Dop853 | DenseOutput::Hermite => {
+                hermite(self.t_prev, h, &self.y_prev, &self.f_prev, &self.y, &self.k[0], t, out)
+            }
         }
     }
 }

@@ -37,6 +37,7 @@ pub(crate) use stepper_state;
 
 pub mod bordered;
 mod control;
+mod dop853_dense;
 mod driver;
 mod explicit;
 mod jacobian;
@@ -46,6 +47,7 @@ pub mod linear;
 mod radau;
 mod rosenbrock;
 pub mod reduced;
+pub mod run_loop;
 mod split_lu;
 pub mod tableau;
 mod variational;
@@ -93,7 +95,7 @@ pub enum Method {
     Rk4 { dt: f64 },
     /// Dormand–Prince 5(4), PI step control, 4th-order dense output.
     Dopri5 { rtol: f64, atol: f64 },
-    /// Dormand–Prince 8(5,3) (Hairer's DOP853 error estimator), cubic Hermite dense output.
+    /// Dormand–Prince 8(5,3) (Hairer's DOP853 error estimator), its 7th-order dense output.
     Dop853 { rtol: f64, atol: f64 },
     /// Radau IIA order 5, simplified Newton; J analytic, structured or finite-difference.
     Radau5 { rtol: f64, atol: f64 },

@@ -198,6 +198,23 @@ impl super::Stepper for Rosenbrock23 {
         }
     }
 
+    fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], t_end: f64) -> Result<(), IntegrateError> {
+        let Start { f0, h, stats, .. } = adaptive_start(sys, t, y, t_end, 3.0, self.rtol, self.atol)?;
+        self.stats.rhs_evals += stats.rhs_evals;
+        self.f0 = f0;
+        self.h = h;
+        self.h_last = 0.0;
+        self.y.copy_from_slice(y);
+        self.y_prev.copy_from_slice(y);
+        self.k_prev.iter_mut().for_each(|k| k.fill(0.0));
+        self.t = t;
+        self.t_prev = t;
+        self.lu_sigma = f64::NAN;
+        self.jac_age = None;
+        self.control = StepController::pi(3.0, 0.0, (0.2, 5.0));
+        Ok(())
+    }
+
     fn interpolate(&self, t: f64, out: &mut [f64]) {
         let h = self.h_last.max(f64::MIN_POSITIVE);
         let th = (t - self.t_prev) / h;

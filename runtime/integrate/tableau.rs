@@ -23,6 +23,9 @@ pub enum DenseOutput {
     /// Dormand–Prince's continuous extension of order 4 (Hairer's `contd5`):
     /// y(θ) = y0 + θ(Δ + (1−θ)(hk1 − Δ + θ(Δ − hk7 − (hk1 − Δ) + (1−θ) h Σ d_i k_i))), Δ = y1 − y0.
     Dopri5 { d: Vec<f64> },
+    /// DOP853's continuous extension of order 7 (three more stages per step, computed only for
+    /// a step the dense output is asked in; constants in `integrate/dop853_dense.rs`).
+    Dop853,
 }
 
 /// An explicit Runge–Kutta method with an error estimator.
@@ -258,7 +261,7 @@ impl ButcherTableau {
             b,
             error: Some(ErrorEstimator::Dop853 { e5, bhh }),
             fsal: false,
-            dense: DenseOutput::Hermite,
+            dense: DenseOutput::Dop853,
             controller_order: 8.0,
             step_ratio: (1.0 / 3.0, 6.0),
         }

@@ -1,17 +1,18 @@
-//! The one run executor of every scheme (boundary layer, radial only, monolithic and staggered
-//! full model): sampling, the step budget, blow-up located by an event function on the dense
-//! output, typed stop reasons and the statistics of the stepper, on success and on failure.
+//! The run executor of every scheme (boundary layer, radial only, monolithic and staggered full
+//! model): the model's run on the one run loop ([`crate::integrate::run_loop`]) — rows in SI
+//! units, their running maxima, typed statuses and the statistics of the stepper, on success
+//! and on failure.
 //!
 //! Sampling: rows at t0 + i·Δ (dense output, not a step constraint, unless the stepper asks to
-//! land on them) and at t_end. Blow-up: after every accepted step the event function
-//! g = [`super::blow_up::margin`] is evaluated at the samples inside the step and at its end;
-//! at the first point with g > 0 the crossing g = 0 is bracketed with the previous point and
-//! bisected on the stepper's interpolant to 1e-13 relative, so the reported time does not
-//! depend on `run.sample_interval`. The last row is the state at the crossing.
+//! land on them) and at t_end. Stop times and events are the model's ([`Model::stop_times`],
+//! [`Model::events`]): by default the blow-up threshold alone, located on the dense output to
+//! 1e-13 relative, so the reported time does not depend on `run.sample_interval`; the last row
+//! is the state at the crossing.
 
 use super::simulate::{Failure, RunStatus};
 use super::Model;
-use crate::integrate::{IntegrateError, OdeSystem, Stats, Stepper};
+use crate::integrate::run_loop::{run, Event, Schedule, StopReason};
+use crate::integrate::{Control, IntegrateError, OdeSystem, Output, Stats, Stepper};
 
 /// A run to execute (nondimensional times).
 pub(crate) struct Plan<'a> {
@@ -60,6 +61,10 @@ impl Rows<'_> {
         self.t_last = t * ts;
         (self.observer)(t * ts, &self.row);
     }
+
+    fn outcome(self, status: RunStatus, stats: Stats) -> Outcome {
+        Outcome { status, stats, t_last: self.t_last, max_abs: self.max_abs, row: self.row }
+    }
 }
 
 /// Runs `stepper` (already at t0 with y0) under `plan`; `observer(t [s], row [m])` gets every row.
@@ -72,110 +77,45 @@ pub(crate) fn execute(
     let ts = model.time_scale();
     let width = model.state_names().len();
     let mut rows = Rows { model, observer, row: vec![0.0; width], max_abs: vec![0.0; width], t_last: 0.0 };
-    let outcome = |rows: Rows<'_>, status: RunStatus, stats: Stats| Outcome {
-        status,
-        stats,
-        t_last: rows.t_last,
-        max_abs: rows.max_abs,
-        row: rows.row,
-    };
     let mut st = match stepper {
         Ok(st) => st,
         Err(e) => {
             let status = failure_status(&e, ts, plan);
-            return outcome(rows, status, Stats::default());
+            return rows.outcome(status, Stats::default());
         }
     };
-    let nz = 2 + 3 * model.orders().len();
-    debug_assert_eq!(plan.layout.len(), nz, "layout of z");
-    let mut z = vec![0.0; nz];
-    // the layout is the whole state (the boundary-layer system): the stepper's contiguous dense
-    // output, the same values as `interpolate_at` gives (its contract)
-    let whole = plan.layout.len() == st.y().len() && plan.layout.iter().enumerate().all(|(j, &i)| i == j);
+    debug_assert_eq!(plan.layout.len(), 2 + 3 * model.orders().len(), "layout of z");
     let t0 = st.t();
-    gather(st.y(), plan.layout, &mut z);
-    rows.emit(t0, &z);
-    if model.blow_up_margin(&z) > 0.0 {
-        let status = model.stop_status(t0 * ts, &z);
-        let stats = st.stats();
-        return outcome(rows, status, stats);
-    }
-    let d = plan.sample;
-    let mut sample: u64 = 1;
-    while st.t() < plan.t_end {
-        if st.stats().steps >= plan.max_steps {
-            let status = RunStatus::Failed { reason: Failure::StepLimit { t: st.t() * ts, steps: st.stats().steps } };
-            let stats = st.stats();
-            return outcome(rows, status, stats);
-        }
-        let next = t0 + sample as f64 * d;
-        let t_stop = if plan.land_on_samples && next < plan.t_end - 1e-9 * d { next } else { plan.t_end };
-        if let Err(e) = st.step(plan.sys, t_stop) {
-            let status = failure_status(&e, ts, plan);
-            let stats = st.stats();
-            return outcome(rows, status, stats);
-        }
-        // The points of this step in time order: samples (emitted), then the step end (checked).
-        let mut t_left = st.t_prev();
-        loop {
-            let ts_i = t0 + sample as f64 * d;
-            let is_sample = ts_i <= st.t() && ts_i < plan.t_end - 1e-9 * d;
-            let (t_pt, at_end) = if is_sample { (ts_i, ts_i == st.t()) } else { (st.t(), true) };
-            if at_end {
-                gather(st.y(), plan.layout, &mut z);
-            } else if whole {
-                st.interpolate(t_pt, &mut z);
-            } else {
-                st.interpolate_at(t_pt, plan.layout, &mut z);
-            }
-            if model.blow_up_margin(&z) > 0.0 {
-                let t_b = locate_crossing(model, plan, &*st, t_left, t_pt, &mut z);
-                let status = model.stop_status(t_b * ts, &z);
-                rows.emit(t_b, &z);
-                let stats = st.stats();
-                return outcome(rows, status, stats);
-            }
-            if !is_sample {
-                if st.t() >= plan.t_end {
-                    rows.emit(plan.t_end, &z);
+    let stop_times = model.stop_times();
+    let events = model.events();
+    let events: Vec<&dyn Event> = events.iter().map(|e| &**e).collect();
+    let schedule = Schedule {
+        t_end: plan.t_end,
+        output: if plan.land_on_samples { Output::Landing(plan.sample) } else { Output::Every(plan.sample) },
+        max_steps: plan.max_steps,
+        stop_times: &stop_times,
+        on_stop_time: None,
+        events: &events,
+        observed: Some(plan.layout),
+    };
+    let result = run(&mut *st, plan.sys, schedule, &mut |t, z| {
+        rows.emit(t, z);
+        Control::Continue
+    });
+    let status = match result {
+        Ok(fin) => match fin.reason {
+            StopReason::End | StopReason::Observer => RunStatus::Completed,
+            StopReason::Event { .. } => {
+                // the row at t0 is already out; a crossing inside the run is the last row
+                if fin.t > t0 {
+                    rows.emit(fin.t, &fin.z);
                 }
-                break;
+                model.stop_status(fin.t * ts, &fin.z)
             }
-            rows.emit(t_pt, &z);
-            sample += 1;
-            t_left = t_pt;
-        }
-    }
-    let stats = st.stats();
-    outcome(rows, RunStatus::Completed, stats)
-}
-
-/// Bisects g(t) = margin(z(t)) = 0 on the stepper's interpolant in [lo, hi] (g(lo) ≤ 0 < g(hi));
-/// returns the upper end (g > 0 there), its layout left in `z`.
-fn locate_crossing(model: &Model, plan: &Plan<'_>, st: &dyn Stepper, mut lo: f64, mut hi: f64, z: &mut [f64]) -> f64 {
-    let tol = 1e-13 * hi.abs().max(plan.t_end);
-    while hi - lo > tol {
-        let mid = 0.5 * (lo + hi);
-        st.interpolate_at(mid, plan.layout, z);
-        if model.blow_up_margin(z) > 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    if hi == st.t() {
-        gather(st.y(), plan.layout, z);
-    } else {
-        st.interpolate_at(hi, plan.layout, z);
-    }
-    hi
-}
-
-/// z_j = y_{layout[j]}.
-fn gather(y: &[f64], layout: &[usize], z: &mut [f64]) {
-    for (zj, &i) in z.iter_mut().zip(layout) {
-        *zj = y[i];
-    }
+        },
+        Err(e) => failure_status(&e, ts, plan),
+    };
+    rows.outcome(status, st.stats())
 }
 
 /// A failed step: a non-finite state is a blow-up (a result, FORMULATION §5), the rest are

@@ -21,11 +21,13 @@ pub mod linearize;
 mod material;
 pub mod params;
 pub mod radial;
+mod events;
 mod executor;
 mod simulate;
 pub mod vorticity;
 
 pub use boundary_layer::BoundaryLayerSystem;
+pub use events::BlowUpEvent;
 pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};

@@ -65,6 +65,8 @@ enum LastFailure {
 #[derive(Debug)]
 pub struct Radau5 {
     k: RadauConsts,
+    /// The user's (rtol, atol) (the initial step of a restart).
+    user_tol: (f64, f64),
     rtol: f64,
     atol: f64,
     t: f64,
@@ -112,6 +114,7 @@ impl Radau5 {
         let vecs = || std::array::from_fn(|_| vec![0.0; n]);
         Ok(Radau5 {
             k: RadauConsts::new(),
+            user_tol: (rtol, atol),
             rtol: rtol_i,
             atol: atol_i,
             t: t0,
@@ -403,6 +406,30 @@ impl super::Stepper for Radau5 {
             self.h = if self.first { 0.1 * h } else { self.control.reject(h, err, fac) };
             self.after_reject();
         }
+    }
+
+    fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], t_end: f64) -> Result<(), IntegrateError> {
+        let (rtol, atol) = self.user_tol;
+        let Start { f0, h, stats, .. } = adaptive_start(sys, t, y, t_end, 5.0, rtol, atol)?;
+        self.stats.rhs_evals += stats.rhs_evals;
+        self.f0 = f0;
+        self.h = self.fixed.unwrap_or(h);
+        self.h_old = 0.0;
+        self.y.copy_from_slice(y);
+        for (s, v) in self.scal.iter_mut().zip(y) {
+            *s = self.atol + self.rtol * v.abs();
+        }
+        self.cont.iter_mut().for_each(|c| c.copy_from_slice(y));
+        self.t = t;
+        self.t_prev = t;
+        self.lu_h = f64::NAN;
+        self.jac_current = false;
+        self.need_jac = true;
+        self.first = true;
+        self.reject = false;
+        self.faccon = 1.0;
+        self.control = StepController::predictive(4.0, (1.0 / FACL, 1.0 / FACR));
+        Ok(())
     }
 
     fn interpolate(&self, t: f64, out: &mut [f64]) {

@@ -359,6 +359,24 @@ impl Stepper for StaggeredStepper<'_> {
         self.y_prev = std::mem::replace(&mut self.y, y);
         Ok(())
     }
+    /// The scheme carries no error history: the state is unpacked at (t, y) (the lagged wall
+    /// vorticity of the previous step stays, as after any step).
+    fn restart(&mut self, _sys: &dyn OdeSystem, t: f64, y: &[f64], _t_end: f64) -> Result<(), IntegrateError> {
+        let s = &mut self.s;
+        let nb = 3 + s.t_nodes.first().map_or(0, |v| v.len());
+        s.t = t;
+        s.r = y[0];
+        s.rdot = y[1];
+        for m in 0..s.a.len() {
+            let b = &y[2 + m * nb..2 + (m + 1) * nb];
+            (s.a[m], s.adot[m], s.b[m]) = (b[0], b[1], b[2]);
+            s.t_nodes[m].copy_from_slice(&b[3..]);
+        }
+        self.t_prev = t;
+        self.y.copy_from_slice(y);
+        self.y_prev.copy_from_slice(y);
+        Ok(())
+    }
     fn interpolate(&self, t: f64, out: &mut [f64]) {
         let th = (t - self.t_prev) / (self.s.t - self.t_prev).max(f64::MIN_POSITIVE);
         for i in 0..out.len() {

@@ -1,0 +1,353 @@
+//! The one integration loop: every stepper ([`super::Rk4`], [`super::ExplicitRk`] for Dopri5 and
+//! Dop853, [`super::Radau5`], [`super::Rosenbrock23`], the staggered vorticity scheme) runs
+//! inside [`run`]. The loop owns
+//!
+//! - the **step budget** (`max_steps` accepted steps, then [`IntegrateError::MaxSteps`]);
+//! - **sampling** ([`Output`]): every step, or uniform times t0 + i·Δ from the stepper's dense
+//!   output (not a step constraint), or uniform times the stepper lands on;
+//! - the **observer**, called at every sample with the observed components, which may stop the
+//!   run ([`Control::Stop`] → [`StopReason::Observer`]);
+//! - **stop times** ([`Schedule::stop_times`]): known discontinuity times (a burst's start and
+//!   end, a measured waveform's knots). No step crosses one: the step lands exactly on it, the
+//!   optional [`Schedule::on_stop_time`] callback updates the state and the model's branch, and
+//!   the stepper restarts there ([`super::Stepper::restart`]: f re-evaluated, FSAL stage
+//!   discarded, a fresh initial step and error history, Radau's extrapolated starting values
+//!   dropped), so each piece between two stop times is integrated as a smooth problem (Hairer,
+//!   Nørsett & Wanner, *Solving ODEs I*, sec. II.6, "discontinuities");
+//! - **event functions** ([`Event`]): state-dependent switches g(t, z). g is evaluated at every
+//!   sample inside a step and at the step's end; where it crosses zero in the event's
+//!   [`Direction`] the crossing is bisected on the stepper's dense output to the event's
+//!   relative tolerance, and the event either stops the run ([`Action::Stop`] →
+//!   [`StopReason::Event`]) or restarts the stepper at the crossing ([`Action::Restart`], after
+//!   [`Event::update`]);
+//! - typed stop reasons ([`StopReason`]) and errors ([`IntegrateError`], each with its time).
+//!
+//! **Branches at an edge.** A step that lands on a stop time evaluates its last stage *at* that
+//! time, and the first stage of the next step too. A term that switches there must therefore
+//! take its branch from the state of the run (set by `on_stop_time` / [`Event::update`]), not
+//! by comparing t with the edge — otherwise one of the two steps sees the wrong branch in one
+//! stage and the order collapses to 1 (tests/suite/run_loop.rs shows it).
+//!
+//! **Variational equations** ([`super::Variational`]) are part of the state: a stop time or a
+//! Restart event without a state jump leaves the fundamental matrix continuous (for a stop time
+//! g = t − s, ∇_y g = 0: no saltation term). A state-dependent switch of the right-hand side
+//! needs the saltation matrix applied in [`Event::update`]
+//! (Φ⁺ = (I + (f⁺ − f⁻) ∇gᵀ / (∇g · f⁻)) Φ⁻), which only the model knows.
+
+use super::{Control, IntegrateError, OdeSystem, Output, Stepper};
+
+/// Which zero crossings of g an [`Event`] reacts to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// g from ≤ 0 to > 0.
+    Rising,
+    /// g from ≥ 0 to < 0.
+    Falling,
+    /// Either.
+    Either,
+}
+
+impl Direction {
+    /// Whether g went through zero in this direction from `before` to `now`.
+    fn crossed(self, before: f64, now: f64) -> bool {
+        // `!(before > 0)`: a NaN before counts as not crossed yet
+        let rise = !(before > 0.0) && now > 0.0;
+        let fall = !(before < 0.0) && now < 0.0;
+        match self {
+            Direction::Rising => rise,
+            Direction::Falling => fall,
+            Direction::Either => rise || fall,
+        }
+    }
+}
+
+/// What the loop does at a located event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// End the run at the crossing ([`StopReason::Event`]).
+    Stop,
+    /// Call [`Event::update`] at the crossing and restart the stepper there.
+    Restart,
+}
+
+/// A state-dependent switch g(t, z) = 0, z the observed components of the state
+/// ([`Schedule::observed`]).
+pub trait Event {
+    /// The switching function.
+    fn g(&self, t: f64, z: &[f64]) -> f64;
+    fn direction(&self) -> Direction {
+        Direction::Rising
+    }
+    /// The crossing is located to `tolerance · max(|t|, t_end)` (bisection on the dense output;
+    /// the reported time is the end of the final bracket on the crossed side).
+    fn tolerance(&self) -> f64 {
+        1e-13
+    }
+    fn action(&self) -> Action {
+        Action::Stop
+    }
+    /// `true`: a g already on the crossed side at t0 (g > 0 for [`Direction::Rising`], < 0 for
+    /// Falling) fires at t0 (a threshold the start may already exceed, e.g. blow-up).
+    fn fires_at_start(&self) -> bool {
+        false
+    }
+    /// For [`Action::Restart`]: updates the full state `y` at the crossing time `t` (and, with
+    /// interior mutability, the model's branch) before the stepper restarts.
+    fn update(&self, _t: f64, _y: &mut [f64]) {}
+}
+
+/// Why [`run`] ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StopReason {
+    /// t_end reached.
+    End,
+    /// The observer returned [`Control::Stop`].
+    Observer,
+    /// Event `index` of [`Schedule::events`] with [`Action::Stop`] fired.
+    Event { index: usize },
+}
+
+/// The end of a [`run`]: time, reason and the observed components there (the full state when
+/// [`Schedule::observed`] is `None`).
+#[derive(Debug, Clone)]
+pub struct Finish {
+    pub t: f64,
+    pub reason: StopReason,
+    pub z: Vec<f64>,
+}
+
+/// What [`run`] does besides stepping: end time, sampling, budget, stop times and events.
+pub struct Schedule<'a> {
+    pub t_end: f64,
+    pub output: Output,
+    pub max_steps: u64,
+    /// Known discontinuity times, sorted ascending; those outside (t0, t_end) are ignored.
+    pub stop_times: &'a [f64],
+    /// Called when a step has landed on a stop time (after the samples and events there) with
+    /// (t, y); may change y (and the model's branch) before the stepper restarts.
+    pub on_stop_time: Option<&'a mut dyn FnMut(f64, &mut [f64])>,
+    pub events: &'a [&'a dyn Event],
+    /// The state components the observer and the events see (`None`: all, in order).
+    pub observed: Option<&'a [usize]>,
+}
+
+impl<'a> Schedule<'a> {
+    /// Sampling and budget only: no stop times, no events, the whole state observed.
+    pub fn new(t_end: f64, output: Output, max_steps: u64) -> Self {
+        Schedule { t_end, output, max_steps, stop_times: &[], on_stop_time: None, events: &[], observed: None }
+    }
+}
+
+/// The components the observer and the events see.
+#[derive(Clone, Copy)]
+struct View<'a> {
+    idx: Option<&'a [usize]>,
+    /// `idx` is every component in order: the contiguous dense output serves the samples.
+    whole: bool,
+}
+
+impl View<'_> {
+    /// The observed components at `t` into `z`: the state itself at the step end, otherwise the
+    /// dense output.
+    fn at(&self, st: &dyn Stepper, t: f64, z: &mut [f64]) {
+        if t == st.t() {
+            let y = st.y();
+            match self.idx {
+                Some(idx) => z.iter_mut().zip(idx).for_each(|(zj, &i)| *zj = y[i]),
+                None => z.copy_from_slice(y),
+            }
+        } else {
+            match self.idx {
+                Some(idx) if !self.whole => st.interpolate_at(t, idx, z),
+                _ => st.interpolate(t, z),
+            }
+        }
+    }
+
+    /// As [`at`](Self::at), through [`Stepper::interpolate_at`] whenever components are selected
+    /// (the bisection of an event).
+    fn dense(&self, st: &dyn Stepper, t: f64, z: &mut [f64]) {
+        match self.idx {
+            Some(idx) if t != st.t() => st.interpolate_at(t, idx, z),
+            _ => self.at(st, t, z),
+        }
+    }
+}
+
+/// Runs `st` (at its current (t0, y0)) under `schedule`. The observer sees (t0, z0) first, then
+/// the samples of [`Output`] (with `Output::Every`, also t_end). Errors leave the stepper with
+/// its statistics.
+pub fn run(
+    st: &mut dyn Stepper,
+    sys: &dyn OdeSystem,
+    mut schedule: Schedule<'_>,
+    observer: &mut dyn FnMut(f64, &[f64]) -> Control,
+) -> Result<Finish, IntegrateError> {
+    let t_end = schedule.t_end;
+    if let Output::Every(d) | Output::Landing(d) = schedule.output {
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(IntegrateError::InvalidSetting { what: "output interval", value: d, reason: "must be positive and finite" });
+        }
+    }
+    if let Some(&s) = schedule.stop_times.iter().find(|s| !s.is_finite()) {
+        return Err(IntegrateError::InvalidSetting { what: "stop time", value: s, reason: "must be finite" });
+    }
+    if let Some(w) = schedule.stop_times.windows(2).find(|w| w[1] < w[0]) {
+        return Err(IntegrateError::InvalidSetting { what: "stop time", value: w[1], reason: "stop times must be sorted ascending" });
+    }
+    let n = st.y().len();
+    let view = View {
+        idx: schedule.observed,
+        whole: schedule.observed.is_some_and(|o| o.len() == n && o.iter().enumerate().all(|(j, &i)| i == j)),
+    };
+    let t0 = st.t();
+    let mut z = vec![0.0; schedule.observed.map_or(n, |o| o.len())];
+    view.at(st, t0, &mut z);
+    let finish = |t: f64, reason: StopReason, z: &[f64]| Ok(Finish { t, reason, z: z.to_vec() });
+    if observer(t0, &z) == Control::Stop {
+        return finish(t0, StopReason::Observer, &z);
+    }
+    let events = schedule.events;
+    // g at the last checked point and at the current one, per event
+    let mut g_last: Vec<f64> = events.iter().map(|e| e.g(t0, &z)).collect();
+    let mut g_now = g_last.clone();
+    for (i, e) in events.iter().enumerate() {
+        if e.fires_at_start() && e.direction().crossed(0.0, g_last[i]) {
+            return finish(t0, StopReason::Event { index: i }, &z);
+        }
+    }
+    let mut stops = schedule.stop_times.iter().copied().filter(|&s| s > t0 && s < t_end).peekable();
+    let mut full = Vec::new();
+    let mut sample: u64 = 1;
+    let d = match schedule.output {
+        Output::Every(d) | Output::Landing(d) => d,
+        Output::Steps => f64::INFINITY,
+    };
+    while st.t() < t_end {
+        if st.stats().steps >= schedule.max_steps {
+            return Err(IntegrateError::MaxSteps { t: st.t(), steps: st.stats().steps });
+        }
+        while stops.next_if(|&s| s <= st.t()).is_some() {}
+        let mut t_stop = t_end;
+        if let Output::Landing(d) = schedule.output {
+            let next = t0 + sample as f64 * d;
+            if next < t_end - 1e-9 * d {
+                t_stop = next;
+            }
+        }
+        let stop_time = stops.peek().copied().filter(|&s| s <= t_stop);
+        if let Some(s) = stop_time {
+            t_stop = s;
+        }
+        st.step(sys, t_stop)?;
+        let first_sample = t0 + sample as f64 * d;
+        if first_sample < st.t() && first_sample < t_end - 1e-9 * d {
+            st.prepare_dense(sys);
+        }
+        // The points of this step in time order: the samples (emitted once the events are
+        // checked there), then the step end.
+        let mut t_left = st.t_prev();
+        loop {
+            let ts_i = t0 + sample as f64 * d;
+            let is_sample = ts_i <= st.t() && ts_i < t_end - 1e-9 * d;
+            let t_pt = if is_sample { ts_i } else { st.t() };
+            view.at(st, t_pt, &mut z);
+            for (g, e) in g_now.iter_mut().zip(events) {
+                *g = e.g(t_pt, &z);
+            }
+            let crossed = events.iter().enumerate().any(|(i, e)| e.direction().crossed(g_last[i], g_now[i]));
+            if crossed {
+                st.prepare_dense(sys);
+            }
+            if let Some(ev) = crossed.then(|| first_event(st, &schedule, view, &g_last, &g_now, t_left, t_pt, &mut z)).flatten() {
+                let e = events[ev.index];
+                if e.action() == Action::Stop {
+                    return finish(ev.t, StopReason::Event { index: ev.index }, &z);
+                }
+                full.resize(n, 0.0);
+                if ev.t == st.t() {
+                    full.copy_from_slice(st.y());
+                } else {
+                    st.interpolate(ev.t, &mut full);
+                }
+                e.update(ev.t, &mut full);
+                st.restart(sys, ev.t, &full, t_end)?;
+                view.at(st, ev.t, &mut z);
+                for (g, e) in g_last.iter_mut().zip(events) {
+                    *g = e.g(ev.t, &z);
+                }
+                break;
+            }
+            std::mem::swap(&mut g_last, &mut g_now);
+            if !is_sample {
+                let sampled = matches!(schedule.output, Output::Steps) || st.t() >= t_end;
+                if sampled && observer(st.t(), &z) == Control::Stop {
+                    return finish(st.t(), StopReason::Observer, &z);
+                }
+                if stop_time.is_some_and(|s| st.t() == s) {
+                    full.clear();
+                    full.extend_from_slice(st.y());
+                    if let Some(cb) = schedule.on_stop_time.as_mut() {
+                        cb(st.t(), &mut full);
+                    }
+                    st.restart(sys, st.t(), &full, t_end)?;
+                }
+                break;
+            }
+            sample += 1;
+            if observer(t_pt, &z) == Control::Stop {
+                return finish(t_pt, StopReason::Observer, &z);
+            }
+            t_left = t_pt;
+        }
+    }
+    finish(st.t(), StopReason::End, &z)
+}
+
+/// The earliest event crossed between the checked points `t_left` (g = `g_last`) and `t_pt`
+/// (g = `g_now`), located by bisection on the dense output; `z` is left at the located time.
+/// `None`: no event crossed (z unchanged).
+#[allow(clippy::too_many_arguments)]
+fn first_event(
+    st: &dyn Stepper,
+    schedule: &Schedule<'_>,
+    view: View<'_>,
+    g_last: &[f64],
+    g_now: &[f64],
+    t_left: f64,
+    t_pt: f64,
+    z: &mut [f64],
+) -> Option<Located> {
+    let mut found: Option<Located> = None;
+    for (index, e) in schedule.events.iter().enumerate() {
+        if !e.direction().crossed(g_last[index], g_now[index]) {
+            continue;
+        }
+        // bisection: lo on g_last's side, hi crossed
+        let (mut lo, mut hi) = (t_left, t_pt);
+        let tol = e.tolerance() * hi.abs().max(schedule.t_end);
+        let mut zm = z.to_vec();
+        while hi - lo > tol {
+            let mid = 0.5 * (lo + hi);
+            view.dense(st, mid, &mut zm);
+            if e.direction().crossed(g_last[index], e.g(mid, &zm)) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        if found.as_ref().is_none_or(|f| hi < f.t) {
+            found = Some(Located { index, t: hi });
+        }
+    }
+    if let Some(f) = &found {
+        view.dense(st, f.t, z);
+    }
+    found
+}
+
+/// A located event: its index and time.
+struct Located {
+    index: usize,
+    t: f64,
+}
