@@ -10,6 +10,7 @@
 //! is the state at the crossing.
 
 use super::simulate::{Failure, RunStatus};
+use super::layout::StateLayout;
 use super::Model;
 use crate::integrate::run_loop::{run, Event, Schedule, StopReason};
 use crate::integrate::{Control, IntegrateError, OdeSystem, Output, Stats, Stepper};
@@ -84,7 +85,7 @@ pub(crate) fn execute(
             return rows.outcome(status, Stats::default());
         }
     };
-    debug_assert_eq!(plan.layout.len(), 2 + 3 * model.orders().len(), "layout of z");
+    debug_assert_eq!(plan.layout.len(), StateLayout::reduced(model.orders().len()).dim(), "layout of z");
     let t0 = st.t();
     let stop_times = model.stop_times();
     let events = model.events();
