@@ -20,6 +20,7 @@ pub mod linearize;
 mod material;
 pub mod params;
 pub mod radial;
+pub mod thermal;
 mod executor;
 mod simulate;
 pub mod vorticity;
@@ -50,6 +51,8 @@ pub enum ModelError {
     FullModel(String),
     #[error("{key} = {value}: {reason}")]
     Unsupported { key: &'static str, value: String, reason: &'static str },
+    #[error("bubble.initial.seed = \"thermal\": {0}")]
+    Seed(String),
 }
 
 /// The assembled system: exactly the terms the scene needs.
@@ -88,6 +91,10 @@ impl Model {
                 reason: "the full vorticity model is built by model::vorticity::FullModel (model::simulate dispatches to it)",
             });
         }
+        let thermal_seed = match scene.bubble.initial.seed {
+            crate::scene::Seed::Thermal => Some(thermal::amplitudes(scene)?),
+            crate::scene::Seed::Given => None,
+        };
         let source = scene
             .field
             .as_ref()
@@ -183,14 +190,19 @@ impl Model {
                 })
                 .collect();
             effects.push(format!("shape modes k=2..{} (boundary layer)", scene.modes.max_order));
-            System::BoundaryLayer(BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes })
+            let shape_weights = thermal::weights(scene, thermal_seed.as_ref(), scales.time);
+            System::BoundaryLayer(BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes, shape_weights })
         };
         effects.extend(self_labels(eq_of(&system)));
 
         let mut y0 = vec![scene.bubble.initial.radius / scales.length, scene.bubble.initial.velocity * scales.time / scales.length];
         for &k in &orders {
             let g = |m: &std::collections::BTreeMap<usize, f64>| m.get(&k).copied().unwrap_or(0.0);
-            y0.push(g(&scene.bubble.initial.a) / scales.length);
+            let a = match (&thermal_seed, scene.bubble.initial.a.get(&k)) {
+                (Some(th), None) => th[&k],
+                _ => g(&scene.bubble.initial.a),
+            };
+            y0.push(a / scales.length);
             y0.push(g(&scene.bubble.initial.a_velocity) * scales.time / scales.length);
             y0.push(g(&scene.bubble.initial.b) / scales.length);
         }

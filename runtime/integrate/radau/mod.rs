@@ -66,7 +66,8 @@ enum LastFailure {
 pub struct Radau5 {
     k: RadauConsts,
     rtol: f64,
-    atol: f64,
+    /// The internal atol'·w_i ([`super::super::atol_vector`]).
+    atol: Vec<f64>,
     t: f64,
     t_prev: f64,
     h: f64,
@@ -106,9 +107,11 @@ pub struct Radau5 {
 impl Radau5 {
     pub fn new(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, rtol: f64, atol: f64) -> Result<Self, IntegrateError> {
         let n = y0.len();
-        let Start { f0, h, stats, .. } = adaptive_start(sys, t0, y0, t_end, 5.0, rtol, atol)?;
+        let atol_v = crate::integrate::atol_vector(sys, atol, n);
+        let Start { f0, h, stats, .. } = adaptive_start(sys, t0, y0, t_end, 5.0, rtol, &atol_v)?;
         let rtol_i = 0.1 * rtol.powf(2.0 / 3.0);
-        let atol_i = rtol_i * atol / rtol;
+        let atol_i: Vec<f64> = atol_v.iter().map(|a| rtol_i * a / rtol).collect();
+        let scal = y0.iter().zip(&atol_i).map(|(y, a)| a + rtol_i * y.abs()).collect();
         let vecs = || std::array::from_fn(|_| vec![0.0; n]);
         Ok(Radau5 {
             k: RadauConsts::new(),
@@ -118,7 +121,7 @@ impl Radau5 {
             t_prev: t0,
             h,
             h_old: 0.0,
-            scal: y0.iter().map(|y| atol_i + rtol_i * y.abs()).collect(),
+            scal,
             y: y0.to_vec(),
             f0,
             z: vecs(),
@@ -368,7 +371,7 @@ impl super::Stepper for Radau5 {
                 let [c1, c2, _] = self.k.c;
                 let [z0, z1, z2] = &self.z;
                 let [k0, k1, k2, k3] = &mut self.cont;
-                let y_bad = kernels::accept(c1, c2, [self.atol, self.rtol], [z0, z1, z2], &mut self.y, [k0, k1, k2, k3], &mut self.scal);
+                let y_bad = kernels::accept(c1, c2, (&self.atol, self.rtol), [z0, z1, z2], &mut self.y, [k0, k1, k2, k3], &mut self.scal);
                 sys.rhs(t_new, &self.y, &mut self.f0);
                 self.stats.rhs_evals += 1;
                 let bad = if y_bad { first_non_finite(&self.y) } else { None };
