@@ -190,8 +190,10 @@ impl Model {
                 })
                 .collect();
             effects.push(format!("shape modes k=2..{} (boundary layer)", scene.modes.max_order));
-            let shape_weights = thermal::weights(scene, thermal_seed.as_ref(), scales.time);
-            System::BoundaryLayer(BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes, shape_weights })
+            let mut bl = BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes, shape_weights: Vec::new() };
+            let forced = thermal::static_response(&bl);
+            bl.shape_weights = thermal::weights(scene, thermal_seed.as_ref(), scales.time, &forced);
+            System::BoundaryLayer(bl)
         };
         effects.extend(self_labels(eq_of(&system)));
 

@@ -21,11 +21,15 @@
 //! its growth to blow-up starts from there; an absolute floor above that level lets the
 //! stepper's own error seed the mode instead (Dopri5 at atol 1e-9 blew up at 10.54 µs instead
 //! of 20.57 µs: an explicit step unstable on a_16 is not rejected while |a_16| is below atol).
-//! So an unseeded mode has w = [`UNSEEDED`] = ε², ε the machine epsilon: it is controlled
-//! relative to itself down to atol·ε² R0 (5e-41 R0 at the default atol), below any amplitude
-//! a field or a quadratic coupling feeds it at in the shipped scenes. (w = 0, pure relative
-//! control, fails: a component that starts at exactly zero then has a zero scale, and Radau5's
-//! Newton iteration cannot meet it.)
+//! So a mode that starts at zero has the weight of the static amplitude the loads at rest force
+//! it to ([`static_response`]: one Newton step from rest, so the field's couplings pass it on
+//! from mode to mode): an error far below atol times that is far below what the field gives
+//! the mode, and a transient that decays below it (a static field's ringing, ȧ_k → 0) is not
+//! followed into roundoff (relative control there took hard/long_static from 1201 to 1.3·10^6
+//! steps). A mode neither seeded nor forced (it stays zero unless a coupling feeds it) has
+//! w = [`UNSEEDED`] = ε², ε the machine epsilon: relative to itself down to atol·ε² R0 (5e-41 R0
+//! at the default atol). (w = 0, pure relative control, fails: a component that starts at
+//! exactly zero then has a zero scale, and Radau5's Newton iteration cannot meet it.)
 
 use super::ModelError;
 use crate::scene::{Scene, Seed};
@@ -69,17 +73,40 @@ pub fn amplitudes(scene: &Scene) -> Result<BTreeMap<usize, f64>, ModelError> {
     Ok(out)
 }
 
+/// The static amplitude the loads at rest force each mode to (nondimensional, module doc): one
+/// Newton step from rest (R = R0, everything else 0, t = 0) toward the equilibrium,
+/// δy = −J⁻¹ f, with the exact Jacobian, so a mode forced only through the field's coupling to
+/// another gets its share; |δa_k| per mode, all 0 when J is singular (a mode without stiffness).
+pub fn static_response(bl: &super::boundary_layer::BoundaryLayerSystem) -> Vec<f64> {
+    use crate::integrate::OdeSystem;
+    let n = bl.dim();
+    let m = bl.modes().len();
+    let (mut y, mut f, mut jac) = (vec![0.0; n], vec![0.0; n], vec![0.0; n * n]);
+    y[0] = 1.0;
+    bl.rhs(0.0, &y, &mut f);
+    bl.jacobian(0.0, &y, &mut jac);
+    let j = nalgebra::DMatrix::from_row_slice(n, n, &jac);
+    let rhs = nalgebra::DVector::from_iterator(n, f.iter().map(|v| -v));
+    match j.lu().solve(&rhs) {
+        Some(d) if d.iter().all(|v| v.is_finite()) => (0..m).map(|k| d[2 + 3 * k].abs()).collect(),
+        _ => vec![0.0; m],
+    }
+}
+
 /// The absolute-tolerance weight of each simulated mode (module doc), in `scene.modes.orders()`
-/// order, given the thermal amplitudes when the scene seeds thermally and t* [s].
-pub fn weights(scene: &Scene, thermal: Option<&BTreeMap<usize, f64>>, t_star: f64) -> Vec<f64> {
+/// order, given the thermal amplitudes when the scene seeds thermally, t* [s] and the
+/// [`static_response`] of each mode.
+pub fn weights(scene: &Scene, thermal: Option<&BTreeMap<usize, f64>>, t_star: f64, forced: &[f64]) -> Vec<f64> {
     let init = &scene.bubble.initial;
     let get = |m: &BTreeMap<usize, f64>, k: usize| m.get(&k).map_or(0.0, |v| v.abs());
     scene
         .modes
         .orders()
-        .map(|k| {
+        .enumerate()
+        .map(|(m, k)| {
             let a = init.a.get(&k).map(|v| v.abs()).or_else(|| thermal.and_then(|t| t.get(&k)).copied()).unwrap_or(0.0);
-            let size = a.max(get(&init.a_velocity, k) * t_star).max(get(&init.b, k)) / scene.bubble.radius;
+            let seed = a.max(get(&init.a_velocity, k) * t_star).max(get(&init.b, k)) / scene.bubble.radius;
+            let size = seed.max(forced.get(m).copied().unwrap_or(0.0));
             if size > 0.0 && size.is_finite() {
                 size
             } else {

@@ -60,6 +60,12 @@ fn the_thermal_seed_starts_every_unset_mode_and_keeps_the_given_ones() {
     assert_eq!(w[5], thermal::UNSEEDED);
     let w = m.system().error_scale().unwrap();
     assert!((w[5] - th[&4] / r0).abs() < 1e-20);
+    // a mode the field forces at rest has the weight of its static response |f_k|/ω_k²
+    let c = Model::from_scene(&load("scenes/coil_static.toml", &[])).unwrap();
+    let w = c.system().error_scale().unwrap();
+    let w16 = w[2 + 3 * 7];
+    eprintln!("coil_static weights: a4 {:.3e}, a16 {w16:.3e}", w[5]);
+    assert!(w16 > thermal::UNSEEDED && w16 < 1e-20 && w[5] > w16, "{w:?}");
     // no stiffness (a free bubble without surface tension): an error naming the key
     let e = Model::from_scene(&load("scenes/free_bubble.toml", &["bubble.initial.seed=\"thermal\"", "shell.surface_tension=0"])).unwrap_err();
     assert!(e.to_string().contains("bubble.initial.seed") && e.to_string().contains("stiffness"), "{e}");
