@@ -15,11 +15,11 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
     Scene {
         bubble: Bubble {
             radius: 10e-6,
-            initial: Initial { radius: 10e-6, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new() },
+            initial: Initial { radius: 10e-6, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new(), seed: Default::default() },
         },
         shell: Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0 },
-        liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None },
+        liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None, temperature: 293.15 },
         drive: Some(Drive { amplitude: 0.5, frequency_hz: 1e6 }),
         field,
         modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear, credible_amplitude: 0.1 },
@@ -31,6 +31,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
             blow_up_threshold: 0.5,
             max_output_bytes: 1e9,
         },
+        warnings: Vec::new(),
     }
 }
 

@@ -27,7 +27,7 @@
 use super::bisect::{self, Eval, Outcome, Verdict};
 use super::ladder;
 use super::periodic::PeriodicOrbit;
-use super::stability::{base_model, prepare, prepare_on, series_unstable, Criterion, FloquetOptions, SeriesOptions, StabilityError};
+use super::stability::{base_model, prepare, prepare_on, series_period, series_unstable, Criterion, FloquetOptions, SeriesOptions, StabilityError, NEEDS_PERIODIC};
 use crate::scene::Scene;
 use serde::Serialize;
 
@@ -45,6 +45,20 @@ pub struct CriticalOptions {
     pub relative_tol: bool,
     pub floquet: FloquetOptions,
     pub series: SeriesOptions,
+}
+
+/// The schema entry of a key a critical value can be searched over (`stability --vary`): a
+/// real number. An integer key would be asked for values between its integers, each point
+/// failing on its own (issue 29 item 12), so it is refused before any work.
+pub fn varied_param(key: &str) -> Result<&'static crate::scene::schema::Param, String> {
+    let p = crate::scene::numeric_param(key)?;
+    if p.kind == crate::scene::schema::Kind::Int {
+        return Err(format!(
+            "`{key}` takes integers, and a critical value is searched by bisection over real values; \
+             vary a real-valued key and give the integer values with --family {key}=V1,V2,…"
+        ));
+    }
+    Ok(p)
 }
 
 /// One point of a stability diagram.
@@ -186,6 +200,18 @@ fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, S
     Ok((Eval { verdict, margin: Some(mu.ln()) }, seen))
 }
 
+/// The period [s] of the time-series window at a point with nothing periodic (ε_p = 0): that of
+/// the range's upper end, else of its lower end (issue 29 item 1: the default range 0:1 starts
+/// at ε_p = 0, where the drive is removed).
+fn range_period(scene_at: &dyn Fn(f64) -> Result<Scene, StabilityError>, opts: &CriticalOptions) -> Result<f64, StabilityError> {
+    for p in [opts.hi, opts.lo] {
+        if let Some(tp) = series_period(&scene_at(p)?)? {
+            return Ok(tp);
+        }
+    }
+    Err(StabilityError::Scene(format!("{} at either end of the range {}:{}", NEEDS_PERIODIC, opts.lo, opts.hi)))
+}
+
 /// The critical value of the parameter `scene_at(p)` varies (see the module doc).
 pub fn critical_point(
     scene_at: &dyn Fn(f64) -> Result<Scene, StabilityError>,
@@ -198,7 +224,12 @@ pub fn critical_point(
         let (eval, s) = match opts.criterion {
             Criterion::Floquet => floquet_eval(&scene, &opts.floquet, p)?,
             Criterion::Series => {
-                let v = series_unstable(&scene, &opts.series)?;
+                let mut so = opts.series.clone();
+                if so.period_s.is_none() && series_period(&scene)?.is_none() {
+                    // ε_p = 0 removes the drive: watch over the period the other points have
+                    so.period_s = Some(range_period(scene_at, opts)?);
+                }
+                let v = series_unstable(&scene, &so)?;
                 let note = if v.reason.starts_with("failed") { v.reason.clone() } else { String::new() };
                 let s = Seen { p, mode: v.mode, mu: f64::NAN, mu_error: 0.0, multiple: 0, note, orbit: None };
                 (Eval::from_bool(v.unstable), s)

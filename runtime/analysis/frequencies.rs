@@ -32,6 +32,8 @@ pub enum FrequencyError {
     Model(#[from] ModelError),
     #[error("--kmax {kmax}: must be ≥ 2")]
     KmaxTooSmall { kmax: usize },
+    #[error("--kmax {kmax}: the model's modes stop at k = {limit}, with or without a field (the generated coupling tables; rebuild with MAGBUBBLE_KMAX for more)")]
+    KmaxTooLarge { kmax: usize, limit: usize },
     #[error("B_b (tangential stiffness on b) is singular at R0: no quasi-static b")]
     SingularTangential,
     #[error(transparent)]
@@ -70,11 +72,23 @@ pub struct Frequencies {
     pub t_star: f64,
 }
 
-/// Natural frequencies of `scene` for k = 2 … kmax (the drive is ignored: p∞ = p0).
-pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, FrequencyError> {
+/// A `--kmax` the modes analyses can take: 2 ≤ kmax ≤ the tables' k (issue 29 item 13: a
+/// larger one was reported as `modes.max_order`, a key the user did not set).
+pub fn check_kmax(kmax: usize) -> Result<(), FrequencyError> {
     if kmax < 2 {
         return Err(FrequencyError::KmaxTooSmall { kmax });
     }
+    // the even modes run the model (its tables stop at KMAX with or without a field); an odd
+    // k = KMAX + 1 needs no table without a field (BeyondTables says when it does)
+    if kmax - kmax % 2 > crate::coefficients::KMAX {
+        return Err(FrequencyError::KmaxTooLarge { kmax, limit: crate::coefficients::KMAX });
+    }
+    Ok(())
+}
+
+/// Natural frequencies of `scene` for k = 2 … kmax (the drive is ignored: p∞ = p0).
+pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, FrequencyError> {
+    check_kmax(kmax)?;
     let mut s = scene.clone();
     s.drive = None;
     s.modes.max_order = kmax - kmax % 2;
@@ -210,4 +224,16 @@ fn quasi_static_spectrum(
             (m, mu.re)
         })
         .collect())
+}
+
+/// Q = ω/(2γ) of a damped mode s = −γ ± iω: ∞ for γ = 0 < ω, `None` when both are 0 (nothing
+/// oscillates or decays) or either is not a number.
+pub fn quality_factor(omega: f64, decay: f64) -> Option<f64> {
+    if !(omega.is_finite() && decay.is_finite()) || (omega == 0.0 && decay == 0.0) {
+        return None;
+    }
+    if decay == 0.0 {
+        return Some(f64::INFINITY);
+    }
+    Some(omega / (2.0 * decay))
 }

@@ -31,7 +31,7 @@ use serde::Serialize;
 
 mod series;
 mod systems;
-pub use series::{series_unstable, SeriesOptions, SeriesVerdict};
+pub use series::{series_period, series_unstable, SeriesOptions, SeriesVerdict, NEEDS_PERIODIC};
 pub use systems::Radial;
 use systems::{radial_damping_rate, SampledOrbit, ShapeSystem};
 
@@ -173,9 +173,29 @@ pub fn drive_frequencies(scene: &Scene) -> Vec<f64> {
 }
 
 /// Whether `criterion` can be evaluated on `scene` at all (assembled model, shape modes for
-/// Floquet, a periodic drive for the time series): checked once before a sweep, so that a
+/// Floquet, something periodic for the time series): checked once before a sweep, so that a
 /// scene the criterion cannot judge is one error, not a CSV of error rows.
 pub fn check_scene(scene: &Scene, criterion: Criterion) -> Result<(), StabilityError> {
+    check_model(scene, criterion)?;
+    if criterion == Criterion::Series && drive_frequencies(scene).is_empty() {
+        return Err(StabilityError::Scene(NEEDS_PERIODIC.into()));
+    }
+    Ok(())
+}
+
+/// [`check_scene`] for a search range whose ends are `lo` and `hi`: the time series needs
+/// something periodic at one end only, since a point without (ε_p = 0) is watched over the
+/// other end's period ([`critical_point`]).
+pub fn check_range(lo: &Scene, hi: &Scene, criterion: Criterion) -> Result<(), StabilityError> {
+    check_model(lo, criterion)?;
+    check_model(hi, criterion)?;
+    if criterion == Criterion::Series && drive_frequencies(lo).is_empty() && drive_frequencies(hi).is_empty() {
+        return Err(StabilityError::Scene(format!("{NEEDS_PERIODIC} at either end of the range")));
+    }
+    Ok(())
+}
+
+fn check_model(scene: &Scene, criterion: Criterion) -> Result<(), StabilityError> {
     let model = base_model(scene)?;
     if criterion == Criterion::Series && scene.modes.viscous == Viscous::Vorticity {
         return Err(StabilityError::Scene(
@@ -184,9 +204,6 @@ pub fn check_scene(scene: &Scene, criterion: Criterion) -> Result<(), StabilityE
     }
     match criterion {
         Criterion::Floquet => model.boundary_layer().map(|_| ()).ok_or(StabilityError::NoShapeModes),
-        Criterion::Series if drive_frequencies(scene).is_empty() && scene.drive.is_none() => {
-            Err(StabilityError::Scene("the time-series criterion needs a periodic drive".into()))
-        }
         Criterion::Series => Ok(()),
     }
 }
@@ -409,4 +426,4 @@ pub enum Criterion {
     Series,
 }
 
-pub use super::critical::{critical_point, CriticalOptions, CriticalPoint, CRITICAL_HEADER};
+pub use super::critical::{critical_point, varied_param, CriticalOptions, CriticalPoint, CRITICAL_HEADER};

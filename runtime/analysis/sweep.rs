@@ -39,6 +39,9 @@ pub enum SweepError {
     Mismatch { path: PathBuf, why: String },
     #[error("merge: {why}")]
     Merge { why: String },
+    /// The output directory is another process's ([`crate::output::DirLock`]).
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SweepError + '_ {
@@ -184,6 +187,11 @@ where
     let full_header = header_line(&meta.header);
     let mut done: BTreeMap<usize, Vec<String>> = BTreeMap::new();
     let mut file = None;
+    // one process at a time in the CSV's directory, before the CSV is even looked at
+    let _lock = match csv {
+        Some(csv) => Some(crate::output::DirLock::acquire(csv.parent().unwrap_or(Path::new("")))?),
+        None => None,
+    };
     if let Some(csv) = csv {
         if csv.exists() {
             let old = read_meta(csv)?;
@@ -208,8 +216,9 @@ where
         file = Some(OpenOptions::new().append(true).open(csv).map_err(io(csv))?);
     }
     let resumed = done.len();
+    // the shard's own points only (never a pass over the whole grid: issue 29 item 7)
     let pending: Vec<usize> =
-        (0..meta.total).filter(|&i| meta.shard.owns(i) && !done.contains_key(&i)).collect();
+        (meta.shard.index..meta.total).step_by(meta.shard.count.max(1)).filter(|i| !done.contains_key(i)).collect();
     let sink = Mutex::new((file, Vec::<(usize, Vec<String>)>::new()));
     let bar = if control.progress_bar && std::io::stderr().is_terminal() {
         let b = ProgressBar::new(pending.len() as u64);
@@ -272,6 +281,22 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<SweepMeta, SweepError>
             });
         }
     }
+    let merge_err = |why: String| SweepError::Merge { why };
+    for path in inputs {
+        if !path.is_file() {
+            return Err(merge_err(format!(
+                "{}: no such file; give the shard CSVs (NAME.shard-i-of-n.csv, each with its .meta.json) that `stability` or `sweep` with --shard wrote",
+                path.display()
+            )));
+        }
+        if !meta_path(path).is_file() {
+            return Err(merge_err(format!(
+                "{} has no {}: every shard CSV is written with this sidecar (the sweep's fingerprint and split); without it the file cannot be checked: run that shard again",
+                path.display(),
+                meta_path(path).display()
+            )));
+        }
+    }
     let meta0 = read_meta(first)?;
     let full_header = header_line(&meta0.header);
     let mut rows: BTreeMap<usize, (Vec<String>, PathBuf)> = BTreeMap::new();
@@ -282,7 +307,40 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<SweepMeta, SweepError>
                 why: format!("{} and {} are not shards of the same sweep", first.display(), path.display()),
             });
         }
-        for (i, fields) in read_rows(path, &full_header)? {
+        if meta.shard.count != meta0.shard.count {
+            return Err(merge_err(format!(
+                "{} is shard {}/{} and {} is shard {}/{}: shards of different splits overlap; merge the shards of one split (all …/{} or all …/{})",
+                first.display(),
+                meta0.shard.index,
+                meta0.shard.count,
+                path.display(),
+                meta.shard.index,
+                meta.shard.count,
+                meta0.shard.count,
+                meta.shard.count
+            )));
+        }
+        let got = read_rows(path, &full_header).map_err(|e| match e {
+            SweepError::Mismatch { path, why } | SweepError::Corrupt { path, why } => merge_err(format!(
+                "{} is damaged ({why}): run its shard {}/{} again (finished rows are kept)",
+                path.display(),
+                meta.shard.index,
+                meta.shard.count
+            )),
+            other => other,
+        })?;
+        let owned = (meta.shard.index..meta.total).step_by(meta.shard.count.max(1)).count();
+        if got.len() < owned {
+            return Err(merge_err(format!(
+                "{} holds {} of the {owned} points of shard {}/{}{}: run that shard again to finish it (resume is automatic)",
+                path.display(),
+                got.len(),
+                meta.shard.index,
+                meta.shard.count,
+                if fs::metadata(path).map(|m| m.len() == 0).unwrap_or(false) { " (the file is empty)" } else { " (truncated or unfinished)" }
+            )));
+        }
+        for (i, fields) in got {
             if i >= meta0.total {
                 return Err(SweepError::Merge { why: format!("{}: index {i} ≥ {} points", path.display(), meta0.total) });
             }
@@ -308,9 +366,7 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<SweepMeta, SweepError>
     }
     let rows: BTreeMap<usize, Vec<String>> = rows.into_iter().map(|(i, (f, _))| (i, f)).collect();
     let meta = SweepMeta { shard: Shard::ALL, ..meta0 };
-    if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        fs::create_dir_all(dir).map_err(io(dir))?;
-    }
+    let _lock = crate::output::DirLock::acquire(output.parent().unwrap_or(Path::new("")))?;
     write_atomic(output, &render(&full_header, &rows))?;
     write_atomic(&meta_path(output), &serde_json::to_string_pretty(&meta).expect("meta serialises"))?;
     Ok(meta)
@@ -406,12 +462,16 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), SweepError> {
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
     let tmp = PathBuf::from(tmp);
-    {
-        let mut f = File::create(&tmp).map_err(io(&tmp))?;
-        f.write_all(text.as_bytes()).map_err(io(&tmp))?;
-        f.sync_all().map_err(io(&tmp))?;
+    let written = File::create(&tmp).and_then(|mut f| {
+        f.write_all(text.as_bytes())?;
+        f.sync_all()
+    });
+    // nothing temporary survives an error (a full disk, issue 29 item 8)
+    if let Err(e) = written.and_then(|()| fs::rename(&tmp, path)) {
+        let _ = fs::remove_file(&tmp);
+        return Err(io(path)(e));
     }
-    fs::rename(&tmp, path).map_err(io(path))
+    Ok(())
 }
 
 #[cfg(test)]

@@ -101,7 +101,7 @@ pub fn frequencies_json(f: &Frequencies) -> serde_json::Value {
 pub fn damped_of(scene: &Scene, kmax: Option<usize>, label: &str) -> anyhow::Result<DampedSpectrum> {
     let mut scene = scene.clone();
     if let Some(kmax) = kmax {
-        anyhow::ensure!(kmax >= 2, "--kmax {kmax}: must be ≥ 2");
+        crate::analysis::frequencies::check_kmax(kmax)?;
         scene.modes.max_order = kmax - kmax % 2;
     }
     anyhow::ensure!(
@@ -130,7 +130,10 @@ fn damped(args: &ModesArgs, scene: &Scene, label: &str) -> anyhow::Result<()> {
         outln!("closure: {}   (s = −γ ± iω, linearisation at R0)", d.closure);
         outln!("{:>4} {:>14} {:>14} {:>10}", "k", "decay_per_s", "omega_rad_s", "Q = ω/2γ");
         for m in &d.shape {
-            outln!("{:>4} {:>14.6e} {:>14.6e} {:>10.3}", m.k, m.decay_per_s, m.omega_rad_s, m.omega_rad_s / (2.0 * m.decay_per_s));
+            // γ = 0 (no damping): Q = ∞; ω = γ = 0 (no stiffness, no damping): Q undefined (issue 29 item 13)
+            let q = crate::analysis::frequencies::quality_factor(m.omega_rad_s, m.decay_per_s);
+            let q = q.map_or_else(|| "–".to_string(), |q| if q.is_infinite() { "∞".into() } else { format!("{q:.3}") });
+            outln!("{:>4} {:>14.6e} {:>14.6e} {:>10}", m.k, m.decay_per_s + 0.0, m.omega_rad_s + 0.0, q);
         }
     }
     if let Some(dir) = &args.plot {

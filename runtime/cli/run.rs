@@ -114,6 +114,9 @@ pub fn summary<'a>(report: &'a RunReport, scene: &'a Scene, rows: u64, file: &st
 
 pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()> {
     let scene = scene::load(&args.scene, &args.set)?;
+    for w in &scene.warnings {
+        noteln!("warning: {w}");
+    }
     let out = args
         .out
         .clone()
@@ -182,6 +185,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         crate::plot::series_plot(&series_path, &out)
             .with_context(|| format!("plotting {}", series_path.display()))?;
         outln!("plotted:    {}", out.join("series.svg").display());
+    } else {
+        // a plot of an earlier run would sit beside the new data (issue 29 item 9)
+        for stale in crate::plot::remove_stale_series_plot(&out) {
+            noteln!("removed {} (an earlier run's plot; --plot draws a new one)", stale.display());
+        }
     }
     if let RunStatus::Failed { reason } = &report.status {
         anyhow::bail!(
@@ -199,7 +207,7 @@ fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) -> an
         RunStatus::BlowUp { t, mode } => format!("blow-up of {mode} at t = {t:e} s"),
         RunStatus::Failed { reason } => format!("FAILED: {reason}"),
         RunStatus::OutOfCredibleRange { t, mode, bound } => {
-            format!("out_of_credible_range: |{mode}|/R0 exceeded {bound} (modes.credible_amplitude) at t = {t:e} s")
+            format!("out_of_credible_range: |{mode}|/R0 exceeded {bound:e} (modes.credible_amplitude) at t = {t:e} s")
         }
     };
     outln!("status:     {status}");

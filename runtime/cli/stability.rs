@@ -2,7 +2,7 @@
 //! key with `--vary`, against a frequency), swept in parallel, resumable and shardable
 //! (analysis::sweep). Definitions: docs/stability.md.
 
-use crate::analysis::stability::{check_scene, critical_point, Criterion, CriticalOptions, StabilityError, CRITICAL_HEADER};
+use crate::analysis::stability::{check_range, critical_point, Criterion, CriticalOptions, StabilityError, CRITICAL_HEADER};
 use crate::analysis::sweep::{self, Shard, SweepMeta};
 use crate::scene::schema::fmt_num;
 use crate::scene::{numeric_param, path_exists, SceneTemplate};
@@ -155,13 +155,16 @@ fn plan(args: &StabilityArgs) -> anyhow::Result<Plan> {
     };
     anyhow::ensure!(args.tol.is_finite() && args.tol > 0.0, "--tol {}: must be a finite number > 0", args.tol);
     anyhow::ensure!(args.scan >= 1, "--scan {}: need at least 1 scan interval", args.scan);
-    numeric_param(&args.vary).map_err(|e| anyhow::anyhow!("--vary {}: {e}", args.vary))?;
+    crate::analysis::stability::varied_param(&args.vary).map_err(|e| anyhow::anyhow!("--vary {}: {e}", args.vary))?;
     let freq_key = args.freq_key.clone().unwrap_or_else(|| {
         if args.vary.starts_with("field.coil.current") { "field.coil.current.frequency_hz".into() } else { "drive.frequency_hz".into() }
     });
     numeric_param(&freq_key).map_err(|e| anyhow::anyhow!("--freq-key {freq_key}: {e}"))?;
     anyhow::ensure!(freq_key != args.vary, "--vary {} is also the frequency axis (--freq-key)", args.vary);
     let base = SceneTemplate::load(&args.scene, &args.set)?;
+    for w in &base.scene().warnings {
+        noteln!("warning: {w}");
+    }
     let mut families = Vec::new();
     match &args.family {
         None => families.push((String::new(), String::new(), base)),
@@ -186,11 +189,13 @@ fn plan(args: &StabilityArgs) -> anyhow::Result<Plan> {
     let (f0, f1) = (freqs[0], freqs[freqs.len() - 1]);
     for (k, v, t) in &families {
         let at = if k.is_empty() { String::new() } else { format!(" (--family {k}={v})") };
-        for (f, p) in [(f0, lo), (f1, hi)] {
-            let scene = t
-                .with(&[(freq_key.as_str(), f), (args.vary.as_str(), p)])
-                .with_context(|| format!("the scene at {freq_key} = {}, {} = {}{at}", fmt_num(f), args.vary, fmt_num(p)))?;
-            check_scene(&scene, criterion).with_context(|| format!("stability of {}{at}", args.scene.display()))?;
+        let scene = |f: f64, p: f64| {
+            t.with(&[(freq_key.as_str(), f), (args.vary.as_str(), p)])
+                .with_context(|| format!("the scene at {freq_key} = {}, {} = {}{at}", fmt_num(f), args.vary, fmt_num(p)))
+        };
+        for f in [f0, f1] {
+            check_range(&scene(f, lo)?, &scene(f, hi)?, criterion)
+                .with_context(|| format!("stability of {} at {freq_key} = {}, {} = {lo}:{hi}{at}", args.scene.display(), fmt_num(f), args.vary))?;
         }
     }
     Ok(Plan { freqs, lo, hi, shard, freq_key, families })
@@ -254,16 +259,30 @@ pub fn points_of(args: &StabilityArgs) -> anyhow::Result<usize> {
 }
 
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
-    let hooks = Hooks { progress_bar: true, ..Hooks::default() };
+    // Ctrl-C / SIGTERM: stop starting points, keep the whole rows, say so, exit 128 + signal (as
+    // `sweep` does; issue 29 item 13)
+    #[cfg(unix)]
+    let cancel = Some(crate::output::cancel_on_signal());
+    #[cfg(not(unix))]
+    let cancel = None;
+    let hooks = Hooks { progress_bar: true, cancel, ..Hooks::default() };
     if matches!(args.method, MethodArg::Floquet)
         && crate::scene::load(&args.scene, &args.set).is_ok_and(|s| s.modes.coupling == crate::scene::Coupling::Quadratic)
     {
         noteln!("note: {}", super::floquet::LINEAR_ONLY);
     }
-    let StabilityOutput { curves, failed, shard, .. } = run_with(args, &hooks)?;
+    let StabilityOutput { curves, failed, shard, cancelled } = run_with(args, &hooks)?;
     for c in &curves {
         let r = &c.report;
         noteln!("{}: {} points ({} computed, {} resumed)", c.csv.display(), r.rows.len(), r.computed, r.resumed);
+    }
+    if cancelled {
+        noteln!("interrupted: the finished points are kept; rerun the same command to resume");
+        crate::output::flush_out()?;
+        #[cfg(unix)]
+        std::process::exit(128 + crate::output::cancelling_signal().unwrap_or(libc::SIGINT));
+        #[cfg(not(unix))]
+        std::process::exit(130);
     }
     let plotted: Vec<(String, PathBuf)> = curves
         .into_iter()
@@ -293,6 +312,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
 pub fn run_with(args: &StabilityArgs, hooks: &Hooks) -> anyhow::Result<StabilityOutput> {
     let Plan { freqs, lo, hi, shard, freq_key, families } = plan(args)?;
     let out_dir = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "stability"));
+    let _lock = crate::output::DirLock::acquire(&out_dir)?; // one process at a time (issue 29 item 3)
     let scene_text = std::fs::read_to_string(&args.scene).with_context(|| format!("reading {}", args.scene.display()))?;
     let mut curves = Vec::new();
     let mut failed = Vec::new();

@@ -39,7 +39,11 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     };
     let axes = args.grid.iter().map(|g| GridAxis::parse(g)).collect::<Result<Vec<_>, _>>()?;
     let template = SceneTemplate::load(&args.scene, &args.set)?;
+    for w in &template.scene().warnings {
+        noteln!("warning: {w}");
+    }
     let plan = grid::plan_grid(&template, &axes)?;
+    noteln!("sweep: {} points, {} in shard {}/{}", plan.len(), plan.shard_len(shard), shard.index, shard.count);
     #[cfg(unix)]
     let cancel = Some(crate::output::cancel_on_signal());
     #[cfg(not(unix))]

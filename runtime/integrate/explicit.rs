@@ -19,9 +19,9 @@ pub(crate) fn step_too_small(t: f64, h: f64) -> bool {
     !(h > 8.0 * f64::EPSILON * t.abs()) || h < 1e-300
 }
 
-/// RMS norm of v / (atol + rtol |y|).
-pub(crate) fn rms_scaled(v: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {
-    let s: f64 = v.iter().zip(y).map(|(v, y)| (v / (atol + rtol * y.abs())).powi(2)).sum();
+/// RMS norm of v / (atol_i + rtol |y|).
+pub(crate) fn rms_scaled(v: &[f64], y: &[f64], rtol: f64, atol: &[f64]) -> f64 {
+    let s: f64 = v.iter().zip(y).zip(atol).map(|((v, y), a)| (v / (a + rtol * y.abs())).powi(2)).sum();
     (s / v.len().max(1) as f64).sqrt()
 }
 
@@ -52,7 +52,7 @@ pub(crate) fn adaptive_start(
     t_end: f64,
     order: f64,
     rtol: f64,
-    atol: f64,
+    atol: &[f64],
 ) -> Result<Start, IntegrateError> {
     let n = y0.len();
     let mut stats = Stats { rhs_evals: 1, ..Stats::default() };
@@ -74,7 +74,7 @@ pub(crate) fn initial_step(
     f0: &[f64],
     order: f64,
     rtol: f64,
-    atol: f64,
+    atol: &[f64],
     h_max: f64,
     work: &mut [f64],
     f1: &mut [f64],
@@ -242,7 +242,8 @@ impl super::Stepper for Rk4 {
 pub struct ExplicitRk {
     tab: ButcherTableau,
     rtol: f64,
-    atol: f64,
+    /// atol·w_i ([`super::atol_vector`]).
+    atol: Vec<f64>,
     t: f64,
     t_prev: f64,
     h: f64,
@@ -289,7 +290,8 @@ impl ExplicitRk {
         checked_rhs(sys, t0, y0, &mut k[0])?;
         let mut arg = vec![0.0; n];
         let mut f_new = vec![0.0; n];
-        let h = initial_step(sys, t0, y0, &k[0], tab.order as f64, rtol, atol, (t_end - t0).abs(), &mut arg, &mut f_new, &mut stats);
+        let atol = super::atol_vector(sys, atol, n);
+        let h = initial_step(sys, t0, y0, &k[0], tab.order as f64, rtol, &atol, (t_end - t0).abs(), &mut arg, &mut f_new, &mut stats);
         let (nd, ne) = match tab.dense {
             DenseOutput::Dopri5 { .. } => (5, 0),
             DenseOutput::Dop853 => (8, 3),
@@ -360,7 +362,7 @@ impl ExplicitRk {
             }
             self.y_new[m] = self.y[m] + h * acc;
         }
-        let sc = |m: usize, y: &[f64], y_new: &[f64], rtol: f64, atol: f64| atol + rtol * y[m].abs().max(y_new[m].abs());
+        let sc = |m: usize, y: &[f64], y_new: &[f64], rtol: f64, atol: &[f64]| atol[m] + rtol * y[m].abs().max(y_new[m].abs());
         match self.tab.error.as_ref().expect("checked in new") {
             ErrorEstimator::Embedded { e } => {
                 let mut sum = 0.0;
@@ -371,7 +373,7 @@ impl ExplicitRk {
                             acc += ej * self.k[j][m];
                         }
                     }
-                    sum += (h * acc / sc(m, &self.y, &self.y_new, self.rtol, self.atol)).powi(2);
+                    sum += (h * acc / sc(m, &self.y, &self.y_new, self.rtol, &self.atol)).powi(2);
                 }
                 (sum / n as f64).sqrt()
             }
@@ -385,7 +387,7 @@ impl ExplicitRk {
                         accb += self.tab.b[j] * self.k[j][m];
                     }
                     let acc3 = accb - bhh.iter().map(|&(j, w)| w * self.k[j][m]).sum::<f64>();
-                    let scm = sc(m, &self.y, &self.y_new, self.rtol, self.atol);
+                    let scm = sc(m, &self.y, &self.y_new, self.rtol, &self.atol);
                     s5 += (acc5 / scm).powi(2);
                     s3 += (acc3 / scm).powi(2);
                 }
@@ -496,7 +498,7 @@ impl super::Stepper for ExplicitRk {
             Some(h) => h,
             None => {
                 let order = self.tab.order as f64;
-                initial_step(sys, t, y, &self.k[0], order, self.rtol, self.atol, (t_end - t).abs(), &mut self.arg, &mut self.f_new, &mut self.stats)
+                initial_step(sys, t, y, &self.k[0], order, self.rtol, &self.atol, (t_end - t).abs(), &mut self.arg, &mut self.f_new, &mut self.stats)
             }
         };
         self.control = StepController::pi(self.tab.controller_order, 0.04, self.tab.step_ratio);

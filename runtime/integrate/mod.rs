@@ -86,6 +86,26 @@ pub trait OdeSystem {
     fn structured_jacobian(&self, _t: f64, _y: &[f64]) -> Option<Box<dyn linear::StructuredJacobian>> {
         None
     }
+    /// Per-component weights w_i of the absolute tolerance: the adaptive steppers measure the
+    /// error of component i against atol·w_i + rtol·|y_i| (docs/integrators.md, "Error
+    /// weights"). A weight says how large the component naturally is relative to the
+    /// nondimensional unit, so that atol means the same thing for every component. `None` (the
+    /// default): w_i = 1.
+    fn error_scale(&self) -> Option<Vec<f64>> {
+        None
+    }
+}
+
+/// The absolute tolerance of every component: atol·w_i with the system's
+/// [`OdeSystem::error_scale`] w (all 1 without one).
+pub(crate) fn atol_vector(sys: &dyn OdeSystem, atol: f64, n: usize) -> Vec<f64> {
+    match sys.error_scale() {
+        Some(w) => {
+            assert_eq!(w.len(), n, "error_scale has one weight per component");
+            w.iter().map(|w| atol * w).collect()
+        }
+        None => vec![atol; n],
+    }
 }
 
 /// Which integrator, with its settings (in the model's nondimensional time).

@@ -27,7 +27,8 @@ const SAFE: f64 = 0.8;
 #[derive(Debug)]
 pub struct Rosenbrock23 {
     rtol: f64,
-    atol: f64,
+    /// atol·w_i ([`super::atol_vector`]).
+    atol: Vec<f64>,
     t: f64,
     t_prev: f64,
     h: f64,
@@ -57,7 +58,8 @@ const D: f64 = 0.292_893_218_813_452_4; // 1/(2 + √2)
 impl Rosenbrock23 {
     pub fn new(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, rtol: f64, atol: f64) -> Result<Self, IntegrateError> {
         let n = y0.len();
-        let Start { f0, h, scratch: (w1, w2), stats } = adaptive_start(sys, t0, y0, t_end, 3.0, rtol, atol)?;
+        let atol = super::atol_vector(sys, atol, n);
+        let Start { f0, h, scratch: (w1, w2), stats } = adaptive_start(sys, t0, y0, t_end, 3.0, rtol, &atol)?;
         let v = || vec![0.0; n];
         Ok(Rosenbrock23 {
             rtol,
@@ -157,7 +159,7 @@ impl super::Stepper for Rosenbrock23 {
             let mut sum = 0.0;
             for i in 0..n {
                 let e = h / 6.0 * (k1[i] - 2.0 * k2[i] + k3[i]);
-                let sc = self.atol + self.rtol * self.y[i].abs().max(self.y1[i].abs());
+                let sc = self.atol[i] + self.rtol * self.y[i].abs().max(self.y1[i].abs());
                 sum += (e / sc).powi(2);
             }
             let err = (sum / n.max(1) as f64).sqrt();
@@ -199,7 +201,7 @@ impl super::Stepper for Rosenbrock23 {
     }
 
     fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], t_end: f64) -> Result<(), IntegrateError> {
-        let Start { f0, h, stats, .. } = adaptive_start(sys, t, y, t_end, 3.0, self.rtol, self.atol)?;
+        let Start { f0, h, stats, .. } = adaptive_start(sys, t, y, t_end, 3.0, self.rtol, &self.atol)?;
         self.stats.rhs_evals += stats.rhs_evals;
         self.f0 = f0;
         self.h = h;

@@ -93,6 +93,9 @@ pub struct BoundaryLayerSystem {
     /// Some shape loads are proportional to ḃ_k (shell viscosity, [`Equations::has_bdot_loads`]):
     /// [`apply_bdot_loads`](Self::apply_bdot_loads) solves (NS) for ḃ_k first.
     pub(crate) bdot_loads: bool,
+    /// The absolute-tolerance weight of each mode's (a_k, ȧ_k, b_k) ([`crate::integrate::OdeSystem::error_scale`],
+    /// docs/integrators.md "Error weights"); R and Ṙ have weight 1.
+    pub(crate) shape_weights: Vec<f64>,
 }
 
 /// Per mode, what [`BoundaryLayerSystem::apply_bdot_loads`] found: the coefficients
@@ -313,6 +316,14 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
         self.jacobian_into(t, y, jac);
         true
+    }
+
+    fn error_scale(&self) -> Option<Vec<f64>> {
+        let mut w = vec![1.0, 1.0];
+        for &s in &self.shape_weights {
+            w.extend([s, s, s]);
+        }
+        Some(w)
     }
 
     /// The exact Jacobian in the form the implicit steppers' linear solves use

@@ -22,6 +22,7 @@ mod material;
 pub mod params;
 pub mod radial;
 mod events;
+pub mod thermal;
 mod executor;
 mod simulate;
 pub mod vorticity;
@@ -53,6 +54,8 @@ pub enum ModelError {
     FullModel(String),
     #[error("{key} = {value}: {reason}")]
     Unsupported { key: &'static str, value: String, reason: &'static str },
+    #[error("bubble.initial.seed = \"thermal\": {0}")]
+    Seed(String),
 }
 
 /// The assembled system: exactly the terms the scene needs.
@@ -91,6 +94,10 @@ impl Model {
                 reason: "the full vorticity model is built by model::vorticity::FullModel (model::simulate dispatches to it)",
             });
         }
+        let thermal_seed = match scene.bubble.initial.seed {
+            crate::scene::Seed::Thermal => Some(thermal::amplitudes(scene)?),
+            crate::scene::Seed::Given => None,
+        };
         let source = scene
             .field
             .as_ref()
@@ -186,7 +193,10 @@ impl Model {
                 })
                 .collect();
             effects.push(format!("shape modes k=2..{} (boundary layer)", scene.modes.max_order));
-            System::BoundaryLayer(BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes })
+            let mut bl = BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes, shape_weights: Vec::new() };
+            let forced = thermal::static_response(&bl);
+            bl.shape_weights = thermal::weights(scene, thermal_seed.as_ref(), scales.time, &forced);
+            System::BoundaryLayer(bl)
         };
         effects.extend(self_labels(eq_of(&system)));
 
@@ -196,7 +206,10 @@ impl Model {
         y0[lay.rdot()] = scene.bubble.initial.velocity * scales.time / scales.length;
         for (m, &k) in orders.iter().enumerate() {
             let g = |m: &std::collections::BTreeMap<usize, f64>| m.get(&k).copied().unwrap_or(0.0);
-            y0[lay.a(m)] = g(&scene.bubble.initial.a) / scales.length;
+            y0[lay.a(m)] = match (&thermal_seed, scene.bubble.initial.a.get(&k)) {
+                (Some(th), None) => th[&k],
+                _ => g(&scene.bubble.initial.a),
+            } / scales.length;
             y0[lay.adot(m)] = g(&scene.bubble.initial.a_velocity) * scales.time / scales.length;
             y0[lay.b(m)] = g(&scene.bubble.initial.b) / scales.length;
         }

@@ -1,6 +1,6 @@
 //! Atomic files (temp file + rename) and output directories that vanish when a run fails.
 
-use super::OutputError;
+use super::{DirLock, OutputError};
 use std::fs::{self, File};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -42,17 +42,24 @@ impl AtomicFile {
         &self.path
     }
 
-    /// Flushes, syncs and renames the temp file to the final path.
+    /// Flushes, syncs and renames the temp file to the final path. On any error (a full disk
+    /// shows at the last flush) the temp file is removed: nothing temporary survives.
     pub fn commit(mut self) -> Result<(), OutputError> {
         let err = |source| OutputError::Write {
             path: self.path.display().to_string(),
             source,
         };
         let writer = self.writer.take().expect("writer present until commit");
-        let file = writer.into_inner().map_err(|e| err(e.into_error()))?;
-        file.sync_all().map_err(err)?;
-        drop(file);
-        fs::rename(&self.tmp, &self.path).map_err(err)
+        let result = writer
+            .into_inner()
+            .map_err(|e| e.into_error())
+            .and_then(|file| file.sync_all())
+            .and_then(|()| fs::rename(&self.tmp, &self.path));
+        if let Err(e) = result {
+            let _ = fs::remove_file(&self.tmp);
+            return Err(err(e));
+        }
+        Ok(())
     }
 }
 
@@ -79,24 +86,33 @@ impl Drop for AtomicFile {
     }
 }
 
-/// An output directory, remembering whether this run created it.
+/// An output directory, remembering whether this run created it, owned by this process while
+/// it lives ([`DirLock`]).
 #[derive(Debug)]
 pub struct OutputDir {
     path: PathBuf,
     created: bool,
+    lock: Option<DirLock>,
 }
 
 impl OutputDir {
-    /// Creates `path` (and its parents) if needed. Call it only once the inputs are valid.
+    /// Creates `path` (and its parents) if needed and takes its lock (a directory another
+    /// process writes into is [`OutputError::Busy`]). Call it only once the inputs are valid.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let created = !path.exists();
-        fs::create_dir_all(path).map_err(|source| OutputError::CreateDir {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let lock = match DirLock::acquire(path) {
+            Ok(l) => l,
+            Err(e) => {
+                if created {
+                    let _ = fs::remove_dir(path);
+                }
+                return Err(e);
+            }
+        };
         Ok(OutputDir {
             path: path.to_path_buf(),
             created,
+            lock: Some(lock),
         })
     }
 
@@ -111,7 +127,8 @@ impl OutputDir {
 
     /// After a failure: removes the directory if this run created it and it is empty
     /// (temp files are removed by their [`AtomicFile`]s being dropped first).
-    pub fn discard(self) {
+    pub fn discard(mut self) {
+        drop(self.lock.take());
         if self.created {
             let _ = fs::remove_dir(&self.path);
         }

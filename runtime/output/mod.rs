@@ -12,11 +12,13 @@ mod console;
 mod csv;
 #[cfg(unix)]
 mod interrupt;
+mod lock;
 mod progress;
 
 pub use atomic::{AtomicFile, OutputDir};
 pub use console::{flush_out, write_err, write_out, StdoutError};
 pub use csv::{series_header, CsvWriter};
+pub use lock::{is_lock_file, DirLock, LOCK_FILE};
 #[cfg(unix)]
 pub use interrupt::{cancel_on_signal, cancelling_signal, clean_up_on_signal, note_on_signal};
 pub use progress::{Counter, Progress, Spinner};
@@ -35,6 +37,12 @@ pub enum OutputError {
     Write {
         path: String,
         source: std::io::Error,
+    },
+    #[error("output directory {path} is in use by another process{}: wait for it to finish or choose another output directory", owner.map(|p| format!(" (pid {p})")).unwrap_or_default())]
+    Busy {
+        path: String,
+        /// The owner's pid, when its note could be read.
+        owner: Option<u32>,
     },
     #[error("cannot serialize {path}: {source}")]
     Json {

@@ -30,7 +30,7 @@ pub use figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series, VLine};
 pub use logshape::{log_magnitudes, wants_log, LOG_SPAN};
 pub use from_csv::{stability_plot, CsvTable};
 pub use render::Saved;
-pub use series_csv::{series_plot, summary_blow_up, SeriesTable};
+pub use series_csv::{remove_stale_series_plot, series_plot, summary_blow_up, SeriesTable};
 
 use std::path::PathBuf;
 
@@ -60,6 +60,9 @@ pub enum PlotError {
         #[source]
         source: std::io::Error,
     },
+    /// The directory is another process's output ([`crate::output::DirLock`]).
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
     #[error("rendering {} failed: {message}", path.display())]
     Render { path: PathBuf, message: String },
     #[error("{}: line {line}: {reason}", path.display())]

@@ -51,10 +51,7 @@ impl Figure {
         check_stem(stem)?;
         let layout = Layout::of(self)?;
         fonts::register()?;
-        std::fs::create_dir_all(dir).map_err(|source| PlotError::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?;
+        let _lock = crate::output::DirLock::acquire(dir)?;
         let size = (self.width.max(200), layout.height);
 
         let svg = dir.join(format!("{stem}.svg"));

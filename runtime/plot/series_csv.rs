@@ -225,3 +225,14 @@ mod tests {
         assert_eq!(shape_key("alpha"), None);
     }
 }
+
+/// Removes `out_dir/series.svg` and `series.png` (the plot [`series_plot`] draws) and returns
+/// those that were there: a run without `--plot` must not leave an earlier run's plot beside its
+/// new data (issue 29 item 9).
+pub fn remove_stale_series_plot(out_dir: &Path) -> Vec<std::path::PathBuf> {
+    ["series.svg", "series.png"]
+        .iter()
+        .map(|n| out_dir.join(n))
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .collect()
+}

@@ -68,7 +68,7 @@ fn optional(section: &str) -> bool {
 pub fn default_scene_toml() -> String {
     let mut out = String::new();
     out.push_str(
-        "# magbubble scene: every key with its default (FORMULATION.md defaults, the paper's fig-12 shell).\n\
+        "# magbubble scene: every key with its default (docs/model.md defaults, the paper's fig-12 shell).\n\
          # Units are SI. Delete what you do not change; `magbubble scene explain KEY` documents each key.\n\
          # Optional effects are commented out: uncomment [drive] and one of [field.coil] / [field.dipole].\n",
     );

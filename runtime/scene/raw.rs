@@ -38,6 +38,7 @@ pub struct RawInitial {
     pub a: Option<RawModeMap>,
     pub a_velocity: Option<RawModeMap>,
     pub b: Option<RawModeMap>,
+    pub seed: Option<String>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
@@ -72,6 +73,7 @@ pub struct RawLiquid {
     pub viscosity: Option<f64>,
     pub ambient_pressure: Option<f64>,
     pub sound_speed: Option<f64>,
+    pub temperature: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

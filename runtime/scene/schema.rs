@@ -4,7 +4,7 @@
 //! It is used by the type walk of a parsed scene (unknown keys, wrong types), by validation
 //! (defaults and ranges, [`super::validate`]), by `--set` (which paths exist), by
 //! `magbubble scene new|explain` and by `docs/scenes.md` (generated from [`markdown_reference`]).
-//! Defaults follow FORMULATION.md ("Conventions that the paper leaves open") and the paper's
+//! Defaults follow docs/model.md ("Conventions that the paper leaves open") and the paper's
 //! figure parameters (R0 = 10 µm, c1 = 0.1 N/m, c2 = 0.12 N/m, ε = 20 nm, χ = 1).
 
 use std::f64::consts::FRAC_PI_2;
@@ -13,7 +13,7 @@ use std::f64::consts::FRAC_PI_2;
 /// `KMAX` (codegen, env `MAGBUBBLE_KMAX`, default 64).
 pub const MAX_ORDER_LIMIT: usize = crate::coefficients::KMAX;
 
-/// θc = acos(√(3/7)), the positive root of P¹_4(cos θc) (eq 2.31, FORMULATION defaults table):
+/// θc = acos(√(3/7)), the positive root of P¹_4(cos θc) (eq 2.31, docs/model.md defaults table):
 /// with it H_4 = 0. Checked against `acos` in the tests.
 pub const DEFAULT_COIL_ANGLE: f64 = 0.857_071_947_850_131_1;
 
@@ -202,6 +202,11 @@ pub static SCHEMA: &[Param] = &[
       "Initial radius."),
     p("bubble.initial.velocity", K::Float, "m/s", D::Float(0.0), Rg::Finite, "dR/dt(0)",
       "Initial radial velocity."),
+    p("bubble.initial.seed", K::Choice(&["given", "thermal"]), "", D::Str("given"), Rg::None, "",
+      "`given`: the shape modes start at bubble.initial.a / b (unset: 0; a field or the coupling feeds them, \
+       possibly at amplitudes like 1e-38 m, which then set a blow-up time). `thermal`: every a_k not set in \
+       bubble.initial.a starts at its equipartition amplitude sqrt(k_B T / K_k), K_k the mode's stiffness at \
+       R0 and T = liquid.temperature (docs/model.md, \"Thermal seed\")."),
     p("bubble.initial.a", K::ModeMap, "m", D::Empty, Rg::Finite, "a_k(0) (eq 2.14)",
       "Initial normal shape amplitudes, keyed by even k with 2 <= k <= modes.max_order, e.g. { 2 = 1e-8 }."),
     p("bubble.initial.a_velocity", K::ModeMap, "m/s", D::Empty, Rg::Finite, "da_k/dt(0)",
@@ -215,12 +220,12 @@ pub static SCHEMA: &[Param] = &[
     p("shell.c2", K::Float, "N/m", D::Float(0.12), Rg::NonNegative, "c_2 = eps C_2 (sec 5.3)",
       "Second Mooney-Rivlin constant times the thickness (alpha = c2/c1); must be 0 when c1 = 0."),
     p("shell.thickness", K::Float, "m", D::Float(20e-9), Rg::Positive, "eps",
-      "Shell thickness; the interface susceptibility is chi_s = eps chi (FORMULATION sec 1)."),
+      "Shell thickness; the interface susceptibility is chi_s = eps chi (docs/model.md §1)."),
     p("shell.susceptibility", K::Float, "", D::Float(1.0), Rg::Finite, "chi",
       "Magnetic susceptibility of the nanoparticle-laden shell (negative: diamagnetic)."),
     p("shell.form", K::Choice(&["paper", "tension"]), "", D::Str("paper"), Rg::None, "eqs 2.26-2.29",
       "Membrane load: `paper` = divergence of the Cauchy stress (the paper's); `tension` = divergence of \
-       the tension eps sigma/alpha (FORMULATION sec 2, audit 9)."),
+       the tension eps sigma/alpha (docs/model.md §2, audit 9)."),
     p("shell.law", K::Choice(&["mooney-rivlin", "skalak"]), "", D::Str("mooney-rivlin"), Rg::None, "eq 2.24 / Skalak 1973",
       "Elastic law of the membrane (derivations/shell/): `mooney-rivlin` with c1, c2, or `skalak` with \
        shear_modulus and area_dilatation (c1 still sets the time scale t*)."),
@@ -257,6 +262,8 @@ pub static SCHEMA: &[Param] = &[
     p("liquid.viscosity", K::Float, "Pa s", D::Float(1e-3), Rg::Positive, "eta", "Dynamic viscosity."),
     p("liquid.ambient_pressure", K::Float, "Pa", D::Float(101325.0), Rg::Positive, "p_0",
       "Ambient pressure."),
+    p("liquid.temperature", K::Float, "K", D::Float(293.15), Rg::Positive, "T",
+      "Temperature of the liquid and the shell: sets the thermal seed (bubble.initial.seed = \"thermal\") only."),
     p("liquid.sound_speed", K::Float, "m/s", D::Absent, Rg::Positive, "c",
       "Speed of sound: given, the radial equation is Keller-Miksis (liquid compressibility, acoustic \
        radiation damping; shape modes stay incompressible). Absent: the incompressible equation (2.62)."),
@@ -265,14 +272,14 @@ pub static SCHEMA: &[Param] = &[
     p("drive.amplitude", K::Float, "", D::Required { example: "0.5" }, Rg::NonNegative, "eps_p",
       "Relative pressure amplitude."),
     p("drive.frequency_hz", K::Float, "Hz", D::Float(1e6), Rg::Positive, "f_d (omega_d = 2 pi f_d)",
-      "Drive frequency (the paper's \"omega_d = 1 MHz\" is read as f_d = 1 MHz, FORMULATION audit 15)."),
+      "Drive frequency (the paper's \"omega_d = 1 MHz\" is read as f_d = 1 MHz, docs/model.md audit 15)."),
     section("field", D::Absent,
       "Magnetic field: at most one of [field.coil] and [field.dipole]. Absent: no magnetic term."),
     section("field.coil", D::Absent,
       "Two opposed coils (eqs 2.30-2.33): H_2n = -(I/a) N1 sin(theta_c) P^1_2n(cos theta_c)."),
     p("field.coil.turns", K::Float, "", D::Float(1000.0), Rg::Positive, "N_1", "Number of turns."),
     p("field.coil.distance", K::Float, "m", D::Float(0.1), Rg::Positive, "a",
-      "Coil distance (mean distance when it oscillates); FORMULATION default 0.1 m."),
+      "Coil distance (mean distance when it oscillates); docs/model.md default 0.1 m."),
     p("field.coil.angle", K::Float, "rad", D::Float(DEFAULT_COIL_ANGLE),
       Rg::Between { lo: 0.0, hi: FRAC_PI_2, lo_incl: false, hi_incl: true }, "theta_c",
       "Coil angle; default acos(sqrt(3/7)), the positive root of P^1_4, so that H_4 = 0."),
@@ -300,11 +307,11 @@ pub static SCHEMA: &[Param] = &[
     p("modes.max_order", K::Int, "", D::Int(16), Rg::EvenUpTo(MAX_ORDER_LIMIT as i64), "N",
       "Largest even shape mode; modes k = 2, 4, ..., N. 0 = radial only (Rayleigh-Plesset)."),
     p("modes.viscous", K::Choice(&["boundary-layer", "vorticity"]), "", D::Str("boundary-layer"), Rg::None,
-      "sec 3 / sec 5", "Viscous closure: boundary-layer approximation (FORMULATION sec 4.3) or the full \
+      "sec 3 / sec 5", "Viscous closure: boundary-layer approximation (docs/model.md §4.3) or the full \
        toroidal-vorticity PDE (sec 4.2)."),
     p("modes.boundary_layer_frequency", K::Choice(&["auto", "natural"]), "", D::Str("auto"), Rg::None,
       "omega in delta_k (eq 3.1)", "Frequency of delta_k = min(sqrt(nu/omega), R/(2k)): `auto` = omega_d \
-       when driven, omega_k otherwise; `natural` = omega_k always (FORMULATION audit 13)."),
+       when driven, omega_k otherwise; `natural` = omega_k always (docs/model.md audit 13)."),
     p("modes.coupling", K::Choice(&["linear", "quadratic"]), "", D::Str("linear"), Rg::None,
       "issue 12", "Order of the shape-mode equations: `linear` (the paper's) or `quadratic` (plus the \
        second-order mode coupling of the potential flow and the second-order loads of the membrane, bending \
@@ -343,7 +350,7 @@ pub static SCHEMA: &[Param] = &[
       Rg::Between { lo: 1e-14, hi: 0.1, lo_incl: true, hi_incl: true }, "",
       "Relative tolerance (adaptive methods)."),
     p("run.integrator.atol", K::Float, "", D::Float(1e-9), Rg::Positive, "",
-      "Absolute tolerance on the integrator's nondimensional state (lengths / R0, FORMULATION sec 4.5)."),
+      "Absolute tolerance on the integrator's nondimensional state (lengths / R0, docs/model.md §4.5)."),
     p("run.integrator.dt", K::Float, "s", D::Derived("1e-3 t*, t* = sqrt(rho R0^3 / (2 c1)) (free bubble: R0 sqrt(rho/p0))"), Rg::Positive,
       "Delta t", "Fixed step of rk4 and of the staggered vorticity scheme; initial step otherwise \
        (must not exceed run.duration)."),

@@ -21,6 +21,10 @@ pub struct Scene {
     pub modes: Modes,
     pub vorticity: VorticityGrid,
     pub run: Run,
+    /// Keys that do nothing and values at the edge of a model's validity (issue 29 item 10):
+    /// one sentence each, naming the key; the commands print them.
+    #[serde(skip)]
+    pub warnings: Vec<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -43,6 +47,20 @@ pub struct Initial {
     pub a_velocity: BTreeMap<usize, f64>,
     /// b_k(0) [m]
     pub b: BTreeMap<usize, f64>,
+    /// How the shape modes not set in `a` start (`bubble.initial.seed`).
+    pub seed: Seed,
+}
+
+/// `bubble.initial.seed`: how the shape modes start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Seed {
+    /// As `bubble.initial.a`, `b` give them (unset: 0).
+    #[default]
+    Given,
+    /// Every a_k not set in `a`: its equipartition amplitude √(k_B T/K_k) (docs/model.md,
+    /// "Thermal seed"; [`crate::model::thermal`]).
+    Thermal,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -166,6 +184,8 @@ pub struct Liquid {
     pub ambient_pressure: f64,
     /// c [m/s]: `Some` → Keller–Miksis radial equation; `None` → incompressible (eq 2.62).
     pub sound_speed: Option<f64>,
+    /// T [K]: the thermal seed's temperature (`liquid.temperature`).
+    pub temperature: f64,
 }
 
 /// p∞(t) = p0 (1 + ε_p cos(2π f t)).

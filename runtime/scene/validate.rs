@@ -7,6 +7,7 @@ use super::schema::{self, fmt_num};
 use super::types::*;
 
 mod check;
+mod warn;
 use check::Check;
 
 impl TryFrom<RawScene> for Scene {
@@ -14,10 +15,16 @@ impl TryFrom<RawScene> for Scene {
 
     fn try_from(raw: RawScene) -> Result<Scene, Issues> {
         let mut c = Check::default();
-        let scene = build(&mut c, raw);
+        let given = warn::Given::of(&raw);
+        let mut scene = build(&mut c, raw);
         if c.issues.is_empty() {
             // Each key is valid on its own: now what they give together.
             c.issues = super::derived::check(&scene);
+        }
+        if c.issues.is_empty() {
+            let (errors, warnings) = warn::check(&given, &scene);
+            c.issues = errors;
+            scene.warnings = warnings;
         }
         if c.issues.is_empty() {
             Ok(scene)
@@ -70,6 +77,10 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         a: c.modes("bubble.initial.a", ri.a, order_limit),
         a_velocity: c.modes("bubble.initial.a_velocity", ri.a_velocity, order_limit),
         b: c.modes("bubble.initial.b", ri.b, order_limit),
+        seed: match c.choice("bubble.initial.seed", ri.seed.as_deref()) {
+            "thermal" => Seed::Thermal,
+            _ => Seed::Given,
+        },
     };
     let bubble = Bubble {
         radius: r0,
@@ -116,12 +127,26 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
             c.range("liquid.sound_speed", v);
             v
         }),
+        temperature: c.float("liquid.temperature", rl.temperature),
     };
     if shell.c1 == 0.0 && shell.c2 != 0.0 {
         c.push(
             "shell.c2",
             Some(fmt_num(shell.c2)),
             "must be 0 when shell.c1 = 0 (c1 = c2 = 0 is a free bubble; a membrane needs c1 > 0)",
+        );
+    }
+    // A law's moduli stand on their own (issue 29 item 4): c1 = c2 = 0 means a free bubble, which
+    // has no membrane, so under another law it would silently drop that law and its moduli.
+    if let (ShellLaw::Skalak { shear_modulus, .. }, true) = (&shell.law, shell.c1 == 0.0 && shell.c2 == 0.0) {
+        c.push(
+            "shell.c1",
+            Some(fmt_num(shell.c1)),
+            format!(
+                "shell.law = \"skalak\" (G_s = {} N/m) needs shell.c1 > 0: c1 sets the time scale t* of a membrane, and \
+                 c1 = c2 = 0 is a free bubble, which has no membrane law (remove shell.law for a free bubble)",
+                fmt_num(*shear_modulus)
+            ),
         );
     }
     let rg = raw.gas.unwrap_or_default();
@@ -215,6 +240,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         modes,
         vorticity,
         run,
+        warnings: Vec::new(),
     }
 }
 

@@ -73,7 +73,6 @@ fn every_guide_example_runs() {
     for f in [
         "out/coil/series.csv",
         "out/coil/summary.json",
-        "out/coil_h4/series.png",
         "out/coil_h4/summary.json",
         "out/stab/stability.csv",
         "out/s0/stability.shard-0-of-2.csv",
@@ -87,6 +86,10 @@ fn every_guide_example_runs() {
     ] {
         assert!(dir.path().join(f).is_file(), "{f} missing after the guide's examples");
     }
+    // the guide plots out/coil_h4 (--plot), then adding-a-field.md runs the same scene into the
+    // same default directory without --plot: the old plot would describe other data, so that
+    // run removes it (issue 29 item 9)
+    assert!(!dir.path().join("out/coil_h4/series.png").exists(), "a stale plot survived a run without --plot");
     let header = std::fs::read_to_string(dir.path().join("out/coil/series.csv")).unwrap();
     assert!(header.starts_with("t,R,a2,b2"), "series.csv header: {}", header.lines().next().unwrap_or(""));
     let summary: serde_json::Value =

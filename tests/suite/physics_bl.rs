@@ -17,11 +17,11 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
     Scene {
         bubble: Bubble {
             radius: R0,
-            initial: Initial { radius: R0, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new() },
+            initial: Initial { radius: R0, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new(), seed: Default::default() },
         },
         shell: Shell::mooney_rivlin(C1, C2, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: KAPPA, reference_pressure: P0, reference_pressure_given: true, vapour_pressure: 0.0 },
-        liquid: Liquid { density: RHO, viscosity: ETA, ambient_pressure: P0, sound_speed: None },
+        liquid: Liquid { density: RHO, viscosity: ETA, ambient_pressure: P0, sound_speed: None, temperature: 293.15 },
         drive: None,
         field: None,
         modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear, credible_amplitude: 0.1 },
@@ -33,6 +33,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
             blow_up_threshold: 0.5,
             max_output_bytes: 1e9,
         },
+        warnings: Vec::new(),
     }
 }
 

@@ -93,7 +93,29 @@ fn shards_merge_to_the_unsharded_result() {
     // Incomplete and overlapping inputs are refused.
     let err = sweep::merge(&shards[..2], &dir.path().join("x.csv")).unwrap_err();
     assert!(err.to_string().contains("incomplete"), "{err}");
-    let dup = vec![shards[0].clone(), shards[1].clone(), shards[2].clone(), whole.clone()];
+    let dup = vec![shards[0].clone(), shards[1].clone(), shards[2].clone(), shards[0].clone()];
     let err = sweep::merge(&dup, &dir.path().join("y.csv")).unwrap_err();
     assert!(err.to_string().contains("appears in both"), "{err}");
+    // issue 29 item 11: each defect says what is wrong and what to do
+    let say = |inputs: Vec<std::path::PathBuf>| sweep::merge(&inputs, &dir.path().join("z.csv")).unwrap_err().to_string();
+    let e = say(vec![shards[0].clone(), shards[1].clone(), shards[2].clone(), whole.clone()]);
+    assert!(e.contains("different splits") && e.contains("shard 0/3") && e.contains("shard 0/1"), "{e}");
+    let e = say(vec![shards[0].clone(), dir.path().join("missing.csv")]);
+    assert!(e.contains("missing.csv: no such file"), "{e}");
+    let lone = dir.path().join("lone.csv");
+    fs::copy(&shards[1], &lone).unwrap();
+    let e = say(vec![shards[0].clone(), lone.clone(), shards[2].clone()]);
+    assert!(e.contains("has no") && e.contains("lone.csv.meta.json") && e.contains("run that shard again"), "{e}");
+    let cut = |name: &str, keep: usize| {
+        let p = dir.path().join(name);
+        let text = fs::read_to_string(&shards[1]).unwrap();
+        fs::write(&p, &text.as_bytes()[..keep.min(text.len())]).unwrap();
+        fs::copy(sweep::meta_path(&shards[1]), sweep::meta_path(&p)).unwrap();
+        p
+    };
+    let e = say(vec![shards[0].clone(), cut("empty.csv", 0), shards[2].clone()]);
+    assert!(e.contains("holds 0 of the 8 points of shard 1/3") && e.contains("empty"), "{e}");
+    let len = fs::read_to_string(&shards[1]).unwrap().len();
+    let e = say(vec![shards[0].clone(), cut("torn.csv", len / 2), shards[2].clone()]);
+    assert!(e.contains("torn.csv holds") && e.contains("truncated or unfinished") && e.contains("run that shard again"), "{e}");
 }

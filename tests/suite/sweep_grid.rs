@@ -50,8 +50,8 @@ fn expansion_is_row_major_and_named_by_the_keys() {
     assert_eq!(plan.values(0), ["6e5", "8e-6"]);
     assert_eq!(plan.values(1), ["6e5", "9e-6"]);
     assert_eq!(plan.values(5), ["1.2e6", "1e-5"]);
-    assert_eq!(plan.scene(4).drive.as_ref().map(|d| d.frequency_hz), Some(1.2e6));
-    assert_eq!(plan.scene(4).bubble.radius, 9e-6);
+    assert_eq!(plan.scene(4).unwrap().drive.as_ref().map(|d| d.frequency_hz), Some(1.2e6));
+    assert_eq!(plan.scene(4).unwrap().bubble.radius, 9e-6);
     let h = plan.header();
     assert_eq!(&h[..4], ["drive.frequency_hz", "bubble.radius", "status", "t_blow_up"]);
     assert!(h.contains(&"max_a16".to_string()) && h.last().unwrap() == "wall_seconds");
@@ -61,7 +61,7 @@ fn expansion_is_row_major_and_named_by_the_keys() {
     assert_eq!(p.values(0)[0].parse::<f64>().unwrap(), 1e5);
     assert!((p.values(2)[0].parse::<f64>().unwrap() / 1e6 - 1.0).abs() < 1e-12, "{:?}", p.values(2));
     assert_eq!(p.values(1)[1], "4");
-    assert_eq!(p.scene(1).modes.max_order, 4);
+    assert_eq!(p.scene(1).unwrap().modes.max_order, 4);
 }
 
 #[test]

@@ -41,7 +41,7 @@ mod plan;
 pub mod row;
 mod run;
 
-pub use plan::{plan_grid, GridAxis, GridPlan, GridValue};
+pub use plan::{plan_grid, GridAxis, GridPlan, GridValue, MAX_SHARD_POINTS, VALIDATE_ALL};
 pub use row::{GridRow, GridStatus, Series};
 pub use run::{csv_path, run_grid, GridOptions, GridOutcome};
 

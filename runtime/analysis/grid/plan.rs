@@ -3,6 +3,7 @@
 
 use super::GridError;
 use crate::scene::schema::{self, Kind};
+use crate::analysis::sweep::Shard;
 use crate::scene::{path_exists, Scene, SceneTemplate};
 
 /// One value of a grid axis: a `--set` value as text (`1e6`, `vorticity`, `{ 2 = 1e-8 }`), or a
@@ -62,25 +63,76 @@ impl GridAxis {
     }
 }
 
-/// A validated grid: the keys, the value texts as set, and the scene of every point.
+/// A grid planned lazily (issue 29 item 7): the keys, the value texts as set and the scene
+/// template; the scene of a point is built from its index when it runs (index → values by
+/// mixed-radix arithmetic, [`GridPlan::values`]), so a plan's memory is that of its axes, not of
+/// its points.
 #[derive(Debug, Clone)]
 pub struct GridPlan {
     pub(super) axes: Vec<(String, Vec<String>)>,
-    pub(super) scenes: Vec<Scene>,
+    template: SceneTemplate,
+    total: usize,
     /// Mode orders with a `max_*` column (those of the largest `modes.max_order` of the grid).
     pub(super) orders: Vec<usize>,
     pub(super) fingerprint: String,
 }
 
+/// A grid of up to this many points is validated point by point when it is planned; an axis of
+/// up to this many values value by value (a longer one, a range, at its two ends). A larger
+/// grid's points are validated shard by shard before the shard runs ([`GridPlan::check_shard`]).
+pub const VALIDATE_ALL: usize = 100_000;
+
+/// The most points one process (one shard) runs: each point's row is kept until the CSV is
+/// written, and its points are validated before the first runs. A larger shard is refused with
+/// the shard count that would do.
+pub const MAX_SHARD_POINTS: usize = 1_000_000;
+
 impl GridPlan {
     /// Number of points (runs) of the whole grid.
     pub fn len(&self) -> usize {
-        self.scenes.len()
+        self.total
     }
 
     /// Whether the grid has no point (never: [`plan_grid`] refuses an empty axis).
     pub fn is_empty(&self) -> bool {
-        self.scenes.is_empty()
+        self.total == 0
+    }
+
+    /// The number of points shard `shard` owns (`index % count == index of the shard`).
+    pub fn shard_len(&self, shard: Shard) -> usize {
+        if shard.index >= self.total {
+            0
+        } else {
+            (self.total - shard.index).div_ceil(shard.count)
+        }
+    }
+
+    /// The points of `shard`, in order, without listing the others.
+    pub fn shard_points(&self, shard: Shard) -> impl Iterator<Item = usize> {
+        (shard.index..self.total).step_by(shard.count.max(1))
+    }
+
+    /// Refuses a shard larger than [`MAX_SHARD_POINTS`] (naming the shard count that would do)
+    /// and validates every point of the shard (the messages of `--set`, naming the point), before
+    /// any of them runs. Returns the shard's number of points.
+    pub fn check_shard(&self, shard: Shard) -> Result<usize, GridError> {
+        let n = self.shard_len(shard);
+        if n > MAX_SHARD_POINTS {
+            return Err(GridError::Grid {
+                what: format!("--shard {}/{}", shard.index, shard.count),
+                why: format!(
+                    "the shard holds {n} of the grid's {} points, more than the {MAX_SHARD_POINTS} one process runs; split the grid into at least {} shards",
+                    self.total,
+                    self.total.div_ceil(MAX_SHARD_POINTS)
+                ),
+            });
+        }
+        if self.total > VALIDATE_ALL {
+            for i in self.shard_points(shard) {
+                self.scene(i)?;
+            }
+        }
+        Ok(n)
     }
 
     /// The grid keys, in axis order.
@@ -93,7 +145,8 @@ impl GridPlan {
         &self.axes
     }
 
-    /// The value texts of point `index`, one per axis (first axis slowest).
+    /// The value texts of point `index`, one per axis (first axis slowest: mixed radix with the
+    /// axis lengths as digits).
     pub fn values(&self, index: usize) -> Vec<&str> {
         let mut rest = index;
         let mut out = vec![""; self.axes.len()];
@@ -104,9 +157,14 @@ impl GridPlan {
         out
     }
 
-    /// The validated scene of point `index`.
-    pub fn scene(&self, index: usize) -> &Scene {
-        &self.scenes[index]
+    /// The validated scene of point `index`, built from the template.
+    pub fn scene(&self, index: usize) -> Result<Scene, GridError> {
+        let sets: Vec<String> = self.keys().iter().zip(self.values(index)).map(|(k, v)| format!("{k}={v}")).collect();
+        Ok(self
+            .template
+            .with_overrides(&sets)
+            .map_err(|source| GridError::Scene { context: format!("grid point {index} ({})", sets.join(", ")), source })?
+            .into_scene())
     }
 
     /// The CSV header after `index`: the grid keys, then [`super::row::result_header`] (one
@@ -138,18 +196,20 @@ fn value_text(key: &str, v: &GridValue) -> Result<String, String> {
     }
 }
 
-/// Expands and validates a grid over `template` (the scene with its `--set` overrides; the grid
+/// Plans and validates a grid over `template` (the scene with its `--set` overrides; the grid
 /// values override those). Errors, before anything runs: no axis, a key given twice or not in
 /// the schema, an empty axis, a value given twice, a value the scene rejects (the `--set`
-/// message, naming key and value), a combination the scene rejects (naming the point), or a
-/// grid of more than `usize` points.
+/// message, naming key and value), a combination the scene rejects (naming the point; every
+/// combination of a grid of up to [`VALIDATE_ALL`] points, else those of a shard in
+/// [`GridPlan::check_shard`]), or a grid of more points than a `usize` counts. Nothing is
+/// stored per point: planning 10^12 points takes the memory of the axes.
 pub fn plan_grid(template: &SceneTemplate, axes: &[GridAxis]) -> Result<GridPlan, GridError> {
     let grid_err = |what: String, why: String| GridError::Grid { what, why };
     if axes.is_empty() {
         return Err(grid_err("grid".into(), "no axis: give at least one --grid KEY=V1,V2,…".into()));
     }
     let mut texts: Vec<(String, Vec<String>)> = Vec::new();
-    let mut total: usize = 1;
+    let mut total: u64 = 1;
     for axis in axes {
         let key = axis.key.trim();
         let what = format!("--grid {key}");
@@ -168,30 +228,45 @@ pub fn plan_grid(template: &SceneTemplate, axes: &[GridAxis]) -> Result<GridPlan
         if axis.values.is_empty() {
             return Err(grid_err(what, "no values".into()));
         }
-        let mut vs = Vec::new();
+        let mut vs = Vec::with_capacity(axis.values.len());
+        let mut seen = std::collections::HashSet::with_capacity(axis.values.len());
         for v in &axis.values {
             let t = value_text(key, v).map_err(|why| grid_err(what.clone(), why))?;
-            if vs.contains(&t) {
+            if !seen.insert(t.clone()) {
                 return Err(grid_err(what, format!("value {t} given twice")));
             }
+            vs.push(t);
+        }
+        let n = vs.len();
+        let check: Vec<&String> = if n <= VALIDATE_ALL { vs.iter().collect() } else { vec![&vs[0], &vs[n - 1]] };
+        for t in check {
             template
                 .with_overrides(&[format!("{key}={t}")])
                 .map_err(|source| GridError::Scene { context: format!("--grid {key}={t}"), source })?;
-            vs.push(t);
         }
-        total = total.checked_mul(vs.len()).ok_or_else(|| grid_err("grid".into(), "too many points".into()))?;
+        total = total.checked_mul(n as u64).ok_or_else(|| {
+            grid_err("grid".into(), format!("more than {} points (2^64 − 1): the product of the axis lengths overflows", u64::MAX))
+        })?;
         texts.push((key.to_string(), vs));
     }
-    let mut plan = GridPlan { axes: texts, scenes: Vec::with_capacity(total), orders: Vec::new(), fingerprint: String::new() };
-    for index in 0..total {
-        let sets: Vec<String> = plan.keys().iter().zip(plan.values(index)).map(|(k, v)| format!("{k}={v}")).collect();
-        let scene = template
-            .with_overrides(&sets)
-            .map_err(|source| GridError::Scene { context: format!("grid point {index} ({})", sets.join(", ")), source })?
-            .into_scene();
-        plan.scenes.push(scene);
+    let total = usize::try_from(total).map_err(|_| grid_err("grid".into(), format!("{total} points: more than this machine counts")))?;
+    let mut plan = GridPlan { axes: texts, template: template.clone(), total, orders: Vec::new(), fingerprint: String::new() };
+    if total <= VALIDATE_ALL {
+        for index in 0..total {
+            plan.scene(index)?;
+        }
     }
-    plan.orders = plan.scenes.iter().max_by_key(|s| s.modes.max_order).map_or_else(Vec::new, |s| s.modes.orders().collect());
+    // the largest modes.max_order of the grid: that of the template or of its own axis
+    let max_order = match plan.axes.iter().find(|(k, _)| k == "modes.max_order") {
+        Some((k, vs)) => vs
+            .iter()
+            .filter_map(|v| template.with_overrides(&[format!("{k}={v}")]).ok())
+            .map(|t| t.scene().modes.max_order)
+            .max()
+            .unwrap_or(0),
+        None => template.scene().modes.max_order,
+    };
+    plan.orders = (2..=max_order).step_by(2).collect();
     let base = serde_json::to_string(template.scene()).unwrap_or_default();
     let axes_text: Vec<String> = plan.axes.iter().map(|(k, vs)| format!("{k}={}", vs.join(","))).collect();
     plan.fingerprint = format!("magbubble sweep v1; grid {}; scene {base}", axes_text.join(" "));

@@ -74,6 +74,10 @@ pub fn run_grid(plan: &GridPlan, options: &GridOptions) -> Result<GridOutcome, G
         });
     }
     let shard = options.shard.unwrap_or(Shard::ALL);
+    // a shard too large for one process, or with a point the scene rejects: refused before any run
+    plan.check_shard(shard)?;
+    // one process at a time in `out` (issue 29 item 3), held over the whole grid
+    let _lock = options.out.map(crate::output::DirLock::acquire).transpose()?;
     let csv = options.out.map(|o| csv_path(o, shard));
     let series_dir = options.out.filter(|_| options.keep_series).map(|o| o.join("series"));
     if let Some(dir) = &series_dir {
@@ -92,7 +96,8 @@ pub fn run_grid(plan: &GridPlan, options: &GridOptions) -> Result<GridOutcome, G
     let report = sweep::run_with(csv.as_deref(), &meta, &control, |i| {
         let values = plan.values(i).into_iter().map(str::to_string).collect();
         let point = Point { index: i, values, orders: &plan.orders, series_file: series_file(i), in_memory: options.return_series };
-        let mut row = run_point(plan.scene(i), point, options.cancel)?;
+        let scene = plan.scene(i).ok()?; // validated by check_shard
+        let mut row = run_point(&scene, point, options.cancel)?;
         let fields = row.fields();
         if let Some(s) = row.series.take() {
             fresh_series.lock().unwrap_or_else(|p| p.into_inner()).insert(i, s);

@@ -12,16 +12,36 @@ use serde::Serialize;
 pub struct SeriesOptions {
     /// Drive periods simulated.
     pub periods: usize,
-    /// Initial a_k = seed · R0 for every simulated k (when the scene sets none).
+    /// Initial a_k = seed · R0 for every simulated k whose a_k(0) is zero (unset or 0): a mode
+    /// that starts at zero is otherwise seeded only by the coupling, possibly never, and its
+    /// instability is not seen (issue 29 item 2).
     pub seed: f64,
     /// Unstable when the last quarter's peak exceeds `growth` × the third quarter's peak.
     pub growth: f64,
+    /// The period [s] the window counts when the scene has nothing periodic (ε_p = 0 drops the
+    /// drive, docs/scenes.md): a critical search sets the period of the diagram's frequency
+    /// there ([`super::critical_point`]). `None`: such a scene is an error.
+    pub period_s: Option<f64>,
 }
 
 impl Default for SeriesOptions {
     fn default() -> Self {
-        Self { periods: 400, seed: 1e-6, growth: 2.0 }
+        Self { periods: 400, seed: 1e-6, growth: 2.0, period_s: None }
     }
+}
+
+/// What the time-series criterion needs and a scene may lack (the message of
+/// [`series_unstable`] and of the checks before a diagram).
+pub const NEEDS_PERIODIC: &str = "the time-series criterion counts drive periods and this scene has nothing periodic \
+     (drive.amplitude = 0 removes the drive; no alternating coil current or oscillating coil distance)";
+
+/// The common period [s] of everything periodic in `scene`, `None` when nothing is.
+pub fn series_period(scene: &Scene) -> Result<Option<f64>, StabilityError> {
+    let freqs = drive_frequencies(scene);
+    if freqs.is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(periodic::common_period(&freqs, 1000, 1e-9)?))
 }
 
 /// The time-series verdict of one run.
@@ -45,21 +65,23 @@ pub struct SeriesVerdict {
 /// transient lasts hundreds of periods, so an early window can hide growth that Floquet sees
 /// (tests/stability_series_window.rs). Detection limit: |μ| > growth^(4/periods) per period
 /// (2^(1/100) = 1.0069 with the default 400 periods).
+///
+/// Every a_k that starts at zero is seeded with `seed`·R0 (the scene's nonzero seeds are
+/// kept): a mode left at zero is fed only through the coupling, and the criterion was blind
+/// to it (issue 29: every shipped scene seeds a_2 alone; at 1 MHz without a field the
+/// critical ε_p was 0.763 in a_2 where Floquet gives 0.490 in a_4).
 pub fn series_unstable(scene: &Scene, opts: &SeriesOptions) -> Result<SeriesVerdict, StabilityError> {
     let mut scene = scene.clone();
-    let mut freqs = drive_frequencies(&scene);
-    if freqs.is_empty() {
-        // ε_p = 0 with nothing else periodic: still watch over the acoustic period.
-        freqs.extend(scene.drive.as_ref().map(|d| d.frequency_hz));
-    }
-    let tp = if freqs.is_empty() {
-        return Err(StabilityError::Scene("the time-series criterion needs a periodic drive".into()));
-    } else {
-        periodic::common_period(&freqs, 1000, 1e-9)?
+    let tp = match (series_period(&scene)?, opts.period_s) {
+        (Some(tp), _) => tp,
+        (None, Some(tp)) if tp.is_finite() && tp > 0.0 => tp,
+        _ => return Err(StabilityError::Scene(NEEDS_PERIODIC.into())),
     };
-    if scene.bubble.initial.a.is_empty() {
-        for k in scene.modes.orders() {
-            scene.bubble.initial.a.insert(k, opts.seed * scene.bubble.radius);
+    let r0 = scene.bubble.radius;
+    for k in scene.modes.orders() {
+        let a = scene.bubble.initial.a.entry(k).or_insert(0.0);
+        if *a == 0.0 {
+            *a = opts.seed * r0;
         }
     }
     let duration = opts.periods as f64 * tp;

@@ -55,6 +55,7 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
         vec![paper::find(n).ok_or(FigureError::Unknown(n))?]
     };
     let scenes = scenes_dir(args.scenes.as_deref())?;
+    let _lock = crate::output::DirLock::acquire(&args.out)?; // one process at a time (issue 29 item 3)
     #[cfg(unix)]
     crate::output::note_on_signal(&format!(
         "finished curves are kept in {}/figNN.parts/; run the same command again to resume",

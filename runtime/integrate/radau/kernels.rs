@@ -171,9 +171,10 @@ kernel! {
     /// The accepted step (RADAU5, label 60): y += z₃, the coefficients of the collocation
     /// polynomial (RADAU5's CONT) and the new scale atol + rtol |y|. `true` when y has a
     /// non-finite entry.
-    fn accept(c1: f64, c2: f64, tol: [f64; 2], z: [&[f64]; 3], y: &mut [f64], cont: [&mut [f64]; 4], scal: &mut [f64]) -> bool {
-        let [atol, rtol] = tol;
+    fn accept(c1: f64, c2: f64, tol: (&[f64], f64), z: [&[f64]; 3], y: &mut [f64], cont: [&mut [f64]; 4], scal: &mut [f64]) -> bool {
+        let (atol, rtol) = tol;
         let n = y.len();
+        let atol = &atol[..n];
         let (zz0, zz1, zz2) = (&z[0][..n], &z[1][..n], &z[2][..n]);
         let [k0, k1, k2, k3] = cont;
         let (k0, k1, k2, k3, scal) = (&mut k0[..n], &mut k1[..n], &mut k2[..n], &mut k3[..n], &mut scal[..n]);
@@ -188,7 +189,7 @@ kernel! {
             k1[m] = (z2 - z3) / (c2 - 1.0);
             k2[m] = (ak - k1[m]) / (c1 - 1.0);
             k3[m] = k2[m] - acont3;
-            scal[m] = atol + rtol * y[m].abs();
+            scal[m] = atol[m] + rtol * y[m].abs();
         }
         any_bad
     }

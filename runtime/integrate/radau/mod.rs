@@ -68,7 +68,8 @@ pub struct Radau5 {
     /// The user's (rtol, atol) (the initial step of a restart).
     user_tol: (f64, f64),
     rtol: f64,
-    atol: f64,
+    /// The internal atol'·w_i ([`super::super::atol_vector`]).
+    atol: Vec<f64>,
     t: f64,
     t_prev: f64,
     h: f64,
@@ -108,9 +109,11 @@ pub struct Radau5 {
 impl Radau5 {
     pub fn new(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, rtol: f64, atol: f64) -> Result<Self, IntegrateError> {
         let n = y0.len();
-        let Start { f0, h, stats, .. } = adaptive_start(sys, t0, y0, t_end, 5.0, rtol, atol)?;
+        let atol_v = crate::integrate::atol_vector(sys, atol, n);
+        let Start { f0, h, stats, .. } = adaptive_start(sys, t0, y0, t_end, 5.0, rtol, &atol_v)?;
         let rtol_i = 0.1 * rtol.powf(2.0 / 3.0);
-        let atol_i = rtol_i * atol / rtol;
+        let atol_i: Vec<f64> = atol_v.iter().map(|a| rtol_i * a / rtol).collect();
+        let scal = y0.iter().zip(&atol_i).map(|(y, a)| a + rtol_i * y.abs()).collect();
         let vecs = || std::array::from_fn(|_| vec![0.0; n]);
         Ok(Radau5 {
             k: RadauConsts::new(),
@@ -121,7 +124,7 @@ impl Radau5 {
             t_prev: t0,
             h,
             h_old: 0.0,
-            scal: y0.iter().map(|y| atol_i + rtol_i * y.abs()).collect(),
+            scal,
             y: y0.to_vec(),
             f0,
             z: vecs(),
@@ -371,7 +374,7 @@ impl super::Stepper for Radau5 {
                 let [c1, c2, _] = self.k.c;
                 let [z0, z1, z2] = &self.z;
                 let [k0, k1, k2, k3] = &mut self.cont;
-                let y_bad = kernels::accept(c1, c2, [self.atol, self.rtol], [z0, z1, z2], &mut self.y, [k0, k1, k2, k3], &mut self.scal);
+                let y_bad = kernels::accept(c1, c2, (&self.atol, self.rtol), [z0, z1, z2], &mut self.y, [k0, k1, k2, k3], &mut self.scal);
                 sys.rhs(t_new, &self.y, &mut self.f0);
                 self.stats.rhs_evals += 1;
                 let bad = if y_bad { first_non_finite(&self.y) } else { None };
@@ -410,14 +413,15 @@ impl super::Stepper for Radau5 {
 
     fn restart(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64], t_end: f64) -> Result<(), IntegrateError> {
         let (rtol, atol) = self.user_tol;
-        let Start { f0, h, stats, .. } = adaptive_start(sys, t, y, t_end, 5.0, rtol, atol)?;
+        let atol_v = crate::integrate::atol_vector(sys, atol, y.len());
+        let Start { f0, h, stats, .. } = adaptive_start(sys, t, y, t_end, 5.0, rtol, &atol_v)?;
         self.stats.rhs_evals += stats.rhs_evals;
         self.f0 = f0;
         self.h = self.fixed.unwrap_or(h);
         self.h_old = 0.0;
         self.y.copy_from_slice(y);
-        for (s, v) in self.scal.iter_mut().zip(y) {
-            *s = self.atol + self.rtol * v.abs();
+        for ((s, v), a) in self.scal.iter_mut().zip(y).zip(&self.atol) {
+            *s = a + self.rtol * v.abs();
         }
         self.cont.iter_mut().for_each(|c| c.copy_from_slice(y));
         self.t = t;

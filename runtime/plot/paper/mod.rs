@@ -184,10 +184,7 @@ pub const QUICK_OVERRIDES: &[&str] = &[
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlotError> {
     let dir = path.parent().unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).map_err(|source| PlotError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
+    let _lock = crate::output::DirLock::acquire(dir)?;
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
