@@ -27,7 +27,7 @@
 //! the mode, and a transient that decays below it (a static field's ringing, ȧ_k → 0) is not
 //! followed into roundoff (relative control there took hard/long_static from 1201 to 1.3·10^6
 //! steps). A mode neither seeded nor forced (it stays zero unless a coupling feeds it) has
-//! w = [`UNSEEDED`] = ε², ε the machine epsilon: relative to itself down to atol·ε² R0 (5e-41 R0
+//! w = [`UNSEEDED`] = ε², ε the machine epsilon, also the floor of every weight: relative to itself down to atol·ε² R0 (5e-41 R0
 //! at the default atol). (w = 0, pure relative control, fails: a component that starts at
 //! exactly zero then has a zero scale, and Radau5's Newton iteration cannot meet it.)
 
@@ -106,9 +106,11 @@ pub fn weights(scene: &Scene, thermal: Option<&BTreeMap<usize, f64>>, t_star: f6
         .map(|(m, k)| {
             let a = init.a.get(&k).map(|v| v.abs()).or_else(|| thermal.and_then(|t| t.get(&k)).copied()).unwrap_or(0.0);
             let seed = a.max(get(&init.a_velocity, k) * t_star).max(get(&init.b, k)) / scene.bubble.radius;
+            // never below ε²: a field of 1e-6 A forces a mode to far less, and Radau5's Newton
+            // iteration failed at t = 0 on such a scale (tests/suite/scene_derived.rs)
             let size = seed.max(forced.get(m).copied().unwrap_or(0.0));
-            if size > 0.0 && size.is_finite() {
-                size
+            if size.is_finite() {
+                size.max(UNSEEDED)
             } else {
                 UNSEEDED
             }
