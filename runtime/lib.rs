@@ -14,8 +14,11 @@
 //! - [`integrate`]: the steppers (fixed RK4, adaptive explicit RK, implicit Radau).
 //! - [`analysis`]: natural frequencies, Floquet, stability diagrams, convergence, accuracy.
 //! - [`output`]: CSV / JSON writers (atomic), [`plot`]: figures.
+//! - [`api`]: the typed library API (load a scene, run, modes, floquet, stability, sweep,
+//!   accuracy, coefficients) that the command line ([`cli`]) and the Python binding both call.
 
 pub mod analysis;
+pub mod api;
 pub mod coefficients;
 pub mod field;
 pub mod integrate;

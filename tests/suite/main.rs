@@ -7,6 +7,7 @@ mod support;
 mod blow_up_time;
 mod bordered_lu;
 mod accuracy;
+mod api;
 mod cli_run;
 mod equations_jacobian;
 mod pressure_gradient;
