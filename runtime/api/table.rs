@@ -53,18 +53,17 @@ impl TextBuilder {
         self.codes.push(code);
     }
 
-    /// Integers if every cell is one (so also an empty column), else floats if every cell is one or empty (NaN), else
-    /// text (the rule is applied to the distinct values, then spread over the rows).
+    /// Integers if every cell is one (so also an empty column), else floats if every cell is
+    /// one or empty (NaN), else text (the rule is applied to the distinct values, then spread
+    /// over the rows).
     pub fn finish(self) -> Column {
         let TextBuilder { codes, categories, .. } = self;
-        {
-            if let Some(ints) = categories.iter().map(|c| c.parse::<i64>().ok()).collect::<Option<Vec<_>>>() {
-                return Column::Int(codes.iter().map(|&c| ints[c as usize]).collect());
-            }
-            let float = |c: &String| if c.is_empty() { Some(f64::NAN) } else { parse_float(c) };
-            if let Some(floats) = categories.iter().map(float).collect::<Option<Vec<_>>>() {
-                return Column::Float(codes.iter().map(|&c| floats[c as usize]).collect());
-            }
+        if let Some(ints) = categories.iter().map(|c| c.parse::<i64>().ok()).collect::<Option<Vec<_>>>() {
+            return Column::Int(codes.iter().map(|&c| ints[c as usize]).collect());
+        }
+        let float = |c: &String| if c.is_empty() { Some(f64::NAN) } else { parse_float(c) };
+        if let Some(floats) = categories.iter().map(float).collect::<Option<Vec<_>>>() {
+            return Column::Float(codes.iter().map(|&c| floats[c as usize]).collect());
         }
         Column::Text { codes, categories }
     }
