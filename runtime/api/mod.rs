@@ -15,6 +15,9 @@
 //! | accuracy       | [`accuracy`]      | [`accuracy::study`], [`accuracy::critical`]   | the analysis reports |
 //! | coefficients   | [`coefficients`]  | [`coefficients::coefficients`]                | [`coefficients::Coefficients`] |
 //!
+//! A table of results (a sweep's rows, a stability diagram's) is also available as typed
+//! columns ([`table::Table`], [`sweep::SweepTable`]), what Python turns into a DataFrame.
+//!
 //! Long calls take a [`Monitor`] ([`common`]): `progress(done, total)` is reported through it
 //! and `cancelled()` is polled, so the CLI draws indicatif bars and stops on SIGINT, and Python
 //! shows tqdm and stops on Ctrl-C. Errors are `anyhow::Error` chains with context (which file,
