@@ -16,10 +16,13 @@
 //! - [`output`]: CSV / JSON writers (atomic), [`plot`]: figures.
 //! - [`simd`]: the SIMD policy (CPU features probed once; `MAGBUBBLE_PORTABLE=1` forces the
 //!   portable kernels).
+//! - [`api`]: the typed library API (load a scene, run, modes, floquet, stability, sweep,
+//!   accuracy, coefficients) that the command line ([`cli`]) and the Python binding both call.
 
 #![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod analysis;
+pub mod api;
 pub mod coefficients;
 pub mod field;
 pub mod integrate;

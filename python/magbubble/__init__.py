@@ -13,17 +13,15 @@ messages of ``--set``. See ``docs/python.md``.
 
 from __future__ import annotations
 
-import json
 import os
 import tempfile
 import warnings
-from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import pandas as pd
 
 from . import _magbubble as _ext
-from ._util import family_text, frame, freq_text, override_list, progress_bar, toml_text
+from ._util import family_arg, frame, freq_arg, override_list, progress_bar, toml_text
 
 __all__ = ["Scene", "Run", "run", "modes", "floquet", "stability", "sweep", "coefficients", "KMAX"]
 __version__ = "0.1.0"
@@ -70,7 +68,7 @@ class Scene:
 
     def resolved(self) -> Dict[str, Any]:
         """Every resolved parameter (defaults applied, SI units): ``summary.json``'s ``scene``."""
-        return json.loads(self._inner.resolved_json())
+        return self._inner.resolved()
 
     @property
     def origin(self) -> str:
@@ -143,7 +141,7 @@ def run(scene_or_path: SceneOrPath, overrides: Optional[Mapping[str, Any]] = Non
         header, data, summary = _ext.run(scene._inner, update)
     finally:
         close()
-    return Run(pd.DataFrame(data, columns=header, copy=False), json.loads(summary), scene)
+    return Run(pd.DataFrame(data, columns=header, copy=False), summary, scene)
 
 
 def modes(
@@ -155,7 +153,7 @@ def modes(
 ) -> Dict[str, Any]:
     """Natural frequencies (``magbubble modes --json``; ``damped``: ``--damped --json``)."""
     scene = _scene(scene_or_path, overrides)
-    return json.loads(_ext.modes(scene._inner, kmax, damped))
+    return _ext.modes(scene._inner, kmax, damped)
 
 
 def floquet(
@@ -170,7 +168,7 @@ def floquet(
     when the analysis fails (no periodic orbit, …). Its warnings (not converged in ``steps``)
     are also issued as Python warnings. A bad scene, ``steps`` or ``variant`` raises ValueError."""
     scene = _scene(scene_or_path, overrides)
-    result = json.loads(_ext.floquet(scene._inner, steps, variant))
+    result = _ext.floquet(scene._inner, steps, variant)
     for w in result.get("warnings", []):
         warnings.warn(w, RuntimeWarning, stacklevel=2)
     return result
@@ -179,7 +177,7 @@ def floquet(
 def coefficients(field: str, kmax: int) -> Dict[str, Any]:
     """The generated Legendre-coupling tables of ``field`` (``"coil"`` or ``"dipole"``) up to
     mode ``kmax`` (``magbubble coefficients --json``)."""
-    return json.loads(_ext.coefficients(field, kmax))
+    return _ext.coefficients(field, kmax)
 
 
 def stability(
@@ -212,37 +210,31 @@ def stability(
     KeyboardInterrupt stops it: no point starts, the points in flight are abandoned, and the CSV
     keeps only the whole rows finished so far (a rerun with the same ``out`` resumes). ``progress``: a tqdm bar of points, or a function ``(done, total)``.
     """
+    scene = _scene(scene_or_path, overrides)
     lo, hi = range
+    freq = freq_arg(freq)
+    family = family_arg(family)
     update, close = progress_bar(progress, "stability", "point")
     with tempfile.TemporaryDirectory(prefix="magbubble-") as tmp:
-        if isinstance(scene_or_path, Scene):
-            stem = Path(scene_or_path.origin).stem or "scene"
-            path = Path(tmp) / f"{stem}.toml"
-            path.write_text(scene_or_path.to_toml())
-        elif isinstance(scene_or_path, (str, os.PathLike)):
-            path = Path(scene_or_path)
-        else:
-            raise TypeError(f"expected a Scene or a path to a scene file, got {type(scene_or_path).__name__}")
-        out_dir = Path(out) if out is not None else Path(tmp) / "out"
+        out_dir = os.fspath(out) if out is not None else os.path.join(tmp, "out")
         try:
             curves, failed = _ext.stability(
-                os.fspath(path), freq_text(freq), os.fspath(out_dir), override_list(overrides), family_text(family),
-                method, vary, freq_key, f"{float(lo)!r}:{float(hi)!r}", float(tol),
+                scene._inner, freq, out_dir, family, method, vary, freq_key, (float(lo), float(hi)), float(tol),
                 None if abs_tol is None else float(abs_tol), int(scan), shard, update,
             )
         finally:
             close()
     parts = []
-    for fkey, fval, _csv, header, rows, _c, _r in curves:
-        df = frame(["index", *header], [[str(i), *fields] for i, fields in rows])
+    for fkey, fval, _path, columns, _c, _r in curves:
+        df = frame(columns)
         if fkey:
             df.insert(0, fkey, _family_value(fval))
         parts.append(df)
     result = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
     result.attrs.update(
         csv=[c[2] for c in curves] if out is not None else [],
-        computed=sum(c[5] for c in curves),
-        resumed=sum(c[6] for c in curves),
+        computed=sum(c[4] for c in curves),
+        resumed=sum(c[5] for c in curves),
         failed=list(failed),
     )
     for line in failed:
@@ -285,16 +277,16 @@ def sweep(
             axes.append((key, [toml_text(v) for v in values], False))
     update, close = progress_bar(progress, "sweep", "run")
     try:
-        header, rows, computed, resumed, csv = _ext.sweep(
+        columns, runs, computed, resumed, path = _ext.sweep(
             scene._inner, axes, None if out is None else os.fspath(out), shard, bool(series and out is not None),
             bool(series), update,
         )
     finally:
         close()
-    df = frame(header, [fields for fields, _ in rows])
+    df = frame(columns)
     if series:
-        df["series"] = [None if s is None else pd.DataFrame(s[1], columns=s[0], copy=False) for _, s in rows]
-    df.attrs.update(csv=[csv] if csv else [], computed=computed, resumed=resumed)
+        df["series"] = [None if s is None else pd.DataFrame(s[1], columns=s[0], copy=False) for s in runs]
+    df.attrs.update(csv=[path] if path else [], computed=computed, resumed=resumed)
     return df
 
 

@@ -1,7 +1,7 @@
 """Type stubs of the extension module magbubble._magbubble (python/src/*.rs). Use the package
 ``magbubble`` (python/magbubble/__init__.py), which wraps these into dicts and DataFrames."""
 
-from typing import Callable, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -17,29 +17,30 @@ class Scene:
     def from_toml(text: str, origin: str = "<string>") -> "Scene": ...
     def with_set(self, overrides: List[str]) -> "Scene": ...
     def to_toml(self) -> str: ...
-    def resolved_json(self) -> str: ...
+    def resolved(self) -> Dict[str, Any]: ...
     @property
     def origin(self) -> str: ...
     @property
     def overrides(self) -> List[str]: ...
 
-def run(scene: Scene, progress: _Progress = None) -> Tuple[List[str], npt.NDArray[np.float64], str]: ...
-def modes(scene: Scene, kmax: Optional[int] = None, damped: bool = False) -> str: ...
-def floquet(scene: Scene, steps: int = 400, variant: str = "orbit") -> str: ...
-def coefficients(field: str, kmax: int) -> str: ...
+def run(scene: Scene, progress: _Progress = None) -> Tuple[List[str], npt.NDArray[np.float64], Dict[str, Any]]: ...
+def modes(scene: Scene, kmax: Optional[int] = None, damped: bool = False) -> Dict[str, Any]: ...
+def floquet(scene: Scene, steps: int = 400, variant: str = "orbit") -> Dict[str, Any]: ...
+def coefficients(field: str, kmax: int) -> Dict[str, Any]: ...
 
-_Curve = Tuple[str, str, str, List[str], List[Tuple[int, List[str]]], int, int]
+# (name, "int" | "float" | "text", int64 array | float64 array | (uint32 codes, distinct values))
+_Column = Tuple[str, str, Any]
+_Curve = Tuple[str, str, str, List[_Column], int, int]
 
 def stability(
-    scene: str,
-    freq: str,
+    scene: Scene,
+    freq: Union[str, List[float]],
     out: str,
-    overrides: List[str] = ...,
-    family: Optional[str] = None,
+    family: Union[None, str, Tuple[str, List[str]]] = None,
     method: str = "floquet",
     vary: str = "drive.amplitude",
     freq_key: Optional[str] = None,
-    range: str = "0:1",
+    range: Tuple[float, float] = (0.0, 1.0),
     tol: float = 1e-3,
     abs_tol: Optional[float] = None,
     scan: int = 8,
@@ -47,7 +48,7 @@ def stability(
     progress: _Progress = None,
 ) -> Tuple[List[_Curve], List[str]]: ...
 
-_GridRow = Tuple[List[str], Optional[Tuple[List[str], npt.NDArray[np.float64]]]]
+_Series = Optional[Tuple[List[str], npt.NDArray[np.float64]]]
 
 def sweep(
     scene: Scene,
@@ -57,4 +58,4 @@ def sweep(
     keep_series: bool = False,
     return_series: bool = False,
     progress: _Progress = None,
-) -> Tuple[List[str], List[_GridRow], int, int, str]: ...
+) -> Tuple[List[_Column], Optional[List[_Series]], int, int, str]: ...

@@ -1,12 +1,12 @@
-"""Helpers of the magbubble package: override values as ``--set`` text, CSV fields as
-DataFrame columns, progress bars. Nothing here computes physics."""
+"""Helpers of the magbubble package: override values as ``--set`` text, typed columns as a
+DataFrame, progress bars. Nothing here computes physics."""
 
 from __future__ import annotations
 
-import math
 import numbers
 from typing import Any, Callable, Iterable, Mapping, Optional, Sequence
 
+import numpy as np
 import pandas as pd
 
 
@@ -43,24 +43,22 @@ def override_list(overrides: Optional[Mapping[str, Any]]) -> list:
     return out
 
 
-def freq_text(freq: Any) -> str:
-    """``--freq``: the CLI's text (``"0.5e6:2e6:16:log"``, ``"1e6,2e6"``) or a list of numbers."""
+def freq_arg(freq: Any) -> Any:
+    """The frequency axis: the CLI's text (``"0.5e6:2e6:16:log"``, ``"1e6,2e6"``) or a list of
+    numbers [Hz]."""
     if isinstance(freq, str):
         return freq
-    values = [float(f) for f in _iterable(freq, "freq")]
-    if not values:
-        raise ValueError("freq: empty list")
-    return ",".join(repr(v) for v in values)
+    return [float(f) for f in _iterable(freq, "freq")]
 
 
-def family_text(family: Any) -> Optional[str]:
-    """``--family``: ``"KEY=V1,V2"`` or ``{KEY: [V1, V2]}`` (one key)."""
+def family_arg(family: Any) -> Any:
+    """The family: ``"KEY=V1,V2"``, or ``{KEY: [V1, V2]}`` (one key) as (key, [``--set`` texts])."""
     if family is None or isinstance(family, str):
         return family
     if not isinstance(family, Mapping) or len(family) != 1:
         raise TypeError("family must be 'KEY=V1,V2,…' or a dict with one key {KEY: [V1, V2, …]}")
     ((key, values),) = family.items()
-    return f"{key}=" + ",".join(toml_text(v) for v in _iterable(values, "family values"))
+    return (str(key), [toml_text(v) for v in _iterable(values, "family values")])
 
 
 def _iterable(x: Any, what: str) -> Iterable:
@@ -70,23 +68,20 @@ def _iterable(x: Any, what: str) -> Iterable:
         raise TypeError(f"{what}: expected a list of numbers, got {type(x).__name__}") from None
 
 
-def column(values: Sequence[str]) -> pd.Series:
-    """A CSV column as a typed Series: integers if every cell is one, else floats (an empty cell
-    is NaN; Python's ``float`` reads every value back exactly), else text."""
-    try:
-        return pd.Series([int(v) for v in values], dtype="int64")
-    except ValueError:
-        pass
-    try:
-        return pd.Series([float(v) if v != "" else math.nan for v in values], dtype="float64")
-    except ValueError:
-        return pd.Series(list(values), dtype=object)
-
-
-def frame(header: Sequence[str], rows: Sequence[Sequence[str]]) -> pd.DataFrame:
-    """A DataFrame of CSV fields (one list per row), columns typed by :func:`column`."""
-    cols = list(zip(*rows)) if rows else [[] for _ in header]
-    return pd.DataFrame({name: column(list(c)) for name, c in zip(header, cols)})
+def frame(columns: Sequence[tuple]) -> pd.DataFrame:
+    """A DataFrame of the extension's typed columns ``(name, kind, data)``: ``int`` and ``float``
+    columns are numpy arrays (used as they are), a ``text`` column is ``(codes, values)`` and
+    becomes an object column holding the distinct values once each."""
+    data = {}
+    for name, kind, values in columns:
+        if kind == "text":
+            codes, distinct = values
+            table = np.empty(len(distinct), dtype=object)
+            table[:] = distinct
+            data[name] = pd.Series(table[codes], dtype=object, copy=False)
+        else:
+            data[name] = pd.Series(values, copy=False)
+    return pd.DataFrame(data, copy=False)
 
 
 def progress_bar(enabled: Any, desc: str, unit: str, scale: float = 1.0) -> tuple:

@@ -1,15 +1,18 @@
-//! The module's functions: each calls the Rust library and hands back plain data (JSON text,
-//! a float array, CSV fields) that `magbubble/__init__.py` wraps into dicts and DataFrames.
+//! The module's functions: each calls `magbubble::api` with typed arguments and converts the
+//! typed result to Python directly — numbers to numpy arrays, tables to typed columns,
+//! structured results (summaries, reports) to dicts with `pythonize` — which
+//! `magbubble/__init__.py` wraps into DataFrames. No text format crosses in between.
 
+use crate::convert::{series_array, table_columns, to_python, Columns};
 use crate::{chain_error, value_error, worker, PyScene};
-use magbubble::analysis::stability::Variant;
-use magbubble::cli::coefficients::{coefficients_json, FieldChoice};
-use magbubble::cli::floquet::{error_json, floquet_json};
-use magbubble::cli::modes::modes_json;
-use magbubble::cli::run::summary;
-use magbubble::output::series_header;
-use magbubble::cli::stability::{points_of, run_with, Hooks, MethodArg, StabilityArgs};
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use magbubble::analysis::sweep::Shard;
+use magbubble::api::coefficients::Field;
+use magbubble::api::floquet::Variant;
+use magbubble::api::stability::{Criterion, Family, FreqAxis, StabilityRequest};
+use magbubble::api::sweep::{GridAxis, SweepRequest, SweepTable};
+use magbubble::api::table::Table;
+use magbubble::api::{self, Monitor};
+use numpy::PyArray2;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
@@ -23,14 +26,16 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-/// The payload of the unwind that stops a run when the caller cancels (KeyboardInterrupt):
-/// `simulate`'s observer cannot return a stop, so it unwinds to the worker's `catch_unwind`
-/// (pure Rust frames only; `resume_unwind` runs no panic hook, so nothing is printed).
-struct Cancelled;
+/// The [`Monitor`] of a worker: progress to the calling thread, its cancel flag.
+fn with_monitor<T>(ctl: &worker::Control, work: impl FnOnce(&Monitor) -> T) -> T {
+    let report = |done: f64, total: f64| {
+        ctl.set_total(total);
+        ctl.set_done(done);
+    };
+    work(&Monitor { report: Some(&report), cancel: Some(ctl.flag()), bar: false })
+}
 
-type RunOutput = (Vec<f64>, usize, String);
-
-/// Simulates `scene` (as `magbubble run`): (header, rows × columns array, summary.json text).
+/// Simulates `scene` (as `magbubble run`): (columns, rows × columns array, summary dict).
 /// `progress(t, duration)` is called every ~50 ms. A model that cannot be assembled raises
 /// ValueError ("cannot simulate …", as the CLI); a blow-up or a failed integration is a status
 /// in the summary, not an exception.
@@ -40,162 +45,146 @@ fn run<'py>(
     py: Python<'py>,
     scene: &PyScene,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<(Vec<String>, Bound<'py, PyArray2<f64>>, String)> {
-    let sc = scene.template.scene().clone();
-    let header = series_header(&sc);
-    let width = header.len() - 1;
-    let file = scene.template.origin().to_string();
-    let overrides = scene.overrides.clone();
-    let out: Result<RunOutput, anyhow::Error> = worker::run(py, progress.as_ref(), |ctl| {
-        ctl.set_total(sc.run.duration);
-        let mut data = Vec::new();
-        let mut rows = 0usize;
-        let mut bad_row = None;
-        let result = magbubble::model::simulate(&sc, &mut |t, row| {
-            if ctl.cancelled() {
-                std::panic::resume_unwind(Box::new(Cancelled));
-            }
-            if row.len() != width {
-                bad_row.get_or_insert((t, row.len()));
-                return;
-            }
-            data.push(t);
-            data.extend_from_slice(row);
-            rows += 1;
-            ctl.set_done(t);
-        });
-        let report = result.map_err(|e| anyhow::Error::new(e).context(format!("cannot simulate {file}")))?;
-        if let Some((t, len)) = bad_row {
-            anyhow::bail!("internal error: the model gave a row of {len} values at t = {t:e} s, expected {width}");
-        }
-        let text = serde_json::to_string(&summary(&report, &sc, rows as u64, &file, &overrides))?;
-        Ok((data, rows, text))
-    })?;
-    let (data, rows, text) = out.map_err(|e| chain_error(&e))?;
-    let array = PyArray1::from_vec(py, data).reshape([rows, width + 1])?;
-    Ok((header, array, text))
+) -> PyResult<(Vec<String>, Bound<'py, PyArray2<f64>>, Bound<'py, PyAny>)> {
+    let sc = &scene.inner;
+    let result = worker::run(py, progress.as_ref(), |ctl| with_monitor(ctl, |m| api::run::run(sc, m)))?;
+    let r = result.map_err(|e| chain_error(&e))?;
+    let summary = to_python(py, &r.outcome.summary)?;
+    let array = series_array(py, r.values, r.outcome.rows as usize, r.outcome.columns.len())?;
+    Ok((r.outcome.columns, array, summary))
 }
 
-/// `modes --json` (`damped`: `modes --damped --json`) as JSON text.
+/// Natural frequencies (`damped`: the damped spectrum) as a dict: what `modes` prints as JSON.
 #[pyfunction]
 #[pyo3(signature = (scene, kmax = None, damped = false))]
-fn modes(py: Python<'_>, scene: &PyScene, kmax: Option<usize>, damped: bool) -> PyResult<String> {
-    let label = scene.template.origin().to_string();
-    let sc = scene.template.scene();
-    let v = worker::run(py, None, |_| modes_json(sc, kmax, damped, &label))?.map_err(|e| chain_error(&e))?;
-    Ok(v.to_string())
+fn modes<'py>(py: Python<'py>, scene: &PyScene, kmax: Option<usize>, damped: bool) -> PyResult<Bound<'py, PyAny>> {
+    let sc = &scene.inner;
+    let m = worker::run(py, None, |_| api::modes::modes(sc, kmax, damped))?.map_err(|e| chain_error(&e))?;
+    Ok(to_python(py, &m)?)
 }
 
-/// `floquet --json` as JSON text: the report (`"status": "ok"`), or the CLI's status object
-/// (`"status": "error"`) when the analysis fails (no periodic orbit, no shape modes …).
-/// A bad argument (`steps`, `variant`) raises ValueError.
+/// The Floquet report as a dict (`"status": "ok"`), or the status object (`"status": "error"`)
+/// when the analysis fails (no periodic orbit, no shape modes …). A bad argument (`steps`,
+/// `variant`) raises ValueError.
 #[pyfunction]
 #[pyo3(signature = (scene, steps = 400, variant = "orbit"))]
-fn floquet(py: Python<'_>, scene: &PyScene, steps: usize, variant: &str) -> PyResult<String> {
+fn floquet<'py>(py: Python<'py>, scene: &PyScene, steps: usize, variant: &str) -> PyResult<Bound<'py, PyAny>> {
     let variant = match variant {
         "orbit" => Variant::Orbit,
         "paper" => Variant::Paper,
         other => return Err(value_error(format!("variant '{other}': expected 'orbit' or 'paper'"))),
     };
-    let file = scene.template.origin().to_string();
-    let sc = scene.template.scene().clone();
-    let result = worker::run(py, None, |_| floquet_json(&file, &scene.overrides, variant, steps, || Ok(sc)))?;
-    match result {
-        Ok(v) => Ok(v.to_string()),
-        Err(("invalid_argument" | "scene", e)) => Err(chain_error(&e)),
-        Err((kind, e)) => Ok(error_json(kind, &e, &file).to_string()),
+    let sc = &scene.inner;
+    match worker::run(py, None, |_| api::floquet::floquet(sc, variant, steps))? {
+        Ok(r) => Ok(to_python(py, &r)?),
+        Err(f) if f.kind == "invalid_argument" => Err(chain_error(&f.error)),
+        Err(f) => Ok(to_python(py, &f.report(sc.origin()))?),
     }
 }
 
-/// `coefficients --field FIELD --kmax KMAX --json` (pretty JSON text).
+/// The generated coupling tables of `field` ("coil" or "dipole") up to mode `kmax`, as a dict.
 #[pyfunction]
-fn coefficients(field: &str, kmax: usize) -> PyResult<String> {
-    let choice = match field {
-        "coil" => FieldChoice::Coil,
-        "dipole" => FieldChoice::Dipole,
+fn coefficients<'py>(py: Python<'py>, field: &str, kmax: usize) -> PyResult<Bound<'py, PyAny>> {
+    let field = match field {
+        "coil" => Field::Coil,
+        "dipole" => Field::Dipole,
         other => return Err(value_error(format!("field '{other}': expected 'coil' or 'dipole'"))),
     };
-    coefficients_json(choice, kmax).map_err(|e| chain_error(&e))
+    let c = api::coefficients::coefficients(field, kmax).map_err(|e| chain_error(&e))?;
+    Ok(to_python(py, &c)?)
 }
 
-/// One curve of [`stability`]: (family key, family value, CSV path, header without `index`,
-/// rows (index, fields), points computed, points resumed).
-type Curve = (String, String, String, Vec<String>, Vec<(usize, Vec<String>)>, usize, usize);
+/// The frequency axis: a list of numbers [Hz] or the command line's text.
+#[derive(FromPyObject)]
+enum FreqArg {
+    Text(String),
+    List(Vec<f64>),
+}
 
-/// `magbubble stability SCENE --freq FREQ … --out OUT` (arguments as the CLI's, validated by
-/// it): every curve's CSV rows, and the lines about failed points. Resumable: a rerun into the
-/// same `out` computes only the missing points. On KeyboardInterrupt no point starts, the points
-/// in flight are abandoned, and the interrupt is raised once the CSV holds only the whole rows
-/// finished so far.
+/// The family: `KEY=V1,V2` or (key, [values as `--set` text]).
+#[derive(FromPyObject)]
+enum FamilyArg {
+    Text(String),
+    Pair(String, Vec<String>),
+}
+
+/// One curve of [`stability`]: (family key, family value, file written, columns, points
+/// computed, points resumed).
+type Curve<'py> = (String, String, String, Columns<'py>, usize, usize);
+
+/// A stability diagram into `out` (resumable: a rerun into the same `out` computes only the
+/// missing points): every curve's rows as typed columns, and the lines about failed points.
+/// Bad arguments raise ValueError before any work. On KeyboardInterrupt no point starts, the
+/// points in flight are abandoned, and the interrupt is raised once the files hold only the
+/// whole rows finished so far.
 #[pyfunction]
-#[pyo3(signature = (scene, freq, out, overrides = Vec::new(), family = None, method = "floquet", vary = "drive.amplitude".to_string(),
-    freq_key = None, range = "0:1".to_string(), tol = 1e-3, abs_tol = None, scan = 8, shard = None, progress = None))]
+#[pyo3(signature = (scene, freq, out, family = None, method = "floquet", vary = "drive.amplitude".to_string(),
+    freq_key = None, range = (0.0, 1.0), tol = 1e-3, abs_tol = None, scan = 8, shard = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn stability<'py>(
     py: Python<'py>,
-    scene: PathBuf,
-    freq: String,
+    scene: &PyScene,
+    freq: FreqArg,
     out: PathBuf,
-    overrides: Vec<String>,
-    family: Option<String>,
+    family: Option<FamilyArg>,
     method: &str,
     vary: String,
     freq_key: Option<String>,
-    range: String,
+    range: (f64, f64),
     tol: f64,
     abs_tol: Option<f64>,
     scan: usize,
     shard: Option<String>,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<(Vec<Curve>, Vec<String>)> {
+) -> PyResult<(Vec<Curve<'py>>, Vec<String>)> {
     let method = match method {
-        "floquet" => MethodArg::Floquet,
-        "series" => MethodArg::Series,
+        "floquet" => Criterion::Floquet,
+        "series" => Criterion::Series,
         other => return Err(value_error(format!("method '{other}': expected 'floquet' or 'series'"))),
     };
-    let args = StabilityArgs {
-        scene,
-        freq,
-        method,
-        family,
-        vary,
-        freq_key,
-        range,
-        tol,
-        abs_tol,
-        scan,
-        out: Some(out),
-        plot: false,
-        shard,
-        set: overrides,
+    let freq = match freq {
+        FreqArg::Text(t) => FreqAxis::parse(&t),
+        FreqArg::List(v) => FreqAxis::list(&v),
+    }
+    .map_err(|e| chain_error(&e))?;
+    let family = match family {
+        None => None,
+        Some(FamilyArg::Text(t)) => Some(Family::parse(&t).map_err(|e| chain_error(&e))?),
+        Some(FamilyArg::Pair(k, v)) => Some(Family::new(&k, v)),
     };
-    let total = points_of(&args).map_err(|e| chain_error(&e))?;
-    let result = worker::run(py, progress.as_ref(), |ctl| {
-        ctl.set_total(total as f64);
-        let done = |_: usize, _: usize| ctl.add(1.0);
-        let hooks = Hooks { cancel: Some(ctl.flag()), on_point: Some(&done), progress_bar: false };
-        run_with(&args, &hooks)
-    })?;
+    let shard = match &shard {
+        Some(s) => Shard::parse(s),
+        None => Shard::from_env().map(|s| s.unwrap_or(Shard::ALL)),
+    }
+    .map_err(value_error)?;
+    let req = StabilityRequest { freq, method, family, vary, freq_key, range, tol, abs_tol, scan, out, shard };
+    let sc = &scene.inner;
+    api::stability::plan(sc, &req).map_err(|e| chain_error(&e))?;
+    let result = worker::run(py, progress.as_ref(), |ctl| with_monitor(ctl, |m| api::stability::stability(sc, &req, m)))?;
     let output = result.map_err(|e| chain_error(&e))?;
-    let curves = output
-        .curves
-        .into_iter()
-        .map(|c| {
-            (c.family.0, c.family.1, c.csv.display().to_string(), c.header, c.report.rows, c.report.computed, c.report.resumed)
-        })
-        .collect();
+    let mut curves = Vec::with_capacity(output.curves.len());
+    for c in output.curves {
+        let mut names = vec!["index".to_string()];
+        names.extend(c.header);
+        let rows: Vec<Vec<String>> = c
+            .report
+            .rows
+            .into_iter()
+            .map(|(i, fields)| std::iter::once(i.to_string()).chain(fields).collect())
+            .collect();
+        let table = Table::from_fields(names, rows.iter().map(Vec::as_slice));
+        let path = c.path.display().to_string();
+        curves.push((c.family.0, c.family.1, path, table_columns(py, table)?, c.report.computed, c.report.resumed));
+    }
     Ok((curves, output.failed))
 }
 
-/// One grid row: (CSV fields with the index first, the run's series as (columns, array) when
-/// asked for).
-type GridRowOut<'py> = (Vec<String>, Option<(Vec<String>, Bound<'py, PyArray2<f64>>)>);
-
-/// `magbubble sweep SCENE --grid …` (analysis::grid): `axes` are (key, values as `--set`
-/// text) or, with `spec`, (key, [`START:STOP:N[:log]` or `V1,V2,…`]). Returns (CSV header,
-/// rows, computed, resumed, CSV path or ""). Invalid keys or values raise ValueError with the
-/// messages of `--set` before any run; KeyboardInterrupt keeps the whole rows finished so far
-/// (resumable with `out`).
+/// A grid of runs (`magbubble sweep`): `axes` are (key, values as `--set` text) or, with
+/// `spec`, (key, [`START:STOP:N[:log]` or `V1,V2,…`]). The rows stream from the worker into
+/// typed columns (no row is kept twice). Returns (columns, each row's series as (columns,
+/// array) or None when asked for, computed, resumed, the file written or ""). Invalid keys or
+/// values raise ValueError with the messages of `--set` before any run; KeyboardInterrupt
+/// keeps the whole rows finished so far (resumable with `out`).
 #[pyfunction]
 #[pyo3(signature = (scene, axes, out = None, shard = None, keep_series = false, return_series = false, progress = None))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -208,9 +197,7 @@ fn sweep<'py>(
     keep_series: bool,
     return_series: bool,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<(Vec<String>, Vec<GridRowOut<'py>>, usize, usize, String)> {
-    use magbubble::analysis::grid::{plan_grid, run_grid, GridAxis, GridOptions};
-    use magbubble::analysis::sweep::Shard;
+) -> PyResult<(Columns<'py>, Option<Vec<Option<SeriesOut<'py>>>>, usize, usize, String)> {
     let mut grid = Vec::with_capacity(axes.len());
     for (key, values, spec) in &axes {
         let axis = if *spec {
@@ -224,37 +211,34 @@ fn sweep<'py>(
         Some(s) => Shard::parse(s).map_err(value_error)?,
         None => Shard::ALL,
     };
-    let plan = plan_grid(&scene.template, &grid).map_err(|e| chain_error(&e.into()))?;
+    let plan = api::sweep::plan(&scene.inner, &grid).map_err(|e| chain_error(&e.into()))?;
+    let req = SweepRequest { out, shard: Some(shard), keep_series, return_series };
     let outcome = worker::run(py, progress.as_ref(), |ctl| {
-        let on_run = |done: usize, total: usize| {
-            ctl.set_total(total as f64);
-            ctl.set_done(done as f64);
-        };
-        let options = GridOptions {
-            out: out.as_deref(),
-            shard: Some(shard),
-            keep_series,
-            return_series,
-            cancel: Some(ctl.flag()),
-            on_run: Some(&on_run),
-            progress_bar: false,
-        };
-        run_grid(&plan, &options)
+        with_monitor(ctl, |m| {
+            let mut table = SweepTable::new(&plan);
+            api::sweep::sweep(&plan, &req, m, &mut |row| table.push(row)).map(|s| (s, table))
+        })
     })?;
-    let outcome = outcome.map_err(|e| chain_error(&e.into()))?;
-    let mut rows = Vec::with_capacity(outcome.rows.len());
-    for mut row in outcome.rows {
-        let mut fields = vec![row.index.to_string()];
-        fields.extend(row.fields());
-        let series = match row.series.take() {
-            Some(s) => {
-                let (n, w) = (s.rows(), s.columns.len());
-                Some((s.columns, PyArray1::from_vec(py, s.values).reshape([n, w])?))
-            }
-            None => None,
-        };
-        rows.push((fields, series));
-    }
-    let csv = outcome.csv.map(|p| p.display().to_string()).unwrap_or_default();
-    Ok((outcome.header, rows, outcome.computed, outcome.resumed, csv))
+    let (summary, table) = outcome.map_err(|e| chain_error(&e.into()))?;
+    let (table, series) = table.finish();
+    let series = if return_series {
+        let mut list = Vec::with_capacity(series.len());
+        for s in series {
+            list.push(match s {
+                Some(s) => {
+                    let (n, w) = (s.rows(), s.columns.len());
+                    Some((s.columns, series_array(py, s.values, n, w)?))
+                }
+                None => None,
+            });
+        }
+        Some(list)
+    } else {
+        None
+    };
+    let path = summary.path.map(|p| p.display().to_string()).unwrap_or_default();
+    Ok((table_columns(py, table)?, series, summary.computed, summary.resumed, path))
 }
+
+/// A run's series: (columns, rows × columns array).
+type SeriesOut<'py> = (Vec<String>, Bound<'py, PyArray2<f64>>);

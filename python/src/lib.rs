@@ -1,26 +1,24 @@
 //! `magbubble._magbubble`: the private extension module of the Python package `magbubble`
-//! (python/magbubble). Everything here calls the Rust library: scenes are loaded and validated
-//! by `scene::SceneTemplate` (the `--set` path), the JSON of `modes`, `floquet` and
-//! `coefficients` is built by the same functions the CLI prints, stability diagrams go through
-//! `cli::stability::run_with` (resumable CSVs). The Python package turns the results into
-//! pandas DataFrames and dicts (docs/python.md).
+//! (python/magbubble). Everything here calls the library API `magbubble::api` — the one the
+//! command line calls — with typed arguments, and converts its typed results to Python
+//! directly (numpy arrays, typed columns, dicts); the Python package wraps them into pandas
+//! DataFrames and dicts (docs/python.md).
 
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 mod calls;
+mod convert;
 mod worker;
 
-use magbubble::scene::SceneTemplate;
+use magbubble::api;
 
 /// A validated scene (TOML tree + resolved parameters). Made by `Scene.load(path)` or
-/// `Scene.from_toml(text)`; `with_overrides` returns a new one.
+/// `Scene.from_toml(text)`; `with_set` returns a new one.
 #[pyclass(name = "Scene", module = "magbubble._magbubble", frozen)]
 #[derive(Clone)]
 pub struct PyScene {
-    pub(crate) template: SceneTemplate,
-    /// The `--set` overrides applied since the file or text (as `key=value` strings).
-    pub(crate) overrides: Vec<String>,
+    pub(crate) inner: api::Scene,
 }
 
 #[pymethods]
@@ -31,53 +29,48 @@ impl PyScene {
     #[staticmethod]
     #[pyo3(signature = (path, overrides = Vec::new()))]
     fn load(path: std::path::PathBuf, overrides: Vec<String>) -> PyResult<Self> {
-        let template = SceneTemplate::load(&path, &overrides).map_err(value_error)?;
-        Ok(PyScene { template, overrides })
+        Ok(PyScene { inner: api::Scene::load(&path, &overrides).map_err(value_error)? })
     }
 
     /// Validates a scene given as TOML text; `origin` names it in error messages.
     #[staticmethod]
     #[pyo3(signature = (text, origin = "<string>"))]
     fn from_toml(text: &str, origin: &str) -> PyResult<Self> {
-        let template = SceneTemplate::from_str(text, origin, &[] as &[String]).map_err(value_error)?;
-        Ok(PyScene { template, overrides: Vec::new() })
+        Ok(PyScene { inner: api::Scene::from_toml(text, origin, &[] as &[String]).map_err(value_error)? })
     }
 
     /// A new scene with `key=value` overrides (the strings `--set` takes), validated.
     fn with_set(&self, overrides: Vec<String>) -> PyResult<Self> {
-        let template = self.template.with_overrides(&overrides).map_err(value_error)?;
-        let mut all = self.overrides.clone();
-        all.extend(overrides);
-        Ok(PyScene { template, overrides: all })
+        Ok(PyScene { inner: self.inner.with_overrides(&overrides).map_err(value_error)? })
     }
 
     /// The scene as TOML text (overrides applied); `Scene.from_toml` reads it back.
     fn to_toml(&self) -> PyResult<String> {
-        self.template.to_toml().map_err(|e| PyRuntimeError::new_err(format!("cannot write the scene as TOML: {e}")))
+        self.inner.to_toml().map_err(|e| PyRuntimeError::new_err(format!("cannot write the scene as TOML: {e}")))
     }
 
-    /// Every resolved parameter (defaults applied, SI units) as JSON text.
-    fn resolved_json(&self) -> PyResult<String> {
-        serde_json::to_string(self.template.scene()).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    /// Every resolved parameter (defaults applied, SI units) as a dict.
+    fn resolved<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        convert::to_python(py, self.inner.scene())
     }
 
     /// The file the scene was read from (or the origin given to `from_toml`).
     #[getter]
     fn origin(&self) -> &str {
-        self.template.origin()
+        self.inner.origin()
     }
 
     /// The overrides applied since the file, as `key=value` strings.
     #[getter]
     fn overrides(&self) -> Vec<String> {
-        self.overrides.clone()
+        self.inner.overrides().to_vec()
     }
 
     fn __repr__(&self) -> String {
-        if self.overrides.is_empty() {
-            format!("Scene({:?})", self.template.origin())
+        if self.inner.overrides().is_empty() {
+            format!("Scene({:?})", self.inner.origin())
         } else {
-            format!("Scene({:?}, overrides={:?})", self.template.origin(), self.overrides)
+            format!("Scene({:?}, overrides={:?})", self.inner.origin(), self.inner.overrides())
         }
     }
 }

@@ -52,11 +52,6 @@ impl Control {
         self.done.store(done.to_bits(), Ordering::Relaxed);
     }
 
-    /// Adds `n` to the progress count (called from any thread).
-    pub fn add(&self, n: f64) {
-        let _ = self.done.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| Some((f64::from_bits(b) + n).to_bits()));
-    }
-
     fn progress(&self) -> (f64, f64) {
         (f64::from_bits(self.done.load(Ordering::Relaxed)), f64::from_bits(self.total.load(Ordering::Relaxed)))
     }

@@ -80,3 +80,19 @@ def test_interrupted_sweep_keeps_whole_rows_and_resumes(tmp_path):
     assert df.attrs["resumed"] == len(lines) - 1
     assert df.attrs["computed"] == 8 - (len(lines) - 1)
     assert df["index"].tolist() == list(range(8))
+
+
+def test_sweep_columns_are_typed_and_text_is_shared():
+    grid = {"bubble.radius": [8e-6, 1e-5, 1.2e-5], "run.integrator.method": ["radau5", "dopri5"]}
+    df = mb.sweep(SCENE, grid=grid, overrides=SETS, progress=False)
+    assert len(df) == 6
+    for col in ["index", "steps", "rejected_steps", "rhs_evaluations"]:
+        assert df[col].dtype == np.int64, col
+    for col in ["bubble.radius", "t_end", "R_min", "R_max", "max_a2", "max_b4", "wall_seconds"]:
+        assert df[col].dtype == np.float64, col
+    # 5 µs: no blow-up, no failure; the empty columns are NaN, as the CSV's empty cells read
+    assert df["status"].dtype == object and set(df["status"]) == {"completed"}
+    assert df["t_blow_up"].isna().all() and df["note"].isna().all()
+    assert df["run.integrator.method"].tolist() == ["radau5", "dopri5"] * 3
+    # a text column holds each distinct value once (one object, many references)
+    assert len({id(v) for v in df["run.integrator.method"]}) == 2

@@ -4,10 +4,10 @@
 //! rung), `DIR/sizes.csv` (mode and grid ladders), `DIR/accuracy.json` (everything) and with
 //! `--plot` `DIR/work_precision.{svg,png}` (error against wall time, log–log).
 
-use crate::analysis::accuracy::{accuracy_study_with, planned_runs, AccuracyOptions, MIN_WORK_RATIO};
+use crate::api::accuracy::{study, AccuracyOptions, MIN_WORK_RATIO};
+use crate::api::{Monitor, Scene};
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::kinds::{work_precision, Curve};
-use crate::scene;
 use anyhow::Context;
 use std::path::PathBuf;
 
@@ -42,7 +42,7 @@ pub struct AccuracyArgs {
 }
 
 pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
-    let scene = scene::load(&args.scene, &args.set).with_context(|| format!("loading {}", args.scene.display()))?;
+    let scene = Scene::load(&args.scene, &args.set).with_context(|| format!("loading {}", args.scene.display()))?;
     if let Some(f) = args.critical {
         return super::accuracy_critical::run(args, &scene, f);
     }
@@ -60,9 +60,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         opts.duration = Some(d);
     }
     // A fraction-done bar over the study's simulations (on a terminal only).
-    let bar = crate::output::Counter::new(planned_runs(&scene, &opts), "accuracy study");
-    let report = accuracy_study_with(&scene, &opts, &|done, total| bar.set(done, total)).context("accuracy study")?;
-    drop(bar);
+    let report = study(&scene, &opts, &Monitor { bar: true, ..Monitor::default() })?;
     outln!(
         "reference: {} (estimated error {:.2e}, {:.2} s); compared over {:.3e} s, {} samples; t* = {:.4e} s",
         report.reference,

@@ -4,24 +4,21 @@
 //! `DIR/critical_work_precision.{svg,png}` (error against wall time, one curve per ladder).
 
 use super::accuracy::AccuracyArgs;
-use crate::analysis::critical_accuracy::{critical_accuracy, CriticalAccuracyOptions, CriticalRung};
+use crate::api::accuracy::{check_frequency, critical, CriticalAccuracyOptions, CriticalRung};
+use crate::api::Scene;
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::kinds::{work_precision, Curve};
-use crate::scene::Scene;
 use anyhow::Context;
 
 pub(super) fn run(args: &AccuracyArgs, scene: &Scene, frequency_hz: f64) -> anyhow::Result<()> {
-    anyhow::ensure!(
-        frequency_hz.is_finite() && frequency_hz > 0.0,
-        "--critical {frequency_hz}: the drive frequency must be finite and > 0 Hz"
-    );
+    check_frequency(frequency_hz)?;
     anyhow::ensure!(args.duration.is_none(), "--duration has no meaning with --critical (a Floquet study has no simulated time)");
     anyhow::ensure!(args.repeats.is_none(), "--repeats has no meaning with --critical (each search runs once; its wall time is reported)");
-    anyhow::ensure!(scene.drive.is_some(), "{}: --critical needs a [drive] section (ε_p is the varied quantity)", args.scene.display());
+    anyhow::ensure!(scene.scene().drive.is_some(), "{}: --critical needs a [drive] section (ε_p is the varied quantity)", args.scene.display());
     let opts = if args.quick { CriticalAccuracyOptions::quick(frequency_hz) } else { CriticalAccuracyOptions::full(frequency_hz) };
     let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "accuracy"));
     let dir = OutputDir::create(&out)?;
-    outln!("critical ε_p at f_d = {frequency_hz:e} Hz, N = {} (scene), bracket tolerance {:e} relative", scene.modes.max_order, opts.tol);
+    outln!("critical ε_p at f_d = {frequency_hz:e} Hz, N = {} (scene), bracket tolerance {:e} relative", scene.scene().modes.max_order, opts.tol);
     outln!("error = |ε_c − ε_c,ref| / ε_c,ref against the ladder's reference (error 0)");
     outln!("{:>8} {:>15} {:>8} {:>15} {:>11} {:>10} {:>6}  outcome", "ladder", "closure", "setting", "critical", "error", "wall s", "evals");
     // The rows are printed as each search ends; a stdout error stops printing and is returned.
@@ -36,7 +33,7 @@ pub(super) fn run(args: &AccuracyArgs, scene: &Scene, frequency_hz: f64) -> anyh
             stdout_error = spinner.suspend(|| crate::output::write_out(line).err());
         }
     };
-    let report = critical_accuracy(scene, &opts, &mut print).context("critical-ε_p accuracy study")?;
+    let report = critical(scene, &opts, &mut print)?;
     drop(spinner);
     if let Some(e) = stdout_error {
         return Err(e.into());

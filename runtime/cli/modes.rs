@@ -3,8 +3,7 @@
 //! s = −γ ± iω at R0 with the scene's viscous closure (issue 4 part 6,
 //! `model::vorticity::scene::damped_spectrum`). `--plot DIR`: ω_k against k (SVG + PNG).
 
-use crate::analysis::frequencies::{natural_frequencies, Frequencies};
-use crate::model::vorticity::scene::{damped_spectrum, DampedSpectrum};
+use crate::api::modes::{damped_of, frequencies, Modes};
 use crate::plot::kinds::{omega_vs_k, Curve};
 use crate::scene::Scene;
 use anyhow::Context;
@@ -33,14 +32,14 @@ pub struct ModesArgs {
 }
 
 pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
-    let scene = super::floquet::load_scene(&args.scene, &args.set)?;
+    let scene = crate::scene::load(&args.scene, &args.set)?;
     let label = args.scene.display().to_string();
     if args.damped {
         return damped(args, &scene, &label);
     }
     let f = frequencies(&scene, args.kmax, &label)?;
     if args.json {
-        outln!("{}", serde_json::to_string_pretty(&frequencies_json(&f))?);
+        outln!("{}", serde_json::to_string_pretty(&Modes::Frequencies(f.clone()))?);
     } else {
         outln!("radial: ω = {:.6e} rad/s, f = {:.6e} Hz   (t* = {:.4e} s)", f.radial.omega_rad_s, f.radial.f_hz, f.t_star);
         outln!("{:>4} {:>14} {:>14} {:>10}", "k", "omega_rad_s", "f_hz", "omega_t*");
@@ -70,62 +69,10 @@ fn save(fig: &crate::plot::Figure, dir: &std::path::Path, stem: &str) -> anyhow:
     Ok(())
 }
 
-/// What `modes --json` prints (`damped`: `modes --damped --json`); `label` names the scene in
-/// errors. The one JSON builder of the CLI and the Python package.
-pub fn modes_json(scene: &Scene, kmax: Option<usize>, damped: bool, label: &str) -> anyhow::Result<serde_json::Value> {
-    Ok(if damped { damped_json(&damped_of(scene, kmax, label)?) } else { frequencies_json(&frequencies(scene, kmax, label)?) })
-}
-
-/// Natural frequencies up to `kmax` (default: the scene's modes.max_order, at least 2).
-pub fn frequencies(scene: &Scene, kmax: Option<usize>, label: &str) -> anyhow::Result<Frequencies> {
-    let kmax = kmax.unwrap_or(scene.modes.max_order.max(2));
-    natural_frequencies(scene, kmax).with_context(|| format!("natural frequencies of {label}"))
-}
-
-/// The JSON object of `modes --json`.
-pub fn frequencies_json(f: &Frequencies) -> serde_json::Value {
-    serde_json::json!({
-        "radial": { "omega_rad_s": f.radial.omega_rad_s, "f_hz": f.radial.f_hz },
-        "shape": f.shape.iter().map(|m| serde_json::json!({
-            "k": m.k, "omega_rad_s": m.omega_rad_s, "f_hz": m.f_hz, "omega_nondim": m.omega_nondim,
-            "field_couplings": m.field_couplings,
-            // run, floquet and stability evolve the even-mode set (docs/user-guide.md)
-            "evolved": m.k % 2 == 0,
-        })).collect::<Vec<_>>(),
-        "t_star_s": f.t_star,
-    })
-}
-
-/// The damped spectrum of the scene's closure, modes k = 2, 4, …, N with N = `kmax` (even
-/// part) or the scene's max_order. NaN (JSON null) where a root was not found.
-pub fn damped_of(scene: &Scene, kmax: Option<usize>, label: &str) -> anyhow::Result<DampedSpectrum> {
-    let mut scene = scene.clone();
-    if let Some(kmax) = kmax {
-        crate::analysis::frequencies::check_kmax(kmax)?;
-        scene.modes.max_order = kmax - kmax % 2;
-    }
-    anyhow::ensure!(
-        scene.modes.max_order >= 2,
-        "--damped: the scene has no shape modes (modes.max_order = {}); set modes.max_order ≥ 2",
-        scene.modes.max_order
-    );
-    damped_spectrum(&scene).with_context(|| format!("damped spectrum of {label}"))
-}
-
-/// The JSON object of `modes --damped --json`.
-pub fn damped_json(d: &DampedSpectrum) -> serde_json::Value {
-    serde_json::json!({
-        "closure": d.closure,
-        "shape": d.shape.iter().map(|m| serde_json::json!({
-            "k": m.k, "decay_per_s": m.decay_per_s, "omega_rad_s": m.omega_rad_s,
-        })).collect::<Vec<_>>(),
-    })
-}
-
 fn damped(args: &ModesArgs, scene: &Scene, label: &str) -> anyhow::Result<()> {
     let d = damped_of(scene, args.kmax, label)?;
     if args.json {
-        outln!("{}", serde_json::to_string_pretty(&damped_json(&d))?);
+        outln!("{}", serde_json::to_string_pretty(&Modes::Damped(d.clone()))?);
     } else {
         outln!("closure: {}   (s = −γ ± iω, linearisation at R0)", d.closure);
         outln!("{:>4} {:>14} {:>14} {:>10}", "k", "decay_per_s", "omega_rad_s", "Q = ω/2γ");

@@ -6,12 +6,11 @@
 //! fails, the temp files are removed and so is the output directory if this run created it.
 
 use anyhow::Context as _;
-use crate::output::{write_json, CsvWriter, OrderedMap, OutputDir, Progress};
-use crate::scene::{self, Scene};
-use serde::Serialize;
+use crate::api::run::{stream_with, SimulateFn};
+use crate::api::{Monitor, Scene};
+use crate::model::{RunReport, RunStatus};
+use crate::output::{write_json, CsvWriter, OutputDir};
 use std::path::{Path, PathBuf};
-
-use sim::{ModelError, RunReport, RunStatus};
 
 /// Arguments of `magbubble run`.
 #[derive(Debug, clap::Args)]
@@ -29,12 +28,8 @@ pub struct RunArgs {
     pub plot: bool,
 }
 
-/// The simulation entry point (`crate::model::simulate`).
-pub(crate) type SimulateFn =
-    fn(&Scene, &mut dyn FnMut(f64, &[f64])) -> Result<RunReport, ModelError>;
-
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
-    execute(args, sim::simulate)
+    execute(args, crate::model::simulate)
 }
 
 /// The default output directory of a command on a scene, the one rule of every command that
@@ -58,71 +53,16 @@ pub fn default_out_dir(scene: &Path) -> PathBuf {
 
 pub use crate::output::series_header;
 
-/// `summary.json` (built by [`summary`]; also what the Python `Run.summary` holds).
-#[derive(Serialize)]
-pub struct Summary<'a> {
-    status: &'a RunStatus,
-    t_end: f64,
-    steps: u64,
-    rejected_steps: u64,
-    rhs_evaluations: u64,
-    /// Jacobian evaluations (analytic, finite-difference or structured).
-    jacobian_evaluations: u64,
-    /// LU factorisations of the Newton matrix.
-    lu_decompositions: u64,
-    wall_seconds: f64,
-    rows: u64,
-    max_abs: OrderedMap<'a>,
-    final_state: OrderedMap<'a>,
-    active_effects: &'a [String],
-    state_dimension: usize,
-    groups: serde_json::Value,
-    /// Every resolved parameter (defaults applied, overrides included).
-    scene: &'a Scene,
-    /// The scene file and the `--set` overrides it was run with.
-    source: Source<'a>,
-}
-
-#[derive(Serialize)]
-struct Source<'a> {
-    file: String,
-    overrides: &'a [String],
-}
-
-/// The `summary.json` of a run of `scene` (from the file `file` with the `--set` overrides
-/// `overrides`) that wrote `rows` rows.
-pub fn summary<'a>(report: &'a RunReport, scene: &'a Scene, rows: u64, file: &str, overrides: &'a [String]) -> Summary<'a> {
-    Summary {
-        status: &report.status,
-        t_end: report.t_end,
-        steps: report.stats.steps,
-        rejected_steps: report.stats.rejected,
-        rhs_evaluations: report.stats.rhs_evals,
-        jacobian_evaluations: report.stats.jac_evals,
-        lu_decompositions: report.stats.lu_decompositions,
-        wall_seconds: report.wall_seconds,
-        rows,
-        max_abs: OrderedMap(&report.max_abs),
-        final_state: OrderedMap(&report.final_state),
-        active_effects: &report.active_effects,
-        state_dimension: report.state_dimension,
-        groups: serde_json::to_value(&report.groups).unwrap_or(serde_json::Value::Null),
-        scene,
-        source: Source { file: file.to_string(), overrides },
-    }
-}
-
 pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()> {
-    let scene = scene::load(&args.scene, &args.set)?;
-    for w in &scene.warnings {
+    let scene = Scene::load(&args.scene, &args.set)?;
+    for w in &scene.scene().warnings {
         noteln!("warning: {w}");
     }
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| default_out_dir(&args.scene));
-    let header = series_header(&scene);
-    let width = header.len() - 1;
+    let header = series_header(scene.scene());
 
     let dir = OutputDir::create(&out)?;
     let series_path = dir.join("series.csv");
@@ -138,49 +78,33 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
             return Err(e.into());
         }
     };
-    let mut progress = Progress::new(scene.run.duration, &format!("run {}", args.scene.display()));
-    let mut line = Vec::with_capacity(width + 1);
-    let mut width_error = None;
-    let result = simulate(&scene, &mut |t, row| {
-        if row.len() != width {
-            width_error.get_or_insert((t, row.len()));
-            return;
-        }
+    let mut line = Vec::with_capacity(header.len());
+    let monitor = Monitor { bar: true, ..Monitor::default() };
+    let result = stream_with(&scene, simulate, &monitor, &mut |t, row| {
         line.clear();
         line.push(t);
         line.extend_from_slice(row);
         csv.row(&line);
-        progress.set(t);
     });
-    progress.finish();
-
-    let report = match (result, width_error) {
-        (Ok(report), None) => report,
-        (Ok(_), Some((t, len))) => {
+    let outcome = match result {
+        Ok(outcome) => outcome,
+        Err(e) => {
             drop(csv);
             dir.discard();
-            anyhow::bail!("internal error: the model gave a row of {len} values at t = {t:e} s, expected {width}");
-        }
-        (Err(e), _) => {
-            drop(csv);
-            dir.discard();
-            return Err(
-                anyhow::Error::new(e).context(format!("cannot simulate {}", args.scene.display()))
-            );
+            return Err(e);
         }
     };
     let rows = csv.rows();
     let summary_path = dir.join("summary.json");
-    let written = csv.commit().and_then(|()| {
-        write_json(&summary_path, &summary(&report, &scene, rows, &args.scene.display().to_string(), &args.set))
-    });
+    let written = csv.commit().and_then(|()| write_json(&summary_path, &outcome.summary));
     if let Err(e) = written {
         let _ = std::fs::remove_file(&series_path);
         dir.discard();
         return Err(e.into());
     }
 
-    print_summary(&report, &scene, &out, rows)?;
+    let report = &outcome.report;
+    print_summary(report, scene.scene(), &out, rows)?;
     if args.plot {
         crate::plot::series_plot(&series_path, &out)
             .with_context(|| format!("plotting {}", series_path.display()))?;
@@ -201,7 +125,7 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
     Ok(())
 }
 
-fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) -> anyhow::Result<()> {
+fn print_summary(report: &RunReport, scene: &crate::scene::Scene, out: &Path, rows: u64) -> anyhow::Result<()> {
     let status = match &report.status {
         RunStatus::Completed => "completed".to_string(),
         RunStatus::BlowUp { t, mode } => format!("blow-up of {mode} at t = {t:e} s"),
@@ -251,11 +175,6 @@ fn print_summary(report: &RunReport, scene: &Scene, out: &Path, rows: u64) -> an
         out.join("summary.json").display()
     );
     Ok(())
-}
-
-/// The simulation entry points this command uses.
-mod sim {
-    pub use crate::model::{simulate, ModelError, RunReport, RunStatus};
 }
 
 #[cfg(test)]

@@ -3,9 +3,9 @@
 //! mergeable (`magbubble merge`). The work is [`crate::analysis::grid`]; docs/user-guide.md
 //! describes the CSV.
 
-use crate::analysis::grid::{self, GridAxis, GridOptions, GridStatus};
 use crate::analysis::sweep::Shard;
-use crate::scene::SceneTemplate;
+use crate::api::sweep::{self, GridAxis, GridRow, GridStatus, SweepRequest};
+use crate::api::{Monitor, Scene};
 use anyhow::Context as _;
 use std::path::PathBuf;
 
@@ -38,51 +38,57 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
         None => Shard::from_env()?.unwrap_or(Shard::ALL),
     };
     let axes = args.grid.iter().map(|g| GridAxis::parse(g)).collect::<Result<Vec<_>, _>>()?;
-    let template = SceneTemplate::load(&args.scene, &args.set)?;
-    for w in &template.scene().warnings {
+    let scene = Scene::load(&args.scene, &args.set)?;
+    for w in &scene.scene().warnings {
         noteln!("warning: {w}");
     }
-    let plan = grid::plan_grid(&template, &axes)?;
+    let plan = sweep::plan(&scene, &axes)?;
     noteln!("sweep: {} points, {} in shard {}/{}", plan.len(), plan.shard_len(shard), shard.index, shard.count);
     #[cfg(unix)]
     let cancel = Some(crate::output::cancel_on_signal());
     #[cfg(not(unix))]
     let cancel = None;
     let out_dir = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "sweep"));
-    let options = GridOptions {
-        out: Some(&out_dir),
-        shard: Some(shard),
-        keep_series: args.keep_series,
-        cancel,
-        progress_bar: true,
-        ..GridOptions::default()
-    };
-    let outcome = grid::run_grid(&plan, &options).with_context(|| format!("sweep of {}", args.scene.display()))?;
-    let csv = outcome.csv.clone().unwrap_or_default();
-    let count = |s: GridStatus| outcome.rows.iter().filter(|r| r.status == s).count();
+    let request = SweepRequest { out: Some(out_dir), shard: Some(shard), keep_series: args.keep_series, return_series: false };
+    let monitor = Monitor { cancel, bar: true, ..Monitor::default() };
+    let mut counts = [0usize; 3];
+    let mut first_failed: Option<GridRow> = None;
+    let outcome = sweep::sweep(&plan, &request, &monitor, &mut |row| {
+        match row.status {
+            GridStatus::Completed => counts[0] += 1,
+            GridStatus::BlowUp => counts[1] += 1,
+            GridStatus::Failed => {
+                counts[2] += 1;
+                first_failed.get_or_insert(row);
+            }
+            GridStatus::OutOfCredibleRange => {}
+        }
+    })
+    .with_context(|| format!("sweep of {}", args.scene.display()))?;
+    let csv = outcome.path.clone().unwrap_or_default();
     noteln!(
         "{}: {} runs ({} computed, {} resumed): {} completed, {} blow_up, {} failed",
         csv.display(),
-        outcome.rows.len(),
+        outcome.rows,
         outcome.computed,
         outcome.resumed,
-        count(GridStatus::Completed),
-        count(GridStatus::BlowUp),
-        count(GridStatus::Failed)
+        counts[0],
+        counts[1],
+        counts[2]
     );
     if outcome.cancelled {
-        noteln!("interrupted: {} finished rows kept in {}; rerun the same command to resume", outcome.rows.len(), csv.display());
+        noteln!("interrupted: {} finished rows kept in {}; rerun the same command to resume", outcome.rows, csv.display());
         crate::output::flush_out()?;
         #[cfg(unix)]
         std::process::exit(128 + crate::output::cancelling_signal().unwrap_or(libc::SIGINT));
         #[cfg(not(unix))]
         std::process::exit(130);
     }
-    if let Some(first) = outcome.rows.iter().find(|r| r.status == GridStatus::Failed) {
+    if let Some(first) = first_failed {
         anyhow::bail!(
             "{} of {} runs failed (first: index {}, {}: {}); their rows are in {}",
-            count(GridStatus::Failed),
-            outcome.rows.len(),
+            counts[2],
+            outcome.rows,
             first.index,
             plan.keys().iter().zip(&first.values).map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(", "),
             first.note,

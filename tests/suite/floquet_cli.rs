@@ -1,7 +1,7 @@
 //! Issue 13 parts 3 and 6: `floquet --json` always prints JSON, `--steps` is validated, the
 //! convergence estimate is reported; `stability --freq` lists and log spacing.
 
-use magbubble::cli::stability::parse_freq;
+use magbubble::api::stability::parse_freq;
 use std::process::Command;
 
 fn floquet(args: &[&str]) -> (bool, serde_json::Value) {

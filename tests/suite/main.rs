@@ -8,6 +8,7 @@ mod blow_up_time;
 mod bordered_lu;
 mod accuracy;
 mod cli_output_safety;
+mod api;
 mod cli_run;
 mod equations_jacobian;
 mod pressure_gradient;

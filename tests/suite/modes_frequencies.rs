@@ -89,7 +89,8 @@ fn odd_modes_beyond_the_tables_are_refused_with_a_field() {
 #[test]
 fn modes_json_says_which_orders_run_evolves() {
     let s = common::scene(6, 0.0, 1e6);
-    let j = magbubble::cli::modes::modes_json(&s, Some(6), false, "test").unwrap();
+    let f = magbubble::api::modes::frequencies(&s, Some(6), "test").unwrap();
+    let j = serde_json::to_value(magbubble::api::modes::Modes::Frequencies(f)).unwrap();
     let header = magbubble::output::series_header(&s);
     for m in j["shape"].as_array().unwrap() {
         let k = m["k"].as_u64().unwrap();

@@ -168,7 +168,7 @@ fn a_sweep_stable_everywhere_is_plotted_not_an_error() {
 #[test]
 fn error_rows_spell_nan_as_computed_rows_do() {
     use magbubble::analysis::stability::CRITICAL_HEADER;
-    let f = magbubble::cli::stability::error_fields("no orbit, at all");
+    let f = magbubble::api::stability::error_fields("no orbit, at all");
     assert_eq!(f.len(), CRITICAL_HEADER.len());
     assert_eq!(f[1], "error");
     assert_eq!(f[f.len() - 1], "no orbit, at all");

@@ -1,7 +1,8 @@
 //! `magbubble run` with fake simulations: files, atomicity, cleanup.
 
 use crate::integrate::Stats;
-use crate::model::Groups;
+use crate::model::{Groups, ModelError};
+use crate::scene::Scene;
 use super::*;
 
 /// `run SCENE --out OUT` (no overrides, no plot).
