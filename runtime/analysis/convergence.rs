@@ -6,6 +6,11 @@
 //! compared at common sample times (multiples of the coarsest step; every step of the ladder is
 //! an integer multiple of the reference step so the samples coincide exactly), the vorticity on
 //! the grid nodes at the end. The observed orders are least-squares slopes of log e against log Δt.
+//!
+//! The runs count steps of the staggered scheme directly (not the run loop,
+//! [`crate::integrate::run_loop`]): every rung must stay on exact multiples of the reference
+//! step, and the scheme's own `step` keeps Δt unshortened where the loop's landing on `t_stop`
+//! could cut a step by rounding.
 
 use crate::model::vorticity::staggered::Staggered;
 use crate::model::vorticity::{FullState, Grid, ModeCoupling, VorticityError};

@@ -15,6 +15,10 @@
 //! which an explicit Runge–Kutta scheme would need thousands of steps per period to survive.
 //! Blocks of the state that A(t) never couples (the shape modes without a field) are propagated
 //! separately, which turns one n×n exponential into n/3 exponentials of 3×3 matrices.
+//!
+//! Not on the run loop ([`crate::integrate::run_loop`]): the state is the matrix X itself,
+//! advanced by exp(Ω) on a fixed grid of `steps` per period (no error control, samples, budget
+//! or events); the run loop's steppers integrate vector states of an `OdeSystem`.
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{Complex, DMatrix, DVector, DefaultAllocator, OMatrix, SMatrix};

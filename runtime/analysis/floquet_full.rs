@@ -17,6 +17,10 @@
 //! Without a field the modes do not couple: each k is its own block of X(T), propagated as the
 //! one-mode monolithic system with the other modes held at zero (exact: their loads on mode k
 //! vanish). With a field (k ± 2 couplings) the shape state is one block.
+//!
+//! Not on the run loop ([`crate::integrate::run_loop`]): the SDIRK advances every column of X
+//! with the same five stage factorisations per step (one factorisation serves all columns),
+//! which a per-state stepper cannot share.
 
 use super::floquet::{FloquetError, Monodromy};
 use crate::model::vorticity::monolithic::Monolithic;

@@ -5,9 +5,12 @@
 //!   and Hairer's 8(5,3)), tableaus as data in [`tableau`].
 //! - [`Method::Radau5`]: Radau IIA, 3 stages, order 5 (Hairer's RADAU5 scheme) for the stiff
 //!   boundary-layer and vorticity systems (FORMULATION.md §4.3, audit item 12).
+//! - [`Method::Rosenbrock23`]: Shampine & Reichelt's ode23s pair, linearly implicit.
 //!
-//! [`solve`] is the driver (observer after every accepted step or at uniform sample times via
-//! dense output); [`Stepper`] gives one step at a time to code that owns its own loop;
+//! [`run_loop::run`] is the one integration loop every stepper runs in (budget, sampling,
+//! observers, stop times, events, typed stop reasons); [`solve`] / [`drive`] are that loop with
+//! sampling and a budget only; [`Stepper`] gives one step at a time (with `restart` and the
+//! dense output);
 //! [`rk4_step`] is a bare RK4 step for the staggered scheme; [`Variational`] turns a system into
 //! its variational equations (state and fundamental matrix) for Floquet analysis.
 //! See `docs/integrators.md` for the choices and the measurements.

@@ -257,7 +257,9 @@ impl<'c> Staggered<'c> {
     }
 
     /// Runs to `t_end` (the last step is shortened to land on it). `observer(state)` is called
-    /// after every step; returning `false` stops the run.
+    /// after every step; returning `false` stops the run. For studies that read the wall
+    /// vorticity after every step (tests); scene runs drive [`StaggeredStepper`] on the run loop
+    /// ([`crate::integrate::run_loop`]).
     pub fn run(
         &mut self,
         s: &mut FullState,
