@@ -77,7 +77,6 @@ mod sweep_grid;
 mod vorticity_linear;
 mod vorticity_scene;
 mod vorticity_structured;
-mod vorticity_study;
 mod hlb_parametric;
 mod fuzz_specs;
 mod figure_threads;
