@@ -154,25 +154,99 @@ fn free_bubble_scene_rules() {
     assert!((g.reynolds - R0 * (RHO * P0).sqrt() / ETA).abs() < 1e-12 * g.reynolds);
 }
 
-/// Every command on the shipped free-bubble scene, from the command line.
+/// Every command on the shipped free-bubble scene (R0 = 5 µm, κ = 1.4, p_v = 2330 Pa, ε_p = 0.2
+/// at 500 kHz, k = 2…8, no surface tension), from the command line, and what each writes:
+/// `run`: R(t) of series.csv against an RK4 integration of the Rayleigh–Plesset equation written
+/// here (free bubble: the radial equation does not see the shape modes without a field);
+/// `modes`: ω0 = √(3κ(p0 − p_v)/(ρR0²)) and neutral shape modes (no restoring force);
+/// `modes --damped`: the same neutrality of the damped spectrum; `floquet`: one multiplier per
+/// (a, ȧ) of each simulated mode (the free bubble's neutral b_k blocks left out), below 1 at this
+/// drive, over the drive period; `stability`: each point brackets max|μ| = 1 and the threshold
+/// is lower near the radial resonance (649 kHz) than below it; `accuracy`: the RK4 ladder shows
+/// order 4.
 #[test]
 fn every_command_runs_on_the_free_bubble_scene() {
     let exe = env!("CARGO_BIN_EXE_magbubble");
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/free_bubble.toml");
     let dir = std::env::temp_dir().join(format!("magbubble-liquid-{}", std::process::id()));
     let d = |s: &str| dir.join(s).display().to_string();
-    let runs: Vec<Vec<String>> = vec![
-        vec!["run".into(), scene.into(), "--out".into(), d("run"), "--set".into(), "run.duration=2e-6".into()],
-        vec!["modes".into(), scene.into(), "--json".into()],
-        vec!["modes".into(), scene.into(), "--damped".into()],
-        vec!["floquet".into(), scene.into(), "--json".into()],
-        vec!["stability".into(), scene.into(), "--freq".into(), "4e5:6e5:2".into(), "--out".into(), d("stab"),
-             "--set".into(), "modes.max_order=4".into()],
-        vec!["accuracy".into(), scene.into(), "--quick".into(), "--out".into(), d("acc")],
-    ];
-    for args in runs {
-        let out = Command::new(exe).args(&args).output().unwrap();
+    let run = |args: &[&str]| {
+        let out = Command::new(exe).args(args).output().unwrap();
         assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let (r0, pv, eps, f) = (5e-6, 2330.0, 0.2, 5e5);
+
+    // run: R(t) against Rayleigh–Plesset, R̈ = [p_v + p_g0 (R0/R)^{3κ} − p0(1 + ε cos ωt) − 4ηṘ/R]/(ρR) − 3Ṙ²/(2R)
+    run(&["run", scene, "--out", &d("run"), "--set", "run.duration=2e-6"]);
+    let csv = std::fs::read_to_string(dir.join("run/series.csv")).unwrap();
+    assert!(csv.starts_with("t,R,a2,b2,a4,b4,a6,b6,a8,b8\n"), "{}", csv.lines().next().unwrap_or(""));
+    let rows: Vec<(f64, f64)> = csv.lines().skip(1).map(|l| {
+        let mut c = l.split(',').map(|x| x.parse::<f64>().unwrap());
+        (c.next().unwrap(), c.next().unwrap())
+    }).collect();
+    assert_eq!(rows.len(), 201, "2 µs sampled every 10 ns");
+    let w = 2.0 * std::f64::consts::PI * f;
+    let rp = |t: f64, y: [f64; 2]| {
+        let (r, v) = (y[0], y[1]);
+        let p = (P0 - pv) * (r0 / r).powf(3.0 * KAPPA) + pv - P0 * (1.0 + eps * (w * t).cos()) - 4.0 * ETA * v / r;
+        [v, p / (RHO * r) - 1.5 * v * v / r]
+    };
+    let reference = rk4_at_rows(rp, r0, &rows, 1e-11, 1000, 1e-15);
+    let worst = rows.iter().zip(&reference).map(|(&(_, r), y)| (r - y).abs() / r0).fold(0.0, f64::max);
+    let swing = rows.iter().map(|&(_, r)| (r - r0).abs() / r0).fold(0.0, f64::max);
+    assert!(swing > 1e-2 && worst < 1e-6 * swing.max(1.0), "max |R − R_RP|/R0 = {worst:e} (swing {swing:e})");
+
+    // modes: the closed-form radial frequency, neutral shape modes
+    let modes: serde_json::Value = serde_json::from_str(&run(&["modes", scene, "--json"])).unwrap();
+    let w0 = (3.0 * KAPPA * (P0 - pv) / (RHO * r0 * r0)).sqrt();
+    let got = modes["radial"]["omega_rad_s"].as_f64().unwrap();
+    assert!((got / w0 - 1.0).abs() < 1e-12, "ω0 {got} vs {w0}");
+    let shape = modes["shape"].as_array().unwrap();
+    assert_eq!(shape.iter().map(|m| m["k"].as_u64().unwrap()).collect::<Vec<_>>(), (2..=8).collect::<Vec<_>>());
+    assert!(shape.iter().all(|m| m["omega_rad_s"].as_f64() == Some(0.0)), "no restoring force: {shape:?}");
+
+    // modes --damped: k = 2, 4, 6, 8, each s = 0 (the slowest root of a mode without stiffness)
+    let damped = run(&["modes", scene, "--damped"]);
+    let table: Vec<Vec<f64>> = damped.lines().skip(2).map(|l| l.split_whitespace().take(3).map(|x| x.parse().unwrap()).collect()).collect();
+    assert_eq!(table.iter().map(|r| r[0]).collect::<Vec<_>>(), [2.0, 4.0, 6.0, 8.0], "{damped}");
+    assert!(table.iter().all(|r| r[1] == 0.0 && r[2] == 0.0), "{damped}");
+
+    // floquet: (a, ȧ) multipliers of the 4 even modes over one drive period, stable at ε_p = 0.2
+    let fl: serde_json::Value = serde_json::from_str(&run(&["floquet", scene, "--json"])).unwrap();
+    assert_eq!(fl["drive_period_s"].as_f64(), Some(1.0 / f));
+    assert_eq!(fl["convergence"]["converged"].as_bool(), Some(true));
+    let mu: Vec<f64> = fl["multipliers"].as_array().unwrap().iter().map(|z| z[0].as_f64().unwrap().hypot(z[1].as_f64().unwrap())).collect();
+    assert_eq!(mu.len(), 2 * 4, "{mu:?}");
+    let max = mu.iter().copied().fold(0.0, f64::max);
+    let reported = fl["max_multiplier"].as_f64().unwrap();
+    assert!(max < 1.0 && (max - reported).abs() <= 1e-12 * reported, "{mu:?} vs max_multiplier {reported}");
+
+    // stability: two frequencies, each a bracket of max|μ| = 1; lower threshold near resonance
+    run(&["stability", scene, "--freq", "4e5:6e5:2", "--out", &d("stab"), "--set", "modes.max_order=4"]);
+    let st = std::fs::read_to_string(dir.join("stab/stability.csv")).unwrap();
+    let head: Vec<&str> = st.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap_or_else(|| panic!("column {name}"));
+    let pts: Vec<Vec<String>> = st.lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect();
+    assert_eq!(pts.len(), 2);
+    let num = |p: &Vec<String>, name: &str| p[col(name)].parse::<f64>().unwrap();
+    for p in &pts {
+        assert_eq!(p[col("outcome")], "critical", "{p:?}");
+        let (lo, hi) = (num(p, "stable"), num(p, "unstable"));
+        assert!(lo < hi && (hi - lo) < 1e-3 * hi && (lo..=hi).contains(&num(p, "critical")), "{p:?}");
+        assert!(num(p, "max_multiplier_stable") <= 1.0 && num(p, "max_multiplier_unstable") > 1.0, "{p:?}");
+    }
+    assert!(num(&pts[1], "critical") < num(&pts[0], "critical"), "600 kHz (near ω0) less stable than 400 kHz: {st}");
+
+    // accuracy: the RK4 rungs converge at order 4
+    run(&["accuracy", scene, "--quick", "--out", &d("acc")]);
+    let acc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("acc/accuracy.json")).unwrap()).unwrap();
+    let rk4 = acc["ladders"].as_array().unwrap().iter().find(|l| l["method"] == "rk4").expect("an RK4 ladder");
+    let rungs: Vec<(f64, f64)> = rk4["rungs"].as_array().unwrap().iter().map(|r| (r["setting"].as_f64().unwrap(), r["error"].as_f64().unwrap())).collect();
+    assert!(rungs.len() >= 2);
+    for p in rungs.windows(2) {
+        let order = (p[0].1 / p[1].1).ln() / (p[0].0 / p[1].0).ln();
+        assert!((3.6..4.4).contains(&order), "RK4 observed order {order} ({rungs:?})");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

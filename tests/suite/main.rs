@@ -86,7 +86,6 @@ mod trust_messages;
 mod vorticity_linear;
 mod vorticity_scene;
 mod vorticity_structured;
-mod vorticity_study;
 mod hlb_parametric;
 mod fuzz_specs;
 mod figure_threads;

@@ -1,8 +1,8 @@
 //! The terms' pressure-only gradients (`Term::add_pressure_gradient`, issue 16: the exact 2 × 2
-//! radial Jacobian of the periodic-orbit search) against the pressure row of their full
-//! `add_jacobian`, and the stability search's radial Jacobian against central differences of
-//! its right-hand side (random states; proptest, failures persist in
-//! tests/suite/proptest-regressions/pressure_gradient.txt).
+//! radial Jacobian of the periodic-orbit search) against central differences of the term's own
+//! pressure and against the pressure row of their full `add_jacobian`, and the stability
+//! search's radial Jacobian against central differences of its right-hand side (random states;
+//! proptest, failures persist in tests/suite/proptest-regressions/pressure_gradient.txt).
 
 use magbubble::analysis::stability::Radial;
 use magbubble::integrate::OdeSystem;
@@ -35,6 +35,7 @@ fn scenes() -> Vec<Scene> {
     ]
 }
 
+/// Number of scenes of [`scenes`] (the proptest ranges need a constant).
 const SCENES: usize = 11;
 
 fn config(cases: u32) -> ProptestConfig {
@@ -56,9 +57,53 @@ fn state() -> impl Strategy<Value = (f64, Vec<f64>)> {
     })
 }
 
+/// The proptests draw from `0..SCENES`: every scene of the list is drawn, and no index is past it.
 #[test]
-fn the_scene_list_is_complete() {
+fn the_proptests_draw_every_scene() {
     assert_eq!(scenes().len(), SCENES);
+}
+
+/// ∂P/∂(R, Ṙ) of every term against central differences of the term's own pressure
+/// (`Term::add` with no shape loads), Richardson-extrapolated (error O(h⁴)): an independent check
+/// of the gradient the two proptests below compare with the Jacobian's row. Deterministic states
+/// (a generic one per scene; the proptests vary them).
+#[test]
+fn pressure_gradient_matches_differences_of_the_pressure() {
+    let mut checked = 0;
+    for (which, scene) in scenes().iter().enumerate() {
+        let model = Model::from_scene(scene).unwrap();
+        let eq = model.boundary_layer().unwrap().equations();
+        let n = model.system().dim();
+        let z: Vec<f64> = (0..n).map(|i| match i {
+            0 => 1.13,
+            1 => -0.27,
+            i => 4e-3 * (0.9 * i as f64 + 0.3).sin(),
+        }).collect();
+        let t = 0.61;
+        for term in eq.terms() {
+            let pressure = |j: usize, h: f64| {
+                let mut zh = z.clone();
+                zh[j] += h;
+                let mut loads = Loads { pressure: 0.0, gn: &mut [], gt: &mut [] };
+                term.add(&At { t, z: &zh }, &mut loads);
+                loads.pressure
+            };
+            let mut dp = [0.0; 2];
+            term.add_pressure_gradient(&At { t, z: &z }, &mut dp);
+            for j in 0..2 {
+                let h = 1e-4 * z[j].abs().max(1e-2);
+                let d = |h: f64| (pressure(j, h) - pressure(j, -h)) / (2.0 * h);
+                let fd = (4.0 * d(h / 2.0) - d(h)) / 3.0;
+                let scale = dp[j].abs() + pressure(j, 0.0).abs() / z[j].abs().max(1e-2) + 1e-300;
+                assert!(
+                    (dp[j] - fd).abs() <= 1e-8 * scale,
+                    "scene {which}, term {}: ∂P/∂z_{j} = {:e}, central differences {fd:e}", term.name(), dp[j]
+                );
+                checked += usize::from(dp[j] != 0.0);
+            }
+        }
+    }
+    assert!(checked >= 2 * SCENES, "non-zero gradients checked: {checked}");
 }
 
 proptest! {
@@ -94,7 +139,7 @@ proptest! {
         let eq = model.boundary_layer().unwrap().equations();
         let mut z = z;
         if radial {
-            z[2..].fill(0.0);
+            z[magbubble::model::layout::StateLayout::RADIAL..].fill(0.0);
         }
         let at = At { t, z: &z };
         for term in eq.terms() {

@@ -83,6 +83,12 @@ fn second_order_magnetic_loads_are_negligible_against_the_membrane_at_the_paper_
     assert!(worst < 1e-2, "second-order magnetic/membrane = {worst:e}: the magnetic loads are not negligible at second order");
 }
 
+/// With the quadratic coupling on, the magnetic loads stay the linear ones (docs/model.md,
+/// "Quadratic mode coupling": the field tables are linear and their second order is negligible,
+/// the test above): the magnetic term of the quadratic model gives, at a generic state, the same
+/// loads to the bit as the linear model's, and they are affine in the shape amplitudes — the
+/// second difference along a direction of (a, ȧ, b) vanishes to rounding while the first does not
+/// (the same check on the quadratic membrane's loads finds its curvature).
 #[test]
 fn a_field_scene_is_accepted_with_quadratic_coupling_and_its_loads_stay_linear() {
     let s = load("scenes/coil_static.toml", &["modes.max_order=4", "modes.coupling=\"quadratic\""]).expect("scene");
@@ -90,4 +96,33 @@ fn a_field_scene_is_accepted_with_quadratic_coupling_and_its_loads_stay_linear()
     for t in ["magnetic", "quadratic coupling", "quadratic membrane"] {
         assert!(m.equations().has(t), "{t}");
     }
+    let linear = Model::from_scene(&load("scenes/coil_static.toml", &["modes.max_order=4"]).expect("scene")).expect("model");
+    let l = StateLayout::reduced(m.orders().len());
+    // a generic state near the sphere, and a direction in the shape amplitudes only
+    let z: Vec<f64> = (0..l.dim()).map(|i| if i == l.r() { 1.07 } else if i == l.rdot() { -0.2 } else { 3e-3 * (1.3 * i as f64).sin() }).collect();
+    let d: Vec<f64> = (0..l.dim()).map(|i| if i < StateLayout::RADIAL { 0.0 } else { 2e-2 * (0.7 * i as f64 + 0.4).cos() }).collect();
+    let loads = |model: &Model, name: &str, s: f64| {
+        let term = model.equations().terms().find(|t| t.name() == name).expect("the term");
+        let zs: Vec<f64> = z.iter().zip(&d).map(|(x, dx)| x + s * dx).collect();
+        let (mut gn, mut gt) = (vec![0.0; l.modes()], vec![0.0; l.modes()]);
+        let mut out = Loads { pressure: 0.0, gn: &mut gn, gt: &mut gt };
+        term.add(&At { t: 0.3, z: &zs }, &mut out);
+        let p = out.pressure;
+        std::iter::once(p).chain(gn).chain(gt).collect::<Vec<f64>>()
+    };
+    let bits = |v: Vec<f64>| v.into_iter().map(f64::to_bits).collect::<Vec<_>>();
+    assert_eq!(bits(loads(&m, "magnetic", 1.0)), bits(loads(&linear, "magnetic", 1.0)), "the quadratic scene's magnetic loads are the linear scene's");
+    // (second difference) / (first difference) along d: 0 for an affine load, O(1) × amplitude
+    // for a quadratic one
+    let curvature = |name: &str| {
+        let (l0, l1, l2) = (loads(&m, name, 0.0), loads(&m, name, 1.0), loads(&m, name, 2.0));
+        let first = l1.iter().zip(&l0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let second = l2.iter().zip(&l1).zip(&l0).map(|((c, b), a)| (c - 2.0 * b + a).abs()).fold(0.0, f64::max);
+        assert!(first > 0.0, "{name}: the loads depend on the amplitudes");
+        second / first
+    };
+    let (magnetic, membrane) = (curvature("magnetic"), curvature("quadratic membrane"));
+    eprintln!("second/first difference along d: magnetic {magnetic:.2e}, quadratic membrane {membrane:.2e}");
+    assert!(magnetic < 1e-12, "the magnetic loads are not affine in the amplitudes: {magnetic:e}");
+    assert!(membrane > 1e-3, "the check sees a quadratic load: {membrane:e}");
 }

@@ -294,8 +294,9 @@ impl<T: Lane> StructuredLu<T> {
         put(0, b[0]);
         put(1, b[1]);
         for k in 0..m {
-            for (i, o) in zl.amplitudes(k).zip(lay.amplitudes(k)) {
-                put(i, b[o]);
+            let (zk, yk) = (zl.a(k), lay.a(k));
+            for c in 0..StateLayout::AMPLITUDES {
+                put(zk + c, b[yk + c]);
             }
         }
         {
@@ -320,8 +321,9 @@ impl<T: Lane> StructuredLu<T> {
         b[1] = x(1);
         let ns = xr.len();
         for (k, row) in self.tw_rows.chunks_exact(ns.max(1)).enumerate() {
-            for (i, o) in zl.amplitudes(k).zip(lay.amplitudes(k)) {
-                b[o] = x(i);
+            let (zk, yk) = (zl.a(k), lay.a(k));
+            for c in 0..StateLayout::AMPLITUDES {
+                b[yk + c] = x(zk + c);
             }
             // s_k = δT_w,k (∂T_w,k/∂z · x_z, then ∂T_w,k/∂p · π, in that order)
             s[k / L][k % L] = dense_rows::dot(xr, row);

@@ -9,3 +9,4 @@ pub mod dopri_ref;
 pub mod membrane_loads;
 pub mod surface_jets;
 pub mod load_jacobian;
+pub mod hlb_reference;

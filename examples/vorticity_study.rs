@@ -1,17 +1,56 @@
-//! Measurements behind docs/vorticity.md (ignored: run with
-//! `cargo test --release --test vorticity_study -- --ignored --nocapture`).
+//! The measurements behind docs/vorticity.md (grid study, the staggered scheme's stability and
+//! convergence, timings): printed tables, no assertions (the asserting checks are in
+//! tests/suite/vorticity_*.rs). Run one with
+//!
+//! ```text
+//! cargo run --release --example vorticity_study -- MEASUREMENT
+//! ```
+//!
+//! MEASUREMENT: `grid`, `stability`, `threshold`, `convergence`, `staggered-timing`,
+//! `monolithic-timing`, `scan`, `scan-lagged` (see `MEASUREMENTS` below); none: the list.
 
 use magbubble::analysis::dispersion::LinearMode;
 use magbubble::model::vorticity::linear::{full_root, initial_guess, LinearCoupling};
 use magbubble::model::vorticity::staggered::{Staggered, WallCoupling};
 use magbubble::model::vorticity::Grid;
 
+/// The hand-built scenes and modes of the test suite (the paper's bubble).
+#[path = "../tests/suite/common/mod.rs"]
+mod common;
+
+/// (name, what it prints, the measurement)
+const MEASUREMENTS: [(&str, &str, fn()); 8] = [
+    ("grid", "discrete vs exact root per grid, k = 2, 8, 16, 32 (docs/vorticity.md, grid table)", grid_study),
+    ("stability", "staggered scheme bounded or not per k and Δt′ over 10 µs", staggered_stability),
+    ("threshold", "largest stable Δt′ of the staggered scheme per k (bisection)", staggered_stability_threshold),
+    ("convergence", "staggered free-decay convergence, k = 2…16 (docs/vorticity.md)", staggered_free_decay_convergence),
+    ("staggered-timing", "staggered steps per second, 100 and 200 points", staggered_timing),
+    ("monolithic-timing", "monolithic Radau5 work and time against the staggered scheme", monolithic_timing),
+    ("scan", "stability scan, T_w in the right-hand side (docs/vorticity.md)", staggered_stability_scan),
+    ("scan-lagged", "stability scan, T_w lagged (the paper's wording)", staggered_stability_scan_lagged_wall),
+];
+
+fn main() {
+    let which = std::env::args().nth(1);
+    match MEASUREMENTS.iter().find(|m| Some(m.0) == which.as_deref()) {
+        Some((_, _, run)) => run(),
+        None => {
+            if let Some(w) = which {
+                eprintln!("unknown measurement {w:?}");
+            }
+            eprintln!("usage: cargo run --release --example vorticity_study -- MEASUREMENT");
+            for (name, what, _) in MEASUREMENTS {
+                eprintln!("  {name:18} {what}");
+            }
+            std::process::exit(2);
+        }
+    }
+}
+
 fn mode(k: usize) -> LinearMode {
     crate::common::paper_mode(k)
 }
 
-#[test]
-#[ignore]
 fn grid_study() {
     for k in [2usize, 8, 16, 32] {
         let m = mode(k);
@@ -33,8 +72,6 @@ fn grid_study() {
     }
 }
 
-#[test]
-#[ignore]
 fn staggered_stability() {
     let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
     let g = Grid::new(3.0, 200, 30.0).unwrap();
@@ -59,8 +96,6 @@ fn staggered_stability() {
 }
 
 /// Largest stable Δt′ of the staggered scheme per k (bisection on free decay over 10 µs).
-#[test]
-#[ignore]
 fn staggered_stability_threshold() {
     let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
     let g = Grid::new(3.0, 200, 30.0).unwrap();
@@ -94,8 +129,6 @@ fn staggered_stability_threshold() {
     }
 }
 
-#[test]
-#[ignore]
 fn staggered_free_decay_convergence() {
     use magbubble::analysis::convergence::convergence_study;
     let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
@@ -112,8 +145,6 @@ fn staggered_free_decay_convergence() {
     println!("orders: s {:?} f {:?}", rep.order_s, rep.order_f);
 }
 
-#[test]
-#[ignore]
 fn staggered_timing() {
     let t_star = (1000.0f64 * 1e-15 / 0.2).sqrt();
     for pts in [100usize, 200] {
@@ -136,8 +167,6 @@ fn mode_nd(k: usize) -> LinearMode {
     crate::common::paper_mode_nd(k, 44.72)
 }
 
-#[test]
-#[ignore]
 fn monolithic_timing() {
     use magbubble::integrate::{solve, Control, Method, Output};
     use magbubble::model::vorticity::monolithic::Monolithic;
@@ -155,7 +184,7 @@ fn monolithic_timing() {
             let (stats, y) = (sol.stats, sol.y);
             let el = t0.elapsed().as_secs_f64();
             // reference: staggered at small dt
-            println!("points {pts} rtol {rtol:e}: {stats:?} in {el:.3} s; a2(end) = {:.6e}", y[2]);
+            println!("points {pts} rtol {rtol:e}: {stats:?} in {el:.3} s; a2(end) = {:.6e}", y[sys.layout().a(0)]);
         }
         let mut stg = Staggered::new(&c, g.clone(), 1e-4).unwrap();
         let mut s = init.clone();
@@ -191,14 +220,10 @@ fn staggered_scan(wall: WallCoupling) {
     }
 }
 
-#[test]
-#[ignore]
 fn staggered_stability_scan() {
     staggered_scan(WallCoupling::default());
 }
 
-#[test]
-#[ignore]
 fn staggered_stability_scan_lagged_wall() {
     staggered_scan(WallCoupling::Lagged);
 }
