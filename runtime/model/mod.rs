@@ -109,8 +109,13 @@ impl Model {
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
         // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
         let mut material = Vec::new();
-        if !scene.shell.is_free() {
+        if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
             terms.push(Box::new(membrane_term(&params, &kf)));
+            material.push(terms.len() - 1);
+        }
+        // issue 31: a Marmottant law replaces the membrane (c1 keeps setting t*)
+        if let Some(t) = effects::lipid::term(&scene.shell.law, &scales, &kf) {
+            terms.push(Box::new(t));
             material.push(terms.len() - 1);
         }
         // issue 11 / issue 10 part 2: only the shell effects the scene switches on (γ, then the
@@ -404,8 +409,11 @@ fn quadratic_shell_terms(
 /// is left out), when the scene has any (issue 12; effects/quadratic_frame.rs).
 fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64]) -> Option<effects::quadratic_frame::FrameMap> {
     let mut lagrangian: Vec<Box<dyn Term>> = Vec::new();
-    if !scene.shell.is_free() {
+    if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
         lagrangian.push(Box::new(membrane_term(params, kf)));
+    }
+    if let Some(t) = effects::lipid::term(&scene.shell.law, sc, kf) {
+        lagrangian.push(Box::new(t));
     }
     lagrangian.extend(effects::shell::terms(&material_shell(&scene.shell), sc, params.r0, kf));
     effects::quadratic_frame::FrameMap::new(lagrangian, kf)
@@ -434,6 +442,8 @@ fn law_name(law: &crate::scene::ShellLaw) -> &'static str {
     match law {
         crate::scene::ShellLaw::MooneyRivlin => "mooney_rivlin",
         crate::scene::ShellLaw::Skalak { .. } => "skalak",
+        // branch-wise tables (effects/lipid.rs), not one law's: refused by check_quadratic
+        crate::scene::ShellLaw::Marmottant(_) | crate::scene::ShellLaw::MarmottantSmooth(_) => "",
     }
 }
 

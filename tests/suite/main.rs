@@ -9,6 +9,7 @@ mod bordered_lu;
 mod accuracy;
 mod cli_run;
 mod equations_jacobian;
+mod marmottant;
 mod pressure_gradient;
 mod floquet_blocks;
 mod cli_run_real;

@@ -20,6 +20,7 @@
 
 pub mod drive;
 pub mod gas;
+pub mod lipid;
 pub mod magnetic;
 pub mod membrane;
 pub mod quadratic;
