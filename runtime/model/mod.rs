@@ -17,6 +17,7 @@ pub mod effects;
 pub mod equations;
 pub mod keller_miksis;
 pub mod linearize;
+pub mod natural;
 mod material;
 pub mod params;
 pub mod radial;
@@ -175,14 +176,17 @@ impl Model {
             System::Radial(RadialSystem { eq })
         } else {
             let nu = params.eta / params.rho;
+            // ω_k of the full stiffness of the assembled laws (issue 31 part 3; model/natural.rs)
+            let omega_k = natural::omega_k(&eq);
             let modes = orders
                 .iter()
-                .map(|&k| {
+                .enumerate()
+                .map(|(m, &k)| {
                     let kf = k as f64;
                     // FORMULATION audit 13: ω = ω_d when driven (Auto), ω_k of §4.4 otherwise.
                     let omega = match (scene.modes.boundary_layer_frequency, params.drive) {
                         (BoundaryLayerFrequency::Auto, Some((_, w))) => w,
-                        _ => params.omega_k(kf),
+                        _ => omega_k[m],
                     };
                     ModeConst { k: kf, viscous_length: (nu / omega).sqrt() }
                 })
