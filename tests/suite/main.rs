@@ -6,6 +6,7 @@ mod support;
 
 mod blow_up_time;
 mod bordered_lu;
+mod boundary_layer_omega;
 mod accuracy;
 mod cli_run;
 mod equations_jacobian;
