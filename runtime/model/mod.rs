@@ -135,7 +135,15 @@ impl Model {
             check_quadratic(scene)?;
             let gamma = scene.shell.surface_tension / (scales.pressure * scales.length);
             second.push(Box::new(effects::quadratic::QuadraticCoupling::new(params.rho, gamma, params.three_kappa, params.pg0, params.r0, &kf)));
-            if !scene.shell.is_free() {
+            if let Some(law) = effects::lipid::LipidLaw::from_scene(&scene.shell.law, &scales) {
+                // issue 31: the kinked Marmottant law's, branch by branch
+                let t = effects::lipid_quadratic::LipidQuadratic::new(law, &kf).ok_or(ModelError::Unsupported {
+                    key: "shell.law",
+                    value: "marmottant-smooth".into(),
+                    reason: "modes.coupling = quadratic: the smooth law's second-order loads need W‴ (not derived); use shell.law = \"marmottant\"",
+                })?;
+                terms.push(Box::new(t));
+            } else if !scene.shell.is_free() {
                 // the membrane's second-order loads need no accelerations: an ordinary term
                 terms.push(Box::new(quadratic_membrane_term(scene, &params, &kf)?));
             }
@@ -364,6 +372,9 @@ impl Model {
 fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
     let refuse = |reason: &'static str| Err(ModelError::Unsupported { key: "modes.coupling", value: "quadratic".into(), reason });
     let sh = &scene.shell;
+    if let crate::scene::ShellLaw::MarmottantSmooth(_) = sh.law {
+        return refuse("the smooth Marmottant law's second-order loads need W‴ (not derived); use shell.law = \"marmottant\"");
+    }
     if !sh.is_free() && effects::quadratic_membrane::QuadraticMembrane::law(law_name(&sh.law)).is_none() {
         return refuse("the second-order membrane loads of this shell.law are not derived (derivations/shell/ laws with a strain energy W are)");
     }
@@ -446,8 +457,10 @@ fn law_name(law: &crate::scene::ShellLaw) -> &'static str {
     match law {
         crate::scene::ShellLaw::MooneyRivlin => "mooney_rivlin",
         crate::scene::ShellLaw::Skalak { .. } => "skalak",
-        // branch-wise tables (effects/lipid.rs), not one law's: refused by check_quadratic
-        crate::scene::ShellLaw::Marmottant(_) | crate::scene::ShellLaw::MarmottantSmooth(_) => "",
+        // branch-wise use of the spec's tables (effects/lipid_quadratic.rs); the smooth law is
+        // refused by check_quadratic
+        crate::scene::ShellLaw::Marmottant(_) => "marmottant",
+        crate::scene::ShellLaw::MarmottantSmooth(_) => "",
     }
 }
 

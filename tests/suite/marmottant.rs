@@ -262,13 +262,16 @@ fn branch_margins_change_sign_at_the_branch_radii() {
 #[test]
 fn marmottant_jacobian_is_exact_on_every_branch() {
     // the boundary-layer Jacobian against central differences at states on the buckled,
-    // elastic and ruptured branches (R_b = 0.981, R_r = 1.049 R0), kinked and smooth
+    // elastic and ruptured branches (R_b = 0.981, R_r = 1.049 R0), kinked, smooth, and kinked with
+    // the quadratic coupling (effects/lipid_quadratic.rs)
     use magbubble::integrate::OdeSystem;
     let base = ["modes.max_order=8", "shell.law=\"marmottant\"", "shell.elasticity=0.5", "shell.initial_tension=0.02", "shell.dilatational_viscosity=5e-9", "drive.amplitude=0.5"];
     let mut smooth = base.to_vec();
     smooth[1] = "shell.law=\"marmottant-smooth\"";
     smooth.push("shell.smoothing=0.01");
-    for set in [base.to_vec(), smooth] {
+    let mut quadratic = base.to_vec();
+    quadratic.push("modes.coupling=\"quadratic\"");
+    for set in [base.to_vec(), smooth, quadratic] {
         let s = magbubble::scene::load("scenes/coil_static.toml", &set).unwrap();
         let model = magbubble::model::Model::from_scene(&s).unwrap();
         let bl = model.boundary_layer().unwrap();
@@ -289,4 +292,11 @@ fn marmottant_jacobian_is_exact_on_every_branch() {
             }
         }
     }
+}
+
+#[test]
+fn the_smooth_law_with_the_quadratic_coupling_is_refused() {
+    let s = magbubble::scene::load("scenes/no_field.toml", &["shell.law=\"marmottant-smooth\"", "shell.elasticity=0.5", "modes.coupling=\"quadratic\""]).unwrap();
+    let e = magbubble::model::Model::from_scene(&s).unwrap_err().to_string();
+    assert!(e.contains("modes.coupling") && e.contains("smooth"), "{e}");
 }
