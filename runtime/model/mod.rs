@@ -18,6 +18,7 @@ pub mod equations;
 pub mod keller_miksis;
 pub mod layout;
 pub mod linearize;
+pub mod natural;
 mod material;
 pub mod params;
 pub mod radial;
@@ -119,8 +120,13 @@ impl Model {
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
         // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
         let mut material = Vec::new();
-        if !scene.shell.is_free() {
+        if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
             terms.push(Box::new(membrane_term(&params, &kf)));
+            material.push(terms.len() - 1);
+        }
+        // issue 31: a Marmottant law replaces the membrane (c1 keeps setting t*)
+        if let Some(t) = effects::lipid::term(&scene.shell.law, &scales, &kf) {
+            terms.push(Box::new(t));
             material.push(terms.len() - 1);
         }
         // issue 11 / issue 10 part 2: only the shell effects the scene switches on (γ, then the
@@ -139,7 +145,15 @@ impl Model {
             check_quadratic(scene)?;
             let gamma = scene.shell.surface_tension / (scales.pressure * scales.length);
             second.push(Box::new(effects::quadratic::QuadraticCoupling::new(params.rho, gamma, params.three_kappa, params.pg0, params.r0, &kf)));
-            if !scene.shell.is_free() {
+            if let Some(law) = effects::lipid::LipidLaw::from_scene(&scene.shell.law, &scales) {
+                // issue 31: the kinked Marmottant law's, branch by branch
+                let t = effects::lipid_quadratic::LipidQuadratic::new(law, &kf).ok_or(ModelError::Unsupported {
+                    key: "shell.law",
+                    value: "marmottant-smooth".into(),
+                    reason: "modes.coupling = quadratic: the smooth law's second-order loads need W‴ (not derived); use shell.law = \"marmottant\"",
+                })?;
+                terms.push(Box::new(t));
+            } else if !scene.shell.is_free() {
                 // the membrane's second-order loads need no accelerations: an ordinary term
                 terms.push(Box::new(quadratic_membrane_term(scene, &params, &kf)?));
             }
@@ -180,14 +194,17 @@ impl Model {
             System::Radial(RadialSystem { eq })
         } else {
             let nu = params.eta / params.rho;
+            // ω_k of the full stiffness of the assembled laws (issue 31 part 3; model/natural.rs)
+            let omega_k = natural::omega_k(&eq);
             let modes = orders
                 .iter()
-                .map(|&k| {
+                .enumerate()
+                .map(|(m, &k)| {
                     let kf = k as f64;
                     // FORMULATION audit 13: ω = ω_d when driven (Auto), ω_k of §4.4 otherwise.
                     let omega = match (scene.modes.boundary_layer_frequency, params.drive) {
                         (BoundaryLayerFrequency::Auto, Some((_, w))) => w,
-                        _ => params.omega_k(kf),
+                        _ => omega_k[m],
                     };
                     ModeConst { k: kf, viscous_length: (nu / omega).sqrt() }
                 })
@@ -374,6 +391,9 @@ impl Model {
 fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
     let refuse = |reason: &'static str| Err(ModelError::Unsupported { key: "modes.coupling", value: "quadratic".into(), reason });
     let sh = &scene.shell;
+    if let crate::scene::ShellLaw::MarmottantSmooth(_) = sh.law {
+        return refuse("the smooth Marmottant law's second-order loads need W‴ (not derived); use shell.law = \"marmottant\"");
+    }
     if !sh.is_free() && effects::quadratic_membrane::QuadraticMembrane::law(law_name(&sh.law)).is_none() {
         return refuse("the second-order membrane loads of this shell.law are not derived (derivations/shell/ laws with a strain energy W are)");
     }
@@ -423,8 +443,11 @@ fn quadratic_shell_terms(
 /// is left out), when the scene has any (issue 12; effects/quadratic_frame.rs).
 fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64]) -> Option<effects::quadratic_frame::FrameMap> {
     let mut lagrangian: Vec<Box<dyn Term>> = Vec::new();
-    if !scene.shell.is_free() {
+    if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
         lagrangian.push(Box::new(membrane_term(params, kf)));
+    }
+    if let Some(t) = effects::lipid::term(&scene.shell.law, sc, kf) {
+        lagrangian.push(Box::new(t));
     }
     lagrangian.extend(effects::shell::terms(&material_shell(&scene.shell), sc, params.r0, kf));
     effects::quadratic_frame::FrameMap::new(lagrangian, kf)
@@ -453,6 +476,10 @@ fn law_name(law: &crate::scene::ShellLaw) -> &'static str {
     match law {
         crate::scene::ShellLaw::MooneyRivlin => "mooney_rivlin",
         crate::scene::ShellLaw::Skalak { .. } => "skalak",
+        // branch-wise use of the spec's tables (effects/lipid_quadratic.rs); the smooth law is
+        // refused by check_quadratic
+        crate::scene::ShellLaw::Marmottant(_) => "marmottant",
+        crate::scene::ShellLaw::MarmottantSmooth(_) => "",
     }
 }
 

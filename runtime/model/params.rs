@@ -103,7 +103,9 @@ impl Membrane {
     /// functions take (G_s, C) where Mooney–Rivlin takes (c1, c2): same signature.
     pub fn for_law(law: ShellLaw, form: MembraneForm) -> Self {
         match (law, form) {
-            (ShellLaw::MooneyRivlin, form) => Self::new(form),
+            // a Marmottant law is not a membrane table (effects/lipid.rs): the Mooney–Rivlin
+            // tables with zero constants stand in where a table is read (odd-mode frequencies)
+            (ShellLaw::MooneyRivlin | ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_), form) => Self::new(form),
             (ShellLaw::Skalak { .. }, MembraneForm::Paper) => tables!(membrane::skalak::paper),
             (ShellLaw::Skalak { .. }, MembraneForm::Tension) => tables!(membrane::skalak::tension),
         }
@@ -161,7 +163,13 @@ impl Params {
             p0: p(s.liquid.ambient_pressure),
             pg0: {
                 let pg0 = p(s.gas.reference_pressure);
-                if s.gas.reference_pressure_given || s.shell.is_free() {
+                let lipid = crate::model::effects::lipid::LipidLaw::from_scene(&s.shell.law, sc);
+                if s.gas.reference_pressure_given {
+                    pg0
+                } else if let Some(l) = lipid {
+                    // + Ŝ0(R0) = 2σ(R0)/R0 of the Marmottant law (issue 31)
+                    pg0 + l.s0(1.0).0
+                } else if s.shell.is_free() {
                     pg0
                 } else {
                     // + Ŝ0(R0): zero for a membrane unstressed at R0 (the shipped laws)
@@ -176,6 +184,7 @@ impl Params {
             membrane_args: match s.shell.law {
                 ShellLaw::MooneyRivlin => (c(s.shell.c1), c(s.shell.c2)),
                 ShellLaw::Skalak { shear_modulus, area_dilatation } => (c(shear_modulus), area_dilatation),
+                ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) => (0.0, 0.0),
             },
         }
     }

@@ -56,6 +56,11 @@ pub struct RawShell {
     pub shear_viscosity: Option<f64>,
     pub dilatational_viscosity: Option<f64>,
     pub surface_tension: Option<f64>,
+    pub elasticity: Option<f64>,
+    pub buckling_radius: Option<f64>,
+    pub initial_tension: Option<f64>,
+    pub rupture_tension: Option<f64>,
+    pub smoothing: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

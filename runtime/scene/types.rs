@@ -135,11 +135,38 @@ pub enum ShellLaw {
         /// C [–]; small strain: K = G_s(1 + 2C).
         area_dilatation: f64,
     },
+    /// Marmottant et al. 2005, buckled / elastic / ruptured (docs/model.md, "Lipid shells").
+    Marmottant(Lipid),
+    /// The same with a smooth tension of width `smoothing`.
+    MarmottantSmooth(Lipid),
+}
+
+/// The constants of a Marmottant shell, resolved (R_b and σ(R0) both, from whichever was given).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Lipid {
+    /// χ [N/m]
+    pub elasticity: f64,
+    /// R_b [m]
+    pub buckling_radius: f64,
+    /// σ(R0) [N/m] of the kinked law
+    pub initial_tension: f64,
+    /// σ_r [N/m]
+    pub rupture_tension: f64,
+    /// s [N/m] (marmottant-smooth only)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub smoothing: Option<f64>,
 }
 
 impl ShellLaw {
     pub fn is_mooney_rivlin(&self) -> bool {
         matches!(self, ShellLaw::MooneyRivlin)
+    }
+    /// The Marmottant constants, for either Marmottant law.
+    pub fn lipid(&self) -> Option<&Lipid> {
+        match self {
+            ShellLaw::Marmottant(l) | ShellLaw::MarmottantSmooth(l) => Some(l),
+            _ => None,
+        }
     }
 }
 

@@ -8,6 +8,7 @@ use super::types::*;
 
 mod check;
 mod warn;
+mod lipid;
 use check::Check;
 
 impl TryFrom<RawScene> for Scene {
@@ -89,7 +90,13 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
 
     let rs = raw.shell.unwrap_or_default();
     let (c1, c2) = (c.float("shell.c1", rs.c1), c.float("shell.c2", rs.c2));
-    let law = match c.choice("shell.law", rs.law.as_deref()) {
+    let law_name = c.choice("shell.law", rs.law.as_deref());
+    if !law_name.starts_with("marmottant") {
+        lipid::refuse_keys(c, &rs, law_name);
+    }
+    let law = match law_name {
+        "marmottant" => ShellLaw::Marmottant(lipid::build(c, &rs, r0, false)),
+        "marmottant-smooth" => ShellLaw::MarmottantSmooth(lipid::build(c, &rs, r0, true)),
         "skalak" => ShellLaw::Skalak {
             shear_modulus: c.float_or("shell.shear_modulus", rs.shear_modulus, 2.0 * (c1 + c2)),
             area_dilatation: c.float("shell.area_dilatation", rs.area_dilatation),

@@ -6,11 +6,13 @@ mod support;
 
 mod blow_up_time;
 mod bordered_lu;
+mod boundary_layer_omega;
 mod accuracy;
 mod cli_output_safety;
 mod api;
 mod cli_run;
 mod equations_jacobian;
+mod marmottant;
 mod pressure_gradient;
 mod run_loop;
 mod floquet_blocks;

@@ -20,6 +20,8 @@
 
 pub mod drive;
 pub mod gas;
+pub mod lipid;
+pub mod lipid_quadratic;
 pub mod magnetic;
 pub mod membrane;
 pub mod quadratic;

@@ -249,7 +249,7 @@ pub fn terms(shell: &Shell, sc: &Scales, r0: f64, orders: &[f64]) -> Vec<Box<dyn
     out
 }
 
-/// (Ŝ1, Ŝ2, Ŝ11, Ŝ12) of the shell effects `shell` switches on (γ, k_b), for any mode k at R
+/// (Ŝ1, Ŝ2, Ŝ11, Ŝ12) of the shell effects `shell` switches on (γ, k_b, a Marmottant law), for any mode k at R
 /// (the odd modes of `modes`, which the model does not assemble).
 pub fn extra_stiffness(shell: &Shell, sc: &Scales, r0: f64, r: f64, k: f64) -> [f64; 4] {
     let mut out = [0.0; 4];
@@ -263,6 +263,11 @@ pub fn extra_stiffness(shell: &Shell, sc: &Scales, r0: f64, r: f64, k: f64) -> [
     }
     if shell.bending_modulus != 0.0 {
         add(bending_table(), shell.bending_modulus / (sc.pressure * sc.length.powi(3)));
+    }
+    if let Some(l) = super::lipid::LipidLaw::from_scene(&shell.law, sc) {
+        for (o, s) in out.iter_mut().zip(l.stiffness(r, k)) {
+            *o += s;
+        }
     }
     out
 }

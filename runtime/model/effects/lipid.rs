@@ -1,0 +1,216 @@
+//! Lipid monolayers whose energy depends on the area alone (issue 31; docs/model.md, "Lipid
+//! shells: Marmottant"): Marmottant et al. 2005 (JASA 118, 3499, eq 1) and its smooth variant.
+//!
+//! The tension (force per current length) is a function τ(J) of the area ratio J = A/A0 =
+//! (R/R0)² of the spherical state: buckled τ = 0 (R < R_b), elastic τ = χ(R²/R_b² − 1),
+//! ruptured τ = σ_r (R > R_r = R_b √(1 + σ_r/χ), reversibly: the variant of APECSS,
+//! `src/interface.c`, `apecss_interface_surfacetension_marmottant`). As an energy per reference
+//! area W(J) with W′ = τ, the linear loads of any such law are linear in (W′, W″) at J: the
+//! generated tables of `derivations/shell/marmottant.rs` (W = chib J²/2 − chi J, tension form)
+//! with chi = Jτ′ − τ, chib = τ′ give them exactly — S0 = 2τ/R, S1 = (n − 2)τ/R² + 4τ′/R0²,
+//! S2 = −2nτ′/R0², S11 = −2τ′/R0², S12 = nτ′/R0². Their R-derivative adds the chain rule through
+//! (chi, chib) with τ″, which vanishes inside each branch of the kinked law.
+//!
+//! The branch switches are kinks of τ at R = R_b and R = R_r: [`LipidLaw::branch_margins`] gives
+//! their signed margins at a state, the hook for the integration loop's event functions
+//! (`Model::events`, being built beside this: until then the adaptive controller steps over the
+//! kinks).
+
+use super::{a_index, At, LoadJacobian, Loads, PressureRate, Term};
+use crate::coefficients::membrane::marmottant::tension as m;
+use crate::model::params::Scales;
+use crate::scene::{Lipid, ShellLaw};
+
+/// The Marmottant tension law of a scene, nondimensional (FORMULATION §4.5: tensions like c1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LipidLaw {
+    /// χ
+    pub chi: f64,
+    /// J_b = (R_b/R0)²
+    pub jb: f64,
+    /// σ_r
+    pub sigma_r: f64,
+    /// s of the smooth variant (None: the kinked law)
+    pub smoothing: Option<f64>,
+    /// R0 (1 in model units)
+    pub r0: f64,
+}
+
+/// softplus(z) = ln(1 + e^z), without overflow.
+fn softplus(z: f64) -> f64 {
+    z.max(0.0) + (-z.abs()).exp().ln_1p()
+}
+
+/// The logistic function 1/(1 + e^−z) = (1 + tanh(z/2))/2.
+fn logistic(z: f64) -> f64 {
+    0.5 * (1.0 + (0.5 * z).tanh())
+}
+
+impl LipidLaw {
+    /// The law of a scene's `shell.law`, if it is a Marmottant law.
+    pub fn from_scene(law: &ShellLaw, sc: &Scales) -> Option<Self> {
+        let l: &Lipid = law.lipid()?;
+        let t = |v: f64| v / (sc.pressure * sc.length);
+        Some(Self {
+            chi: t(l.elasticity),
+            jb: (l.buckling_radius / sc.length).powi(2),
+            sigma_r: t(l.rupture_tension),
+            smoothing: l.smoothing.map(t),
+            r0: 1.0,
+        })
+    }
+
+    /// R_b, R_r in model units.
+    pub fn radii(&self) -> (f64, f64) {
+        let rb = self.jb.sqrt() * self.r0;
+        (rb, rb * (1.0 + self.sigma_r / self.chi).sqrt())
+    }
+
+    /// The signed branch margins at radius `r` (model units): [R − R_b, R − R_r]. A sign change
+    /// of either is a branch switch of the kinked law (buckled below R_b, ruptured above R_r);
+    /// for the smooth law they mark the centres of its two blends. The event functions the
+    /// integration loop is to locate (`Model::events`, at merge).
+    pub fn branch_margins(&self, r: f64) -> [f64; 2] {
+        let (rb, rr) = self.radii();
+        [r - rb, r - rr]
+    }
+
+    /// τ(J), dτ/dJ, d²τ/dJ².
+    pub fn tension(&self, j: f64) -> [f64; 3] {
+        let (chi, sr) = (self.chi, self.sigma_r);
+        let x = chi * (j / self.jb - 1.0);
+        let xj = chi / self.jb;
+        match self.smoothing {
+            None if x < 0.0 => [0.0, 0.0, 0.0],
+            None if x <= sr => [x, xj, 0.0],
+            None => [sr, 0.0, 0.0],
+            Some(s) => {
+                // τ = s[sp(x/s) − sp((x − σ_r)/s)]: dτ/dx = L(x/s) − L((x − σ_r)/s), a tanh blend
+                let (z1, z2) = (x / s, (x - sr) / s);
+                let (l1, l2) = (logistic(z1), logistic(z2));
+                let tau = s * (softplus(z1) - softplus(z2));
+                let d2 = (l1 * (1.0 - l1) - l2 * (1.0 - l2)) / s;
+                [tau, xj * (l1 - l2), xj * xj * d2]
+            }
+        }
+    }
+
+    /// The generated tables' (chi, chib) at R and their R-derivatives: chi = Jτ′ − τ, chib = τ′.
+    #[inline]
+    fn args(&self, r: f64) -> ((f64, f64), (f64, f64)) {
+        let r0 = self.r0;
+        let j = (r / r0) * (r / r0);
+        let [tau, tj, tjj] = self.tension(j);
+        let dj = 2.0 * r / (r0 * r0);
+        ((j * tj - tau, tj), (dj * j * tjj, dj * tjj))
+    }
+
+    /// Ŝ0 and its exact R-derivative.
+    pub fn s0(&self, r: f64) -> (f64, f64) {
+        let ((u, v), (du, dv)) = self.args(r);
+        let r0 = self.r0;
+        (m::s0(r, r0, u, v), m::s0_dr(r, r0, u, v) + du * m::s0(r, r0, 1.0, 0.0) + dv * m::s0(r, r0, 0.0, 1.0))
+    }
+
+    /// (Ŝ1, Ŝ2, Ŝ11, Ŝ12) of mode k at R.
+    pub fn stiffness(&self, r: f64, k: f64) -> [f64; 4] {
+        let ((u, v), _) = self.args(r);
+        let r0 = self.r0;
+        [m::s1(r, r0, u, v, k), m::s2(r, r0, u, v, k), m::s11(r, r0, u, v, k), m::s12(r, r0, u, v, k)]
+    }
+
+    /// Their exact R-derivatives.
+    pub fn stiffness_dr(&self, r: f64, k: f64) -> [f64; 4] {
+        let ((u, v), (du, dv)) = self.args(r);
+        let r0 = self.r0;
+        let chain = |f: fn(f64, f64, f64, f64, f64) -> f64, fdr: fn(f64, f64, f64, f64, f64) -> f64| {
+            let mut d = fdr(r, r0, u, v, k);
+            if du != 0.0 || dv != 0.0 {
+                d += du * f(r, r0, 1.0, 0.0, k) + dv * f(r, r0, 0.0, 1.0, k);
+            }
+            d
+        };
+        [chain(m::s1, m::s1_dr), chain(m::s2, m::s2_dr), chain(m::s11, m::s11_dr), chain(m::s12, m::s12_dr)]
+    }
+}
+
+/// The Marmottant shell as a load: −Ŝ0(R) in P, Ŝ1 a + Ŝ2 b in G_n, Ŝ11 a + Ŝ12 b in G_t, the
+/// coefficients of the branch R is on.
+#[derive(Debug, Clone)]
+pub struct LipidTerm {
+    pub law: LipidLaw,
+    /// k of each mode index.
+    pub orders: Vec<f64>,
+    pub label: String,
+}
+
+impl Term for LipidTerm {
+    fn name(&self) -> &'static str {
+        "marmottant"
+    }
+    fn label(&self) -> Option<String> {
+        Some(self.label.clone())
+    }
+    #[inline]
+    fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
+        let r = at.r();
+        loads.pressure -= self.law.s0(r).0;
+        for m in 0..loads.gn.len() {
+            let [s1, s2, s11, s12] = self.law.stiffness(r, self.orders[m]);
+            let (a, b) = (at.a(m), at.b(m));
+            loads.gn[m] += s1 * a + s2 * b;
+            loads.gt[m] += s11 * a + s12 * b;
+        }
+    }
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        dp[0] -= self.law.s0(at.r()).1;
+    }
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
+        let (r, n) = (at.r(), jac.n);
+        jac.pressure[0] -= self.law.s0(r).1;
+        for m in 0..jac.modes() {
+            let k = self.orders[m];
+            let (s, d) = (self.law.stiffness(r, k), self.law.stiffness_dr(r, k));
+            let (a, b) = (at.a(m), at.b(m));
+            let ia = a_index(m);
+            let gn = &mut jac.gn[m * n..(m + 1) * n];
+            gn[0] += d[0] * a + d[1] * b;
+            gn[ia] += s[0];
+            gn[ia + 2] += s[1];
+            let gt = &mut jac.gt[m * n..(m + 1) * n];
+            gt[0] += d[2] * a + d[3] * b;
+            gt[ia] += s[2];
+            gt[ia + 2] += s[3];
+        }
+    }
+    /// P ∋ −Ŝ0(R): q = −Ŝ0′(R) Ṙ, s = 0; ∂q/∂R = −Ŝ0″ Ṙ by the central difference of the exact
+    /// Ŝ0′ (as effects/membrane.rs; across a kink of the law it is the mean of the two sides).
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        let (r, rd) = (at.r(), at.rdot());
+        let d1 = |x: f64| self.law.s0(x).1;
+        let h = 1e-5 * r;
+        rate.q -= d1(r) * rd;
+        rate.dq[0] -= (d1(r + h) - d1(r - h)) / (2.0 * h) * rd;
+        rate.dq[1] -= d1(r);
+        true
+    }
+}
+
+/// The scene's Marmottant term, if its law is one.
+pub fn term(law: &ShellLaw, sc: &Scales, orders: &[f64]) -> Option<LipidTerm> {
+    let l = LipidLaw::from_scene(law, sc)?;
+    let p = law.lipid()?;
+    let name = if p.smoothing.is_some() { "marmottant-smooth" } else { "marmottant" };
+    Some(LipidTerm {
+        law: l,
+        orders: orders.to_vec(),
+        label: format!(
+            "{name} shell chi = {} N/m, R_b = {} m, sigma(R0) = {} N/m, sigma_r = {} N/m{}",
+            p.elasticity,
+            p.buckling_radius,
+            p.initial_tension,
+            p.rupture_tension,
+            p.smoothing.map(|s| format!(", s = {s} N/m")).unwrap_or_default()
+        ),
+    })
+}
