@@ -81,6 +81,9 @@ pub struct Summary<'a> {
     scene: &'a Scene,
     /// The scene file and the `--set` overrides it was run with.
     source: Source<'a>,
+    /// The echo's levels (issue 30 part 2), with `[echo]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    echo: Option<serde_json::Value>,
 }
 
 #[derive(Serialize)]
@@ -109,6 +112,7 @@ pub fn summary<'a>(report: &'a RunReport, scene: &'a Scene, rows: u64, file: &st
         groups: serde_json::to_value(&report.groups).unwrap_or(serde_json::Value::Null),
         scene,
         source: Source { file: file.to_string(), overrides },
+        echo: None,
     }
 }
 
@@ -138,7 +142,7 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
     let mut progress = Progress::new(scene.run.duration, &format!("run {}", args.scene.display()));
     let mut line = Vec::with_capacity(width + 1);
     let mut width_error = None;
-    let result = simulate(&scene, &mut |t, row| {
+    let mut observer = |t: f64, row: &[f64]| {
         if row.len() != width {
             width_error.get_or_insert((t, row.len()));
             return;
@@ -148,7 +152,14 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         line.extend_from_slice(row);
         csv.row(&line);
         progress.set(t);
-    });
+    };
+    let (result, echo) = match scene.echo {
+        None => (simulate(&scene, &mut observer), None),
+        Some(_) => match crate::echo::simulate(&scene, &mut observer) {
+            Ok((r, e)) => (Ok(r), e),
+            Err(e) => (Err(e), None),
+        },
+    };
     progress.finish();
 
     let report = match (result, width_error) {
@@ -168,9 +179,17 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
     };
     let rows = csv.rows();
     let summary_path = dir.join("summary.json");
-    let written = csv.commit().and_then(|()| {
-        write_json(&summary_path, &summary(&report, &scene, rows, &args.scene.display().to_string(), &args.set))
-    });
+    let echo_summary = match echo.as_ref().map(|e| echo::write(&dir, e, &scene)).transpose() {
+        Ok(s) => s,
+        Err(e) => {
+            drop(csv);
+            dir.discard();
+            return Err(e);
+        }
+    };
+    let mut sum = summary(&report, &scene, rows, &args.scene.display().to_string(), &args.set);
+    sum.echo = echo_summary;
+    let written = csv.commit().and_then(|()| write_json(&summary_path, &sum));
     if let Err(e) = written {
         let _ = std::fs::remove_file(&series_path);
         dir.discard();
@@ -250,5 +269,6 @@ mod sim {
     pub use crate::model::{simulate, ModelError, RunReport, RunStatus};
 }
 
+mod echo;
 #[cfg(test)]
 mod tests;

@@ -6,6 +6,8 @@
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+pub use super::drive::{Component, Drive, DriveFile, Echo, Envelope};
+
 /// A fully resolved, validated scene. Construct it with `Scene::try_from(RawScene)`
 /// (see `scene::parse`), never by hand outside tests.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -21,6 +23,9 @@ pub struct Scene {
     pub modes: Modes,
     pub vorticity: VorticityGrid,
     pub run: Run,
+    /// `None`: no echo recorded.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub echo: Option<Echo>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -166,15 +171,6 @@ pub struct Liquid {
     pub ambient_pressure: f64,
     /// c [m/s]: `Some` → Keller–Miksis radial equation; `None` → incompressible (eq 2.62).
     pub sound_speed: Option<f64>,
-}
-
-/// p∞(t) = p0 (1 + ε_p cos(2π f t)).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Drive {
-    /// ε_p (dimensionless)
-    pub amplitude: f64,
-    /// f_d [Hz]; ω_d = 2π f_d (FORMULATION: "ω_d = 1 MHz" is a frequency)
-    pub frequency_hz: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

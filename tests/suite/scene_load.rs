@@ -139,10 +139,7 @@ fn set_overrides_scalars_tables_and_strings() {
     assert_eq!(s.bubble.initial.a.get(&2), Some(&1e-8));
     assert_eq!(
         s.drive,
-        Some(Drive {
-            amplitude: 0.2,
-            frequency_hz: 1e6
-        })
+        Some(Drive::cosine(0.2, 1e6))
     );
 }
 
