@@ -38,7 +38,12 @@ impl Field {
 
     /// ρ V̈ / (4π r) (eq E2; the caller evaluates it at the retarded time).
     pub fn far(&self, k: &Kinematics, r: f64) -> f64 {
-        self.rho * self.volume(k).2 / (4.0 * PI * r)
+        self.far_of(self.volume(k).2, r)
+    }
+
+    /// ρ V̈ / (4π r) for a given V̈.
+    pub fn far_of(&self, vdd: f64, r: f64) -> f64 {
+        self.rho * vdd / (4.0 * PI * r)
     }
 
     /// The spherical part of [`Field::far`], ρ (R²R̈ + 2RṘ²)/r: what the shape modes add is the

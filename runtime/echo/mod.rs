@@ -93,10 +93,11 @@ impl Recorder {
     pub fn record(&mut self, model: &Model, t: f64, z: &[f64]) {
         let k = self.kinematics(model, t, z);
         let r = self.distance;
+        let far = self.field.far_of(self.field.volume(&k).2, r);
         for (col, &theta) in self.out.p.iter_mut().zip(&self.angles) {
-            col.push(if self.near { self.field.near(&k, r, theta) } else { self.field.far(&k, r) });
+            col.push(if self.near { self.field.near(&k, r, theta) } else { far });
         }
-        self.out.shape_part.push(self.field.far(&k, r) - self.field.far_spherical(&k, r));
+        self.out.shape_part.push(far - self.field.far_spherical(&k, r));
         self.out.t.push(t + self.out.delay);
     }
 

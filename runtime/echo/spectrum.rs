@@ -28,8 +28,12 @@ pub fn db(a: f64) -> f64 {
 }
 
 impl Spectrum {
-    /// The spectrum of `p` sampled every `dt` seconds (at least 2 samples).
+    /// The spectrum of `p` sampled every `dt` seconds (at least 2 samples), over its first
+    /// [`fft_length`]`(p.len())` samples (the largest 13-smooth length, for a fast FFT plan; the
+    /// samples beyond it, at the window's end, are left out: 6001 → 6000; at most 3.5 % of them
+    /// for 100 to 200,000 samples, checked by enumeration).
     pub fn of(p: &[f64], dt: f64) -> Spectrum {
+        let p = &p[..fft_length(p.len())];
         let n = p.len();
         if n < 2 {
             return Spectrum { f: Vec::new(), amplitude: Vec::new() };
@@ -64,6 +68,19 @@ impl Spectrum {
         let a = self.amplitude[j.saturating_sub(1)..=j + 1].iter().copied().fold(0.0, f64::max);
         Some(db(a))
     }
+}
+
+/// The largest n' ≤ n whose prime factors are all ≤ 13 (n itself for n < 2).
+pub fn fft_length(n: usize) -> usize {
+    let smooth = |mut m: usize| {
+        for f in [2, 3, 5, 7, 11, 13] {
+            while m > 1 && m % f == 0 {
+                m /= f;
+            }
+        }
+        m == 1
+    };
+    (1..=n.max(1)).rev().find(|&m| smooth(m)).unwrap_or(n)
 }
 
 /// summary.json's `echo` object.
@@ -124,5 +141,6 @@ mod tests {
         let q: Vec<f64> = (0..n).map(|i| (2.0 * std::f64::consts::PI * g * i as f64 * dt).sin()).collect();
         let l = Spectrum::of(&q, dt).line_db(g).unwrap();
         assert!(l <= 0.01 && l > -1.43, "{l}");
+        assert_eq!((fft_length(6001), fft_length(4000), fft_length(17)), (6000, 4000, 16));
     }
 }

@@ -154,7 +154,15 @@ fn every_choice_value_loads_through_set() {
     for p in SCHEMA {
         if let Kind::Choice(options) = p.kind {
             for o in options {
-                let scene = load_str("", "x", &[format!("{}={o}", p.key)]);
+                // a drive key needs the drive's required keys (a burst: its cycles)
+                let mut set = vec![format!("{}={o}", p.key)];
+                if p.key.starts_with("drive.") {
+                    set.extend(["drive.amplitude=0.1".to_string(), "drive.cycles=3".to_string()]);
+                    if *o == "continuous" {
+                        set.pop();
+                    }
+                }
+                let scene = load_str("", "x", &set);
                 assert!(scene.is_ok(), "{}={o}: {:?}", p.key, scene.err());
             }
         }
