@@ -33,6 +33,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
             blow_up_threshold: 0.5,
             max_output_bytes: 1e9,
         },
+        echo: None,
     }
 }
 
