@@ -42,8 +42,10 @@ fn write(dir: &std::path::Path, name: &str, text: &str) -> String {
 fn burst_is_silent_before_its_delay() {
     let s = load(&scene("amplitude = 0.3\nenvelope = \"hann\"\ncycles = 2\ndelay = 1e-6", ""));
     let r = radius(&s);
+    // strictly before the start (at the edge itself the loop interpolates a step that crosses
+    // it until it stops there: the stop times, Model::stop_times)
     for &(t, x) in &r {
-        if t <= 1e-6 {
+        if t < 1e-6 - 1e-12 {
             assert_eq!(x, 10e-6, "t = {t}");
         }
     }
@@ -103,7 +105,7 @@ fn floquet_needs_a_periodic_drive() {
     assert!(check_scene(&with_modes("amplitude = 0.1\nenvelope = \"gaussian\"\ncycles = 2"), Criterion::Series).is_ok());
     let s = with_modes("amplitude = 0.1\ncomponents = [{ amplitude = 0.05, frequency_hz = 1.4142135623730951e6 }]");
     let e = floquet(&s, &FloquetOptions::default()).unwrap_err().to_string();
-    assert!(e.contains("drive.components[0].frequency_hz = 1.4142135623730951e6"), "{e}");
+    assert!(e.contains("drive.components[0].frequency_hz = 1.41421356") && e.contains("incommensurate"), "{e}");
     let s = with_modes("amplitude = 0.05\ncomponents = [{ amplitude = 0.02, frequency_hz = 2e6 }]");
     let r = floquet(&s, &FloquetOptions { convergence_check: false, ..FloquetOptions::default() }).unwrap();
     assert_eq!(r.drive_period_s, Some(1e-6));

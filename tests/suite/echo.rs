@@ -112,10 +112,14 @@ fn radial(extra: &str) -> String {
 }
 
 /// A spherical bubble's far-field echo equals ρ(R²R̈ + 2RṘ²)/r with Ṙ, R̈ from central
-/// differences of the series (sampled every 1 ns: the differences' error ≈ (ωΔt)²/12 ≈ 3e-6).
+/// differences of the series over Δt = 10 ns (truncation (ωΔt)²/12 ≈ 3.3e-4 relative). The floor
+/// of this check is the second derivative of the samples' dense-output interpolant, not the echo:
+/// measured max |Δp|/max|p| = 3.6e-3 at rtol 1e-11 and 1.1e-3 at rtol 1e-13 (the same for Δt = 5,
+/// 10, 20 ns), so the run uses rtol 1e-13.
 #[test]
 fn spherical_far_field_on_the_series() {
-    let s = load_str(&radial("[run]\nduration = 3e-6\nsample_interval = 1e-9\n[echo]\ndistance = 0.05\n"), "echo", NONE).unwrap();
+    let text = radial("[run]\nduration = 3e-6\nsample_interval = 1e-9\n[echo]\ndistance = 0.05\n").replace("rtol = 1e-11\natol = 1e-14", "rtol = 1e-13\natol = 1e-17");
+    let s = load_str(&text, "echo", NONE).unwrap();
     let mut rows = Vec::new();
     let (_, echo) = magbubble::echo::simulate(&s, &mut |t, row| rows.push((t, row[0]))).unwrap();
     let echo = echo.unwrap();
@@ -123,23 +127,25 @@ fn spherical_far_field_on_the_series() {
     let dt = 1e-9;
     let mut worst: f64 = 0.0;
     let scale = echo.p[0].iter().fold(0.0f64, |m, p| m.max(p.abs()));
-    for i in 1..rows.len() - 1 {
-        let (r, rm, rp) = (rows[i].1, rows[i - 1].1, rows[i + 1].1);
+    let (dt, j) = (10.0 * dt, 10);
+    for i in j..rows.len() - j {
+        let (r, rm, rp) = (rows[i].1, rows[i - j].1, rows[i + j].1);
         let (v, a) = ((rp - rm) / (2.0 * dt), (rp - 2.0 * r + rm) / (dt * dt));
         let p = 1000.0 * (r * r * a + 2.0 * r * v * v) / 0.05;
         worst = worst.max((p - echo.p[0][i]).abs());
     }
     assert!(scale > 1.0, "echo amplitude {scale} Pa");
-    assert!(worst < 1e-4 * scale, "max |Δp| = {worst:e} Pa of {scale:e} Pa");
+    assert!(worst < 2e-3 * scale, "max |Δp| = {worst:e} Pa of {scale:e} Pa");
     assert!(echo.shape_part.iter().all(|&x| x == 0.0));
 }
 
-/// A period-1 orbit (ε_p = 0.1, long after the transient): the f/2 line is ≥ 40 dB below the
+/// A period-1 orbit (ε_p = 0.1, η = 0.01 Pa s, long after the transient): the f/2 line is ≥ 40 dB below the
 /// fundamental; `run` writes echo.csv, spectrum.csv and the summary's echo object.
 #[test]
 fn period_one_spectrum_end_to_end() {
     let dir = tempfile::tempdir().unwrap();
-    let text = radial("[run]\nduration = 80e-6\nsample_interval = 1e-8\n[echo]\ndistance = 0.05\nangles_deg = [0, 90]\nwindow = [40e-6, 80e-6]\n");
+    // η = 0.01 Pa s: the transient (rate 2η/(ρR0²) = 2e5/s) is gone by 40 µs
+    let text = radial("[liquid]\nviscosity = 0.01\n[run]\nduration = 80e-6\nsample_interval = 1e-8\n[echo]\ndistance = 0.05\nangles_deg = [0, 90]\nwindow = [40e-6, 80e-6]\n");
     let (o, out) = run_scene(dir.path(), &text);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let head = std::fs::read_to_string(out.join("echo.csv")).unwrap();
