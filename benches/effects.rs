@@ -20,7 +20,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
         shell: Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0 },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None, temperature: 293.15 },
-        drive: Some(Drive { amplitude: 0.5, frequency_hz: 1e6 }),
+        drive: Some(Drive::cosine(0.5, 1e6)),
         field,
         modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear, credible_amplitude: 0.1 },
         vorticity: VorticityGrid { y_max: 2.0, points: 200, stretching: 1.0, scheme: VorticityScheme::Monolithic },
@@ -32,6 +32,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
             max_output_bytes: 1e9,
         },
         warnings: Vec::new(),
+        echo: None,
     }
 }
 

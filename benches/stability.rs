@@ -11,7 +11,7 @@ use rayon::prelude::*;
 
 fn scene_at(base: &Scene, f: f64, eps: f64) -> Scene {
     let mut s = base.clone();
-    s.drive = Some(scene::Drive { amplitude: eps, frequency_hz: f });
+    s.drive = Some(scene::Drive::cosine(eps, f));
     s
 }
 

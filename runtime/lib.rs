@@ -24,6 +24,8 @@
 pub mod analysis;
 pub mod api;
 pub mod coefficients;
+pub mod drive;
+pub mod echo;
 pub mod field;
 pub mod integrate;
 pub mod model;

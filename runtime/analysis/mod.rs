@@ -16,6 +16,7 @@ pub mod frequencies;
 pub mod grid;
 pub mod ladder;
 pub mod periodic;
+pub mod response;
 pub mod shooting;
 pub mod stability;
 pub mod sweep;

@@ -161,6 +161,9 @@ pub fn drive_frequencies(scene: &Scene) -> Vec<f64> {
     if let Some(d) = scene.drive.as_ref().filter(|d| d.amplitude != 0.0) {
         f.push(d.frequency_hz);
     }
+    if let Some(d) = scene.drive.as_ref().filter(|d| d.file.is_none()) {
+        f.extend(d.components.iter().filter(|c| c.amplitude != 0.0).map(|c| c.frequency_hz));
+    }
     if let Some(Field::Coil(c)) = &scene.field {
         if let Current::Cosine { frequency_hz, .. } = c.current {
             f.push(frequency_hz);
@@ -172,12 +175,32 @@ pub fn drive_frequencies(scene: &Scene) -> Vec<f64> {
     f
 }
 
+/// Floquet needs a periodic drive (docs/model.md, "Drives"): a burst, a train or a file is an
+/// error pointing at the time-series criterion; a continuous drive's tones must have a common
+/// period (ratios p/q with q ≤ `max_denominator` within relative `commensurate_tolerance`).
+pub fn periodic_drive(scene: &Scene, opts: &FloquetOptions) -> Result<(), StabilityError> {
+    let Some(d) = &scene.drive else { return Ok(()) };
+    if let Some(w) = crate::drive::Waveform::from_scene(d, scene.liquid.ambient_pressure) {
+        w.periodic_omegas().map_err(|e| StabilityError::Scene(e.to_string()))?;
+    }
+    for (i, c) in d.components.iter().enumerate().filter(|(_, c)| c.amplitude != 0.0) {
+        let pair = [d.frequency_hz, c.frequency_hz];
+        if periodic::common_period(&pair, opts.max_denominator, opts.commensurate_tolerance).is_err() {
+            return Err(StabilityError::Scene(format!(
+                "drive.components[{i}].frequency_hz = {:e} Hz is incommensurate with drive.frequency_hz = {:e} Hz (no ratio p/q with q <= {} within relative {:e}): Floquet needs a common period; use `stability --method series`",
+                c.frequency_hz, d.frequency_hz, opts.max_denominator, opts.commensurate_tolerance
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Whether `criterion` can be evaluated on `scene` at all (assembled model, shape modes for
 /// Floquet, something periodic for the time series): checked once before a sweep, so that a
 /// scene the criterion cannot judge is one error, not a CSV of error rows.
 pub fn check_scene(scene: &Scene, criterion: Criterion) -> Result<(), StabilityError> {
     check_model(scene, criterion)?;
-    if criterion == Criterion::Series && drive_frequencies(scene).is_empty() {
+    if criterion == Criterion::Series && !forced(scene) {
         return Err(StabilityError::Scene(NEEDS_PERIODIC.into()));
     }
     Ok(())
@@ -189,10 +212,17 @@ pub fn check_scene(scene: &Scene, criterion: Criterion) -> Result<(), StabilityE
 pub fn check_range(lo: &Scene, hi: &Scene, criterion: Criterion) -> Result<(), StabilityError> {
     check_model(lo, criterion)?;
     check_model(hi, criterion)?;
-    if criterion == Criterion::Series && drive_frequencies(lo).is_empty() && drive_frequencies(hi).is_empty() {
+    if criterion == Criterion::Series && !forced(lo) && !forced(hi) {
         return Err(StabilityError::Scene(format!("{NEEDS_PERIODIC} at either end of the range")));
     }
     Ok(())
+}
+
+/// Whether something drives the scene for the time-series criterion: a periodic forcing
+/// ([`drive_frequencies`]) or a measured waveform (`drive.file`, which the series criterion
+/// follows whatever its shape).
+fn forced(scene: &Scene) -> bool {
+    !drive_frequencies(scene).is_empty() || scene.drive.as_ref().is_some_and(|d| d.file.is_some())
 }
 
 fn check_model(scene: &Scene, criterion: Criterion) -> Result<(), StabilityError> {
@@ -203,7 +233,10 @@ fn check_model(scene: &Scene, criterion: Criterion) -> Result<(), StabilityError
         ));
     }
     match criterion {
-        Criterion::Floquet => model.boundary_layer().map(|_| ()).ok_or(StabilityError::NoShapeModes),
+        Criterion::Floquet => {
+            periodic_drive(scene, &FloquetOptions::default())?;
+            model.boundary_layer().map(|_| ()).ok_or(StabilityError::NoShapeModes)
+        }
         Criterion::Series => Ok(()),
     }
 }
@@ -244,6 +277,7 @@ pub fn prepare_on<'a>(
 ) -> Result<Prepared<'a>, StabilityError> {
     let bl = model.boundary_layer().ok_or(StabilityError::NoShapeModes)?;
     let ts = model.time_scale();
+    periodic_drive(scene, opts)?;
     let freqs = drive_frequencies(scene);
     // Nothing periodic: A is constant; report the multipliers over one t*.
     let drive_period_s = if freqs.is_empty() {

@@ -25,6 +25,9 @@ pub struct RunOutcome {
     pub report: RunReport,
     /// The typed `summary.json`.
     pub summary: Summary,
+    /// The recorded echo (scenes with `[echo]`; docs/model.md, "Echo"): the CLI writes it as
+    /// echo.csv and spectrum.csv and puts its levels in `summary.echo`.
+    pub echo: Option<crate::echo::EchoSeries>,
 }
 
 /// A run with its series in memory.
@@ -64,6 +67,9 @@ pub struct Summary {
     pub scene: crate::scene::Scene,
     /// The scene file and the overrides it was run with.
     pub source: Source,
+    /// The echo's levels (issue 30 part 2), with `[echo]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub echo: Option<serde_json::Value>,
 }
 
 /// Where a run's scene came from.
@@ -101,6 +107,7 @@ impl Summary {
             groups: report.groups.clone(),
             scene: scene.scene().clone(),
             source: Source { file: scene.origin().to_string(), overrides: scene.overrides().to_vec() },
+            echo: None,
         }
     }
 }
@@ -128,7 +135,7 @@ pub fn stream_with(
     let mut width_error = None;
     let mut rows = 0u64;
     let result = catch_unwind(AssertUnwindSafe(|| {
-        simulate(sc, &mut |t, row| {
+        let mut observer = |t: f64, row: &[f64]| {
             if monitor.cancelled() {
                 resume_unwind(Box::new(Cancelled));
             }
@@ -142,7 +149,11 @@ pub fn stream_with(
             if let Some(b) = bar.as_mut() {
                 b.set(t);
             }
-        })
+        };
+        match sc.echo {
+            None => simulate(sc, &mut observer).map(|r| (r, None)),
+            Some(_) => crate::echo::simulate(sc, &mut observer),
+        }
     }));
     if let Some(b) = bar {
         b.finish();
@@ -152,12 +163,12 @@ pub fn stream_with(
         Err(payload) if payload.is::<Cancelled>() => return Err(Cancelled.into()),
         Err(payload) => resume_unwind(payload),
     };
-    let report = result.map_err(|e| anyhow::Error::new(e).context(format!("cannot simulate {}", scene.origin())))?;
+    let (report, echo) = result.map_err(|e| anyhow::Error::new(e).context(format!("cannot simulate {}", scene.origin())))?;
     if let Some((t, len)) = width_error {
         anyhow::bail!("internal error: the model gave a row of {len} values at t = {t:e} s, expected {width}");
     }
     let summary = Summary::new(&report, scene, rows);
-    Ok(RunOutcome { columns, rows, report, summary })
+    Ok(RunOutcome { columns, rows, report, summary, echo })
 }
 
 /// Simulates `scene` with the series kept in memory (row-major, the values `series.csv`

@@ -12,6 +12,7 @@ pub mod convergence;
 pub mod figure;
 pub mod floquet;
 pub mod modes;
+pub mod response;
 pub mod run;
 pub mod scene;
 pub mod stability;
@@ -51,6 +52,8 @@ pub enum Command {
     Accuracy(accuracy::AccuracyArgs),
     /// Reproduce the paper's figures from scenes/figures.
     Figure(figure::FigureArgs),
+    /// Linear radial response: amplitude, phase, damping by source, σ_s, σ_e per frequency.
+    Response(response::ResponseArgs),
 }
 
 /// Parses the arguments, runs the subcommand, prints the whole error chain on failure.
@@ -105,5 +108,6 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Compare(a) => compare::run(&a),
         Command::Accuracy(a) => accuracy::run(&a),
         Command::Figure(a) => figure::run(&a),
+        Command::Response(a) => response::run(&a),
     }
 }

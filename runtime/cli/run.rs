@@ -86,7 +86,7 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         line.extend_from_slice(row);
         csv.row(&line);
     });
-    let outcome = match result {
+    let mut outcome = match result {
         Ok(outcome) => outcome,
         Err(e) => {
             drop(csv);
@@ -94,6 +94,15 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
             return Err(e);
         }
     };
+    // echo.csv, spectrum.csv and the summary's `echo` levels (scenes with [echo])
+    match outcome.echo.as_ref().map(|e| echo::write(&dir, e, scene.scene())).transpose() {
+        Ok(levels) => outcome.summary.echo = levels,
+        Err(e) => {
+            drop(csv);
+            dir.discard();
+            return Err(e);
+        }
+    }
     let rows = csv.rows();
     let summary_path = dir.join("summary.json");
     let written = csv.commit().and_then(|()| write_json(&summary_path, &outcome.summary));
@@ -179,3 +188,5 @@ fn print_summary(report: &RunReport, scene: &crate::scene::Scene, out: &Path, ro
 
 #[cfg(test)]
 mod tests;
+
+mod echo;

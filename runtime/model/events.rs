@@ -24,19 +24,6 @@ impl Event for BlowUpEvent<'_> {
 }
 
 impl Model {
-    /// The known discontinuity times of a run, nondimensional (the model's time unit,
-    /// [`Model::time_scale`]), sorted, inside (0, t_end): no step crosses one, the step lands
-    /// on it and the stepper restarts there ([`crate::integrate::run_loop`]). Default: none.
-    ///
-    /// **For a burst drive** (wire at merge): return its start and end times (and a measured
-    /// waveform's knots), each `t [s] / time_scale`. The drive's on/off branch must then be
-    /// taken from the segment the run is in, not from comparing t with the edge: a step that
-    /// lands on an edge evaluates its last stage at the edge time (see the run loop's module
-    /// doc, "Branches at an edge"; tests/suite/run_loop.rs shows the order collapse otherwise).
-    pub fn stop_times(&self) -> Vec<f64> {
-        Vec::new()
-    }
-
     /// The event functions of a run, in priority order for events located at the same time;
     /// each sees the boundary-layer layout z = [R, Ṙ, (a, ȧ, b)_k] (nondimensional). Default:
     /// the blow-up threshold alone ([`BlowUpEvent`]); the executor maps a stop at event 0 to

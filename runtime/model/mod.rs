@@ -78,6 +78,12 @@ pub struct Model {
     blow_up_threshold: f64,
     /// `modes.credible_amplitude` when the quadratic coupling is assembled (issue 12).
     credible: Option<f64>,
+    /// The drive p_a(t) (model units), when the scene has one.
+    wave: Option<crate::drive::Waveform>,
+    /// `run.duration` (model units).
+    t_end: f64,
+    /// The last full state handed to [`Model::to_si_into`], when tapped ([`Model::with_state_tap`]).
+    state_tap: Option<std::sync::Mutex<Vec<f64>>>,
 }
 
 impl Model {
@@ -116,7 +122,13 @@ impl Model {
         if params.pv != 0.0 {
             terms.push(Box::new(effects::vapour::VapourPressure { pv: params.pv }));
         }
-        terms.push(Box::new(effects::drive::FarField { p0: params.p0, drive: params.drive }));
+        // the drive in the model's units (docs/model.md, "Drives")
+        let wave = scene
+            .drive
+            .as_ref()
+            .and_then(|d| crate::drive::Waveform::from_scene(d, scene.liquid.ambient_pressure))
+            .map(|w| w.scaled(scales.time, scales.pressure));
+        terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone() }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
         // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
         let mut material = Vec::new();
@@ -249,7 +261,8 @@ impl Model {
             omega_d_star: params.drive.map(|(_, w)| w),
         };
         let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible })
+        let t_end = scene.run.duration / scales.time;
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, state_tap: None })
     }
 
     /// The equations, as the integrators see them.
@@ -300,6 +313,34 @@ impl Model {
         &self.scales
     }
 
+    /// This model, keeping the full state of every output row (R, Ṙ, a_k, ȧ_k, b_k in model
+    /// units) for [`Model::tapped_state`]: the echo (runtime/echo/) needs the velocities, which
+    /// the output row does not hold. Interim hook until the run executor hands the full state
+    /// to its observer.
+    pub fn with_state_tap(mut self) -> Model {
+        self.state_tap = Some(std::sync::Mutex::new(Vec::new()));
+        self
+    }
+
+    /// The full state of the last output row (empty unless [`Model::with_state_tap`]).
+    pub fn tapped_state(&self) -> Vec<f64> {
+        self.state_tap.as_ref().and_then(|t| t.lock().ok().map(|s| s.clone())).unwrap_or_default()
+    }
+
+    /// The drive p_a(t) in model units (p̄, t/t*), when the scene has one (docs/model.md, "Drives").
+    pub fn drive(&self) -> Option<&crate::drive::Waveform> {
+        self.wave.as_ref()
+    }
+
+    /// The known discontinuity times of a run (model units, sorted, inside (0, run.duration)):
+    /// the drive's burst edges and file knots, where p∞ or dp∞/dt jumps
+    /// ([`crate::drive::Waveform::stop_times`]). No step crosses one: the run loop
+    /// ([`crate::integrate::run_loop`]) lands on it and restarts the stepper there; empty for a
+    /// continuous drive.
+    pub fn stop_times(&self) -> Vec<f64> {
+        self.wave.as_ref().map_or_else(Vec::new, |w| w.stop_times(0.0, self.t_end))
+    }
+
     /// The simulated shape orders k = 2, 4, …, N.
     pub fn orders(&self) -> &[usize] {
         &self.orders
@@ -335,6 +376,12 @@ impl Model {
 
     /// [`to_si`](Self::to_si) into a buffer of length 1 + 2M.
     pub fn to_si_into(&self, y: &[f64], row: &mut [f64]) {
+        if let Some(tap) = &self.state_tap {
+            if let Ok(mut s) = tap.lock() {
+                s.clear();
+                s.extend_from_slice(y);
+            }
+        }
         let (l, lay) = (self.scales.length, layout::StateLayout::reduced(self.orders.len()));
         row[0] = y[lay.r()] * l;
         for m in 0..self.orders.len() {

@@ -11,14 +11,16 @@
 //! the ω_k `magbubble modes` prints. A mode with ω_k² ≤ 0 (no restoring stiffness) gets ω = 0:
 //! √(ν/ω) is infinite and δ_k is the cap R/(2k).
 
-use super::effects::{a_index, At, LoadJacobian};
+use super::effects::{At, LoadJacobian};
+use super::layout::StateLayout;
 use super::equations::Equations;
 
 /// ω_k (nondimensional) of each mode of `eq`, as the module doc says.
 pub fn omega_k(eq: &Equations) -> Vec<f64> {
     let n = eq.orders().len();
-    let mut z = vec![0.0; 2 + 3 * n];
-    z[0] = eq.params().r0;
+    let lay = StateLayout::reduced(n);
+    let mut z = vec![0.0; lay.dim()];
+    z[lay.r()] = eq.params().r0;
     let mut lj = LoadJacobian::new(n);
     let at = At { t: 0.0, z: &z };
     for t in eq.terms().filter(|t| t.name() != "magnetic") {
@@ -29,9 +31,9 @@ pub fn omega_k(eq: &Equations) -> Vec<f64> {
         .iter()
         .enumerate()
         .map(|(m, &k)| {
-            let ia = a_index(m);
+            let ia = lay.a(m);
             let (gn, gt) = (lj.gn_row(m), lj.gt_row(m));
-            let stiffness = if gt[ia + 2] != 0.0 { gn[ia] - gn[ia + 2] * gt[ia] / gt[ia + 2] } else { gn[ia] };
+            let stiffness = if gt[lay.b(m)] != 0.0 { gn[ia] - gn[lay.b(m)] * gt[ia] / gt[lay.b(m)] } else { gn[ia] };
             ((k + 1.0) / (p.rho * p.r0) * stiffness).max(0.0).sqrt()
         })
         .collect()

@@ -88,7 +88,7 @@ pub fn static_response(bl: &super::boundary_layer::BoundaryLayerSystem) -> Vec<f
     let j = nalgebra::DMatrix::from_row_slice(n, n, &jac);
     let rhs = nalgebra::DVector::from_iterator(n, f.iter().map(|v| -v));
     match j.lu().solve(&rhs) {
-        Some(d) if d.iter().all(|v| v.is_finite()) => (0..m).map(|k| d[2 + 3 * k].abs()).collect(),
+        Some(d) if d.iter().all(|v| v.is_finite()) => (0..m).map(|k| d[crate::model::layout::StateLayout::reduced(m).a(k)].abs()).collect(),
         _ => vec![0.0; m],
     }
 }

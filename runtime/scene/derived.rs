@@ -93,6 +93,9 @@ pub fn check(s: &Scene) -> Vec<Issue> {
     };
     if let Some(d) = &s.drive {
         freq("drive.frequency_hz", d.frequency_hz, &mut group);
+        for c in &d.components {
+            freq("drive.components.frequency_hz", c.frequency_hz, &mut group);
+        }
         group("eps_p p0 R0/c1", d.amplitude * p0 * r0 / c1, false, &[("drive.amplitude", d.amplitude), ("liquid.ambient_pressure", p0)]);
     }
     let chi = s.shell.susceptibility;

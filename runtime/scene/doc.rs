@@ -95,6 +95,11 @@ pub fn default_scene_toml() -> String {
                 Some(v) => {
                     let _ = writeln!(out, "# {name} = {v}");
                 }
+                // an optional section's key without a default: not a `# key = value` line (uncommenting
+                // the block must give a valid scene)
+                None if off => {
+                    let _ = writeln!(out, "# {name}: optional, no default");
+                }
                 None => {
                     let _ = writeln!(out, "# {name} = ...");
                 }

@@ -10,6 +10,7 @@
 //! [`SceneTemplate`].
 
 mod derived;
+mod drive;
 pub mod doc;
 mod error;
 mod parse;

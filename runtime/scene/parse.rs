@@ -41,6 +41,7 @@ pub(crate) fn validate_table(
     origin: &str,
     mut issues: Vec<Issue>,
 ) -> Result<Scene, SceneError> {
+    resolve_paths(&mut table, origin);
     walk(&mut table, "", &mut issues);
     let raw = match RawScene::deserialize(Value::Table(table)) {
         Ok(raw) => Some(raw),
@@ -70,6 +71,19 @@ pub(crate) fn validate_table(
         origin: origin.to_string(),
         issues: Issues(issues),
     })
+}
+
+/// A relative `drive.file` is read from the scene file's directory (when `origin` is a path
+/// whose directory exists; otherwise from the working directory).
+fn resolve_paths(table: &mut Table, origin: &str) {
+    let Some(Value::Table(drive)) = table.get_mut("drive") else { return };
+    let Some(Value::String(file)) = drive.get_mut("file") else { return };
+    let rel = Path::new(file.as_str());
+    if rel.is_relative() {
+        if let Some(dir) = Path::new(origin).parent().filter(|d| !d.as_os_str().is_empty() && d.is_dir()) {
+            *file = dir.join(rel).display().to_string();
+        }
+    }
 }
 
 /// Parses TOML text into a table; a syntax error carries its 1-based line and column.
@@ -205,6 +219,7 @@ fn walk(table: &mut Table, prefix: &str, issues: &mut Vec<Issue>) {
             continue;
         };
         let value = table.get_mut(&key).expect("key taken from the table");
+        let mut reported = false;
         let ok = match (param.kind, &mut *value) {
             (Kind::Section, Value::Table(t)) => {
                 walk(t, &path, issues);
@@ -216,7 +231,29 @@ fn walk(table: &mut Table, prefix: &str, issues: &mut Vec<Issue>) {
             }
             (Kind::Float | Kind::FloatOrTable, Value::Float(_) | Value::Integer(_)) => true,
             (Kind::Int, Value::Integer(_)) | (Kind::Bool, Value::Boolean(_)) => true,
-            (Kind::Choice(_), Value::String(_)) => true,
+            (Kind::Choice(_), Value::String(_)) | (Kind::Text, Value::String(_)) => true,
+            (Kind::FloatList, Value::Array(a)) => {
+                let bad = a.iter().find(|v| !matches!(v, Value::Float(_) | Value::Integer(_))).map(|v| v.to_string());
+                if let Some(v) = &bad {
+                    issues.push(Issue::new(path.clone(), Some(v.clone()), "expected an array of numbers"));
+                    reported = true;
+                }
+                bad.is_none()
+            }
+            (Kind::TableList, Value::Array(a)) => {
+                let mut ok = true;
+                for v in a.iter_mut() {
+                    match v {
+                        Value::Table(t) => walk(t, &path, issues),
+                        other => {
+                            issues.push(Issue::new(path.clone(), Some(other.to_string()), "expected an array of inline tables"));
+                            ok = false;
+                            reported = true;
+                        }
+                    }
+                }
+                ok
+            }
             (Kind::ModeMap, Value::Table(t)) => {
                 let modes: Vec<String> = t.keys().cloned().collect();
                 for k in modes {
@@ -233,7 +270,9 @@ fn walk(table: &mut Table, prefix: &str, issues: &mut Vec<Issue>) {
             }
             _ => false,
         };
-        if !ok {
+        if !ok && reported {
+            table.remove(&key);
+        } else if !ok {
             issues.push(Issue::new(
                 path.clone(),
                 Some(value.to_string()),
@@ -273,6 +312,9 @@ fn expected(kind: Kind) -> String {
         }
         Kind::ModeMap => "a table of modes, e.g. { 2 = 1e-8 }".into(),
         Kind::FloatOrTable => "a number or an inline table".into(),
+        Kind::Text => "a string".into(),
+        Kind::FloatList => "an array of numbers".into(),
+        Kind::TableList => "an array of inline tables".into(),
     }
 }
 

@@ -21,6 +21,15 @@ pub struct RawScene {
     pub modes: Option<RawModes>,
     pub vorticity: Option<RawVorticity>,
     pub run: Option<RawRun>,
+    pub echo: Option<RawEcho>,
+}
+
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawEcho {
+    pub distance: Option<f64>,
+    pub angles_deg: Option<Vec<f64>>,
+    pub window: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
@@ -86,6 +95,24 @@ pub struct RawLiquid {
 pub struct RawDrive {
     pub amplitude: Option<f64>,
     pub frequency_hz: Option<f64>,
+    pub phase: Option<f64>,
+    pub envelope: Option<String>,
+    pub cycles: Option<f64>,
+    pub delay: Option<f64>,
+    pub tukey_fraction: Option<f64>,
+    pub repeat_hz: Option<f64>,
+    pub components: Option<Vec<RawComponent>>,
+    pub file: Option<String>,
+    pub file_scale: Option<f64>,
+}
+
+/// One of `drive.components = [{ amplitude, frequency_hz, phase }, …]`.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawComponent {
+    pub amplitude: Option<f64>,
+    pub frequency_hz: Option<f64>,
+    pub phase: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

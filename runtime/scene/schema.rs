@@ -37,6 +37,13 @@ pub enum Kind {
     /// A number, or an inline table whose keys are the schema's children of this key
     /// (`current = 100e3` or `current = { amplitude = 150e3, frequency_hz = 5e5 }`).
     FloatOrTable,
+    /// A string (a file path).
+    Text,
+    /// An array of numbers (`angles_deg = [0, 90]`).
+    FloatList,
+    /// An array of inline tables whose keys are the schema's children of this key
+    /// (`components = [{ amplitude = 0.1, frequency_hz = 2e6 }]`).
+    TableList,
 }
 
 /// The default of a key.
@@ -286,11 +293,49 @@ pub static SCHEMA: &[Param] = &[
       "Speed of sound: given, the radial equation is Keller-Miksis (liquid compressibility, acoustic \
        radiation damping; shape modes stay incompressible). Absent: the incompressible equation (2.62)."),
     section("drive", D::Absent,
-      "Acoustic drive p_inf(t) = p0 (1 + eps_p cos(2 pi f_d t)). Absent or amplitude = 0: no drive."),
+      "Acoustic drive p_inf(t) = p0 + p_a(t) (docs/model.md, \"Drives\"): tones w(tau/L) sum eps_i p0 cos(2 pi f_i tau + phi_i) \
+       under an envelope w (tau: time since the burst's start; tau = t when continuous), or a measured waveform \
+       (drive.file). The default, p0 (1 + eps_p cos(2 pi f_d t)), is the paper's. Absent or amplitude = 0: no drive."),
     p("drive.amplitude", K::Float, "", D::Required { example: "0.5" }, Rg::NonNegative, "eps_p",
-      "Relative pressure amplitude."),
+      "Relative pressure amplitude of the main tone (required unless drive.file is given; not with drive.file)."),
     p("drive.frequency_hz", K::Float, "Hz", D::Float(1e6), Rg::Positive, "f_d (omega_d = 2 pi f_d)",
       "Drive frequency (the paper's \"omega_d = 1 MHz\" is read as f_d = 1 MHz, docs/model.md audit 15)."),
+    p("drive.phase", K::Float, "rad", D::Float(0.0), Rg::Finite, "phi",
+      "Phase of the main tone: eps_p p0 cos(2 pi f_d tau + phi)."),
+    p("drive.envelope", K::Choice(&["continuous", "rectangular", "hann", "gaussian", "tukey"]), "", D::Str("continuous"), Rg::None, "w",
+      "Burst envelope: continuous (no burst), rectangular, hann (sin^2), gaussian (FWHM = cycles periods, truncated at +-4 sigma, \
+       so the burst lasts 3.397 cycles/f_d), tukey (tapered cosine). Zero outside the burst."),
+    p("drive.cycles", K::Float, "", D::Absent, Rg::Positive, "N_c",
+      "Burst length in periods of drive.frequency_hz (the Gaussian's FWHM); required with any envelope but continuous."),
+    p("drive.delay", K::Float, "s", D::Float(0.0), Rg::NonNegative, "t_0",
+      "Start of the (first) burst."),
+    p("drive.tukey_fraction", K::Float, "", D::Float(0.5), Rg::Between { lo: 0.0, hi: 1.0, lo_incl: true, hi_incl: true }, "alpha",
+      "Tapered fraction of the Tukey envelope (0: rectangular, 1: Hann)."),
+    p("drive.repeat_hz", K::Float, "Hz", D::Absent, Rg::Positive, "PRF",
+      "Pulse-repetition frequency: a train of bursts every 1/repeat_hz from drive.delay (absent: one burst)."),
+    p("drive.components", K::TableList, "", D::Absent, Rg::None, "",
+      "Further tones under the same envelope, [{ amplitude, frequency_hz, phase }, ...] (dual frequency, harmonics; \
+       pulse inversion: phase = pi)."),
+    p("drive.components.amplitude", K::Float, "", D::Required { example: "0.1" }, Rg::NonNegative, "eps_i",
+      "Relative pressure amplitude of the tone."),
+    p("drive.components.frequency_hz", K::Float, "Hz", D::Required { example: "2e6" }, Rg::Positive, "f_i",
+      "Frequency of the tone."),
+    p("drive.components.phase", K::Float, "rad", D::Float(0.0), Rg::Finite, "phi_i", "Phase of the tone."),
+    p("drive.file", K::Text, "", D::Absent, Rg::None, "p_a(t)",
+      "A CSV file with columns t [s] and p [Pa] (relative paths: from the scene file's directory), instead of amplitude: \
+       p_a is interpolated linearly (error <= h^2 max|p''|/8 on a knot interval h), zero outside [t_first, t_last]; \
+       its knots are stop times of the integration."),
+    p("drive.file_scale", K::Float, "", D::Float(1.0), Rg::Finite, "s", "Factor on the file's pressures."),
+    section("echo", D::Absent,
+      "The echo (docs/model.md, \"Echo\"): run writes echo.csv (the scattered pressure at each point) and spectrum.csv, \
+       and summary.json an `echo` object. Absent: no echo."),
+    p("echo.distance", K::Float, "m", D::Float(0.05), Rg::Positive, "r",
+      "Distance of the points from the bubble's centre (outside the bubble). Within 10 R0 the near field \
+       (unsteady Bernoulli with every mode's potential), beyond it the far field rho V''/(4 pi r)."),
+    p("echo.angles_deg", K::FloatList, "deg", D::Derived("[0]"), Rg::None, "theta",
+      "Polar angles of the points from the symmetry axis, in [0, 180]; one echo column each."),
+    p("echo.window", K::FloatList, "s", D::Absent, Rg::None, "[t_0, t_1]",
+      "Time window of the spectrum (default: the whole run)."),
     section("field", D::Absent,
       "Magnetic field: at most one of [field.coil] and [field.dipole]. Absent: no magnetic term."),
     section("field.coil", D::Absent,

@@ -6,6 +6,8 @@
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+pub use super::drive::{Component, Drive, DriveFile, Echo, Envelope};
+
 /// A fully resolved, validated scene. Construct it with `Scene::try_from(RawScene)`
 /// (see `scene::parse`), never by hand outside tests.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -25,6 +27,9 @@ pub struct Scene {
     /// one sentence each, naming the key; the commands print them.
     #[serde(skip)]
     pub warnings: Vec<String>,
+    /// `None`: no echo recorded.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub echo: Option<Echo>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -213,15 +218,6 @@ pub struct Liquid {
     pub sound_speed: Option<f64>,
     /// T [K]: the thermal seed's temperature (`liquid.temperature`).
     pub temperature: f64,
-}
-
-/// p∞(t) = p0 (1 + ε_p cos(2π f t)).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Drive {
-    /// ε_p (dimensionless)
-    pub amplitude: f64,
-    /// f_d [Hz]; ω_d = 2π f_d (FORMULATION: "ω_d = 1 MHz" is a frequency)
-    pub frequency_hz: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

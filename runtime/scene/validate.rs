@@ -9,6 +9,7 @@ use super::types::*;
 mod check;
 mod warn;
 mod lipid;
+mod drive;
 use check::Check;
 
 impl TryFrom<RawScene> for Scene {
@@ -178,14 +179,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         );
     }
 
-    let drive = raw.drive.and_then(|d| {
-        let amplitude = c.float("drive.amplitude", d.amplitude);
-        let frequency_hz = c.float("drive.frequency_hz", d.frequency_hz);
-        (amplitude != 0.0).then_some(Drive {
-            amplitude,
-            frequency_hz,
-        })
-    });
+    let drive = drive::build(c, raw.drive);
 
     let field = build_field(c, raw.field, r0);
     if field.is_some() && shell.is_free() {
@@ -206,6 +200,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     }
     let vorticity = build_vorticity(c, raw.vorticity);
     let run = build_run(c, raw.run, &bubble, &shell, &liquid);
+    let echo = drive::build_echo(c, raw.echo, &bubble, &run);
 
     // Shell viscosity (issue 11 part 3): the shape-mode viscous loads multiply ḃ_k, an output of
     // the tangential balance; the boundary-layer system solves for it (runtime/model/
@@ -248,6 +243,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         vorticity,
         run,
         warnings: Vec::new(),
+        echo,
     }
 }
 

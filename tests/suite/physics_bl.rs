@@ -34,6 +34,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
             max_output_bytes: 1e9,
         },
         warnings: Vec::new(),
+        echo: None,
     }
 }
 
@@ -261,7 +262,7 @@ fn static_coil_gives_the_predicted_steady_a2() {
 #[test]
 fn no_field_equals_zero_current_coil_and_evaluates_no_magnetic_term() {
     let mut s = scene(4, 2e-9, 10e-6, 20e-9);
-    s.drive = Some(Drive { amplitude: 0.3, frequency_hz: 1e6 });
+    s.drive = Some(Drive::cosine(0.3, 1e6));
     s.bubble.initial.a.insert(2, 1e-8);
     let (m_plain, _, plain) = run(&s);
     s.field = Some(crate::common::coil(0.0));
@@ -295,7 +296,7 @@ fn radial_only_scene_is_a_two_state_system() {
 fn groups_follow_their_definitions() {
     let mut s = scene(16, 1e-9, 1e-6, 1e-7);
     s.field = Some(crate::common::coil(100e3));
-    s.drive = Some(Drive { amplitude: 0.5, frequency_hz: 1e6 });
+    s.drive = Some(Drive::cosine(0.5, 1e6));
     let g = Model::from_scene(&s).unwrap().groups();
     let h2 = coil::h2(100e3, 0.1, 1000.0, (3.0f64 / 7.0).sqrt().acos());
     let rn = MU0 * 20e-9 * h2 * h2 * R0 * R0 / (2.0 * C1 * 0.01);

@@ -139,10 +139,7 @@ fn set_overrides_scalars_tables_and_strings() {
     assert_eq!(s.bubble.initial.a.get(&2), Some(&1e-8));
     assert_eq!(
         s.drive,
-        Some(Drive {
-            amplitude: 0.2,
-            frequency_hz: 1e6
-        })
+        Some(Drive::cosine(0.2, 1e6))
     );
 }
 
@@ -157,7 +154,15 @@ fn every_choice_value_loads_through_set() {
     for p in SCHEMA {
         if let Kind::Choice(options) = p.kind {
             for o in options {
-                let scene = load_str("", "x", &[format!("{}={o}", p.key)]);
+                // a drive key needs the drive's required keys (a burst: its cycles)
+                let mut set = vec![format!("{}={o}", p.key)];
+                if p.key.starts_with("drive.") {
+                    set.extend(["drive.amplitude=0.1".to_string(), "drive.cycles=3".to_string()]);
+                    if *o == "continuous" {
+                        set.pop();
+                    }
+                }
+                let scene = load_str("", "x", &set);
                 assert!(scene.is_ok(), "{}={o}: {:?}", p.key, scene.err());
             }
         }

@@ -21,7 +21,7 @@ fn scene(amplitude: f64, a2: f64, points: usize) -> Scene {
         shell: Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: 1.4, reference_pressure: p0, reference_pressure_given: true, vapour_pressure: 0.0 },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: p0, sound_speed: None, temperature: 293.15 },
-        drive: Some(Drive { amplitude, frequency_hz: 1e6 }),
+        drive: Some(Drive::cosine(amplitude, 1e6)),
         field: None,
         modes: Modes { max_order: 4, viscous: Viscous::Vorticity, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear, credible_amplitude: 0.1 },
         vorticity: VorticityGrid { y_max: 3.0, points, stretching: 20.0, scheme: VorticityScheme::Monolithic },
@@ -33,6 +33,7 @@ fn scene(amplitude: f64, a2: f64, points: usize) -> Scene {
             max_output_bytes: 1e9,
         },
         warnings: Vec::new(),
+        echo: None,
     }
 }
 

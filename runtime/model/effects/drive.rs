@@ -1,29 +1,31 @@
-//! The far-field pressure p∞(t) = p0 (1 + ε_p cos ω_d t) (FORMULATION §4.1), entering the radial
-//! balance as −p∞. Without a drive (absent or ε_p = 0) it is the constant p0 and the term is not
-//! listed as an effect ("no drive term").
+//! The far-field pressure p∞(t) = p0 + p_a(t) (FORMULATION §4.1; the drive p_a of docs/model.md,
+//! "Drives", evaluated by [`Waveform`]), entering the radial balance as −p∞. Without a drive
+//! (absent or ε_p = 0) it is the constant p0 and the term is not listed as an effect ("no drive
+//! term").
 
 use super::{At, LoadJacobian, Loads, PressureRate, Term};
+use crate::drive::Waveform;
 
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct FarField {
     /// p̄0
     pub p0: f64,
-    /// (ε_p p̄0, ω_d t*) when driven.
-    pub drive: Option<(f64, f64)>,
+    /// p_a in the model's units, when driven.
+    pub wave: Option<Waveform>,
 }
 
 impl FarField {
     /// p∞(t).
     #[inline]
     pub fn p_inf(&self, t: f64) -> f64 {
-        match self.drive {
+        match &self.wave {
             None => self.p0,
-            Some((amp, w)) => self.p0 + amp * (w * t).cos(),
+            Some(w) => self.p0 + w.pressure(t),
         }
     }
     /// dp∞/dt (for a radial form that needs the pressure's time derivative, e.g. Keller–Miksis).
     pub fn p_inf_dt(&self, t: f64) -> f64 {
-        self.drive.map_or(0.0, |(amp, w)| -amp * w * (w * t).sin())
+        self.wave.as_ref().map_or(0.0, |w| w.rate(t))
     }
 }
 
@@ -32,7 +34,7 @@ impl Term for FarField {
         "far field"
     }
     fn label(&self) -> Option<String> {
-        self.drive.map(|_| "acoustic drive".to_string())
+        self.wave.as_ref().map(Waveform::label)
     }
     #[inline]
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {

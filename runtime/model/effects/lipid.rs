@@ -16,7 +16,8 @@
 //! (`Model::events`, being built beside this: until then the adaptive controller steps over the
 //! kinks).
 
-use super::{a_index, At, LoadJacobian, Loads, PressureRate, Term};
+use super::{At, LoadJacobian, Loads, PressureRate, Term};
+use crate::model::layout::StateLayout;
 use crate::coefficients::membrane::marmottant::tension as m;
 use crate::model::params::Scales;
 use crate::scene::{Lipid, ShellLaw};
@@ -172,15 +173,15 @@ impl Term for LipidTerm {
             let k = self.orders[m];
             let (s, d) = (self.law.stiffness(r, k), self.law.stiffness_dr(r, k));
             let (a, b) = (at.a(m), at.b(m));
-            let ia = a_index(m);
+            let (ia, ib) = (StateLayout::reduced(jac.modes()).a(m), StateLayout::reduced(jac.modes()).b(m));
             let gn = &mut jac.gn[m * n..(m + 1) * n];
             gn[0] += d[0] * a + d[1] * b;
             gn[ia] += s[0];
-            gn[ia + 2] += s[1];
+            gn[ib] += s[1];
             let gt = &mut jac.gt[m * n..(m + 1) * n];
             gt[0] += d[2] * a + d[3] * b;
             gt[ia] += s[2];
-            gt[ia + 2] += s[3];
+            gt[ib] += s[3];
         }
     }
     /// P ∋ −Ŝ0(R): q = −Ŝ0′(R) Ṙ, s = 0; ∂q/∂R = −Ŝ0″ Ṙ by the central difference of the exact

@@ -49,7 +49,7 @@ pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
         shell: Shell::mooney_rivlin(C1, C2, 20e-9, 1.0, MembraneForm::Paper),
         gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0 },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None, temperature: 293.15 },
-        drive: Some(Drive { amplitude: eps_p, frequency_hz: f_hz }),
+        drive: Some(Drive::cosine(eps_p, f_hz)),
         field: None,
         modes: Modes { max_order, viscous: Viscous::BoundaryLayer, boundary_layer_frequency: BoundaryLayerFrequency::Auto, coupling: Coupling::Linear, credible_amplitude: 0.1 },
         vorticity: VorticityGrid { y_max: 2.0, points: 200, stretching: 1.0, scheme: VorticityScheme::Monolithic },
@@ -61,6 +61,7 @@ pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
             max_output_bytes: 1e9,
         },
         warnings: Vec::new(),
+        echo: None,
     }
 }
 
