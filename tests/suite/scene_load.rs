@@ -157,7 +157,9 @@ fn every_choice_value_loads_through_set() {
     for p in SCHEMA {
         if let Kind::Choice(options) = p.kind {
             for o in options {
-                let scene = load_str("", "x", &[format!("{}={o}", p.key)]);
+                // a Marmottant law needs its elasticity (issue 31: required, no default)
+                let text = if o.starts_with("marmottant") { "[shell]\nelasticity = 0.5\n" } else { "" };
+                let scene = load_str(text, "x", &[format!("{}={o}", p.key)]);
                 assert!(scene.is_ok(), "{}={o}: {:?}", p.key, scene.err());
             }
         }
