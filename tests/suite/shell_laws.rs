@@ -237,7 +237,7 @@ fn viscous_loads_are_the_derivatives_of_the_rayleigh_dissipation() {
 
 #[test]
 fn the_laws_are_listed_and_mooney_rivlin_keeps_its_names() {
-    assert_eq!(membrane::LAWS, &["bending", "mooney_rivlin", "skalak", "surface_tension", "viscous"]);
+    assert_eq!(membrane::LAWS, &["bending", "marmottant", "mooney_rivlin", "skalak", "surface_tension", "viscous"]);
     assert_eq!(skalak::SYMBOLS, &["Gs", "C"]);
     assert_eq!(viscous::ARGS, "r, r0, rd, mu_s, kappa_s");
     // the historical path is the same function
