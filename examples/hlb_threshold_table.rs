@@ -7,15 +7,16 @@
 //! cargo run --release --example hlb_threshold_table
 //! ```
 
-#[allow(dead_code)] // the reference also carries what only the tests use
-mod support {
-    #[path = "../../tests/suite/support/dopri_ref.rs"]
-    pub mod dopri_ref;
-    #[path = "../../tests/suite/support/hlb_reference.rs"]
-    pub mod hlb_reference;
-}
+// the tests' reference model (it also carries what only the tests use); it reaches its
+// integrator as `super::dopri_ref`
+#[allow(dead_code)]
+#[path = "../tests/suite/support/dopri_ref.rs"]
+mod dopri_ref;
+#[allow(dead_code)]
+#[path = "../tests/suite/support/hlb_reference.rs"]
+mod hlb_reference;
 
-use support::hlb_reference::{first_threshold, Case, Radial, Shape};
+use hlb_reference::{first_threshold, Case, Radial, Shape};
 
 /// One row per R0, the four combinations as columns, printed as a Markdown table (stderr).
 fn main() {

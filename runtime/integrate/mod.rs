@@ -4,7 +4,7 @@
 //! - [`Method::Dopri5`], [`Method::Dop853`]: adaptive explicit Runge–Kutta (Dormand–Prince 5(4)
 //!   and Hairer's 8(5,3)), tableaus as data in [`tableau`].
 //! - [`Method::Radau5`]: Radau IIA, 3 stages, order 5 (Hairer's RADAU5 scheme) for the stiff
-//!   boundary-layer and vorticity systems (FORMULATION.md §4.3, audit item 12).
+//!   boundary-layer and vorticity systems (docs/model.md §4.3, audit item 12).
 //! - [`Method::Rosenbrock23`]: Shampine & Reichelt's ode23s pair, linearly implicit.
 //!
 //! [`run_loop::run`] is the one integration loop every stepper runs in (budget, sampling,
@@ -65,8 +65,9 @@ use serde::Serialize;
 
 /// An explicit first-order ODE y' = f(t, y) of fixed dimension.
 ///
-/// The model (`model::BubbleSystem`) and the test problems implement this; the steppers
-/// (RK4, Dormand–Prince, Radau IIA) depend on nothing else.
+/// The model (`model::boundary_layer::BoundaryLayerSystem`, the monolithic vorticity system) and
+/// the test problems implement this; the steppers (RK4, Dormand–Prince 5 and 8, Radau IIA,
+/// Rosenbrock 2(3)) depend on nothing else.
 pub trait OdeSystem {
     /// Dimension of the state.
     fn dim(&self) -> usize;

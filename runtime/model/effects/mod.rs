@@ -12,7 +12,7 @@
 //! Every term adds its share to both ([`Term::add`]) and its exact derivatives with respect to the
 //! state ([`Term::add_jacobian`]), so the implicit integrators, Floquet's A(t) and the natural
 //! frequencies use the same analytic linear structure. A scene assembles only the terms it asks
-//! for ([`super::equations::Equations::from_scene`]); the order of the list is the order of the
+//! for ([`super::Model::from_scene`]); the order of the list is the order of the
 //! sums (kept so that the assembled model reproduces the hand-written one bit for bit).
 //!
 //! Adding an effect = one more file here implementing [`Term`], plus one line in the assembly
@@ -209,8 +209,11 @@ pub struct BdotLoads<'a> {
 /// Contract:
 /// * [`add`](Term::add) adds the term's share to `loads.pressure` and, for m < `loads.gn.len()`,
 ///   to `loads.gn[m]`, `loads.gt[m]`. It may depend on t, R, Ṙ and on every mode amplitude
-///   (a, ȧ, b): the shape loads must be linear in (a, ȧ, b) (R-dependent coefficients, any
-///   coupling k ± 2j), the pressure may be any smooth function. Per-(t, R) constants are
+///   (a, ȧ, b): the shape loads of a first-order term are linear in (a, ȧ, b) (R-dependent
+///   coefficients, any coupling k ± 2j), the pressure may be any smooth function. The
+///   second-order terms of `modes.coupling = "quadratic"` (quadratic.rs, quadratic_membrane.rs,
+///   lipid_quadratic.rs, …) are `Term`s too and add products of two amplitudes; the linear
+///   analyses (Floquet's A(t), natural frequencies) see the first-order terms only. Per-(t, R) constants are
 ///   computed once per call (a term loops over the modes itself).
 /// * [`add_jacobian`](Term::add_jacobian) adds the exact partial derivatives of the same
 ///   quantities with respect to z (property-tested against finite differences: tests/suite/
