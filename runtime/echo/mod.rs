@@ -98,7 +98,9 @@ impl Recorder {
         for (col, &theta) in self.out.p.iter_mut().zip(&self.angles) {
             col.push(if self.near { self.field.near(&k, r, theta) } else { far });
         }
-        self.out.shape_part.push(far - self.field.far_spherical(&k, r));
+        // without shape modes their part is exactly zero (not the roundoff of two forms of ρV̈/(4πr))
+        let shape = if k.a.is_empty() { 0.0 } else { far - self.field.far_spherical(&k, r) };
+        self.out.shape_part.push(shape);
         self.out.t.push(t + self.out.delay);
     }
 
