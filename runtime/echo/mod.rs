@@ -133,8 +133,9 @@ pub fn simulate(
     }
     let model = Model::from_scene(scene)?.with_state_tap();
     let mut rec = Recorder::for_scene(scene, &model).expect("[echo] present");
+    let mut z = Vec::with_capacity(model.initial_state().len());
     let report = model.run(&scene.run, &mut |t, row| {
-        let z = model.tapped_state();
+        model.tapped_state_into(&mut z);
         rec.record(&model, t, &z);
         observer(t, row);
     });

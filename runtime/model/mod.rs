@@ -322,9 +322,14 @@ impl Model {
         self
     }
 
-    /// The full state of the last output row (empty unless [`Model::with_state_tap`]).
-    pub fn tapped_state(&self) -> Vec<f64> {
-        self.state_tap.as_ref().and_then(|t| t.lock().ok().map(|s| s.clone())).unwrap_or_default()
+    /// Copies the full state of the last output row into `z` (empty unless
+    /// [`Model::with_state_tap`]); `z` keeps its capacity, so a caller reusing it does not
+    /// allocate per row.
+    pub fn tapped_state_into(&self, z: &mut Vec<f64>) {
+        z.clear();
+        if let Some(s) = self.state_tap.as_ref().and_then(|t| t.lock().ok()) {
+            z.extend_from_slice(&s);
+        }
     }
 
     /// The drive p_a(t) in model units (p̄, t/t*), when the scene has one (docs/model.md, "Drives").

@@ -169,11 +169,12 @@ impl Term for LipidTerm {
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let (r, n) = (at.r(), jac.n);
         jac.pressure[0] -= self.law.s0(r).1;
+        let lay = StateLayout::reduced(jac.modes());
         for m in 0..jac.modes() {
             let k = self.orders[m];
             let (s, d) = (self.law.stiffness(r, k), self.law.stiffness_dr(r, k));
             let (a, b) = (at.a(m), at.b(m));
-            let (ia, ib) = (StateLayout::reduced(jac.modes()).a(m), StateLayout::reduced(jac.modes()).b(m));
+            let (ia, ib) = (lay.a(m), lay.b(m));
             let gn = &mut jac.gn[m * n..(m + 1) * n];
             gn[0] += d[0] * a + d[1] * b;
             gn[ia] += s[0];
