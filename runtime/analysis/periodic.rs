@@ -55,7 +55,7 @@ pub struct RkFlow<'a> {
 impl RkFlow<'_> {
     /// Advances `y` from t0 over `periods` whole periods; returns the final time.
     pub fn advance(&self, t0: f64, y: &mut [f64], periods: usize) -> Result<f64, PeriodicError> {
-        self.advance_observed(t0, y, periods, |_, _, _| {})
+        self.integrate_any(t0, y, &mut NoTangent, periods, None)
     }
 
     /// As [`advance`](Self::advance), calling `obs(t, y, f(t, y))` at every grid point
@@ -67,38 +67,7 @@ impl RkFlow<'_> {
         periods: usize,
         mut obs: impl FnMut(f64, &[f64], &[f64]),
     ) -> Result<f64, PeriodicError> {
-        let n = y.len();
-        let h = self.period / self.steps_per_period as f64;
-        let (mut k1, mut k2, mut k3, mut k4, mut tmp) =
-            (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        let total = periods * self.steps_per_period;
-        for s in 0..total {
-            let t = t0 + s as f64 * h;
-            self.sys.rhs(t, y, &mut k1);
-            obs(t, y, &k1);
-            for i in 0..n {
-                tmp[i] = y[i] + 0.5 * h * k1[i];
-            }
-            self.sys.rhs(t + 0.5 * h, &tmp, &mut k2);
-            for i in 0..n {
-                tmp[i] = y[i] + 0.5 * h * k2[i];
-            }
-            self.sys.rhs(t + 0.5 * h, &tmp, &mut k3);
-            for i in 0..n {
-                tmp[i] = y[i] + h * k3[i];
-            }
-            self.sys.rhs(t + h, &tmp, &mut k4);
-            for i in 0..n {
-                y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-            if y.iter().any(|v| !v.is_finite()) {
-                return Err(PeriodicError::NonFinite { t: t + h });
-            }
-        }
-        let t = t0 + total as f64 * h;
-        self.sys.rhs(t, y, &mut k1);
-        obs(t, y, &k1);
-        Ok(t)
+        self.integrate_any(t0, y, &mut NoTangent, periods, Some(&mut obs))
     }
 
     /// As [`advance`](Self::advance), also propagating Φ (n × n) by the variational equations
@@ -117,147 +86,248 @@ impl RkFlow<'_> {
 
     /// As [`advance_variational`](Self::advance_variational), calling `obs(t, y, f(t, y))` at
     /// every grid point (including the first and the last) as [`advance_observed`](Self::advance_observed)
-    /// does: the same RK4 steps, so the same values (one more rhs call at the end).
+    /// does: the same RK4 steps, so the same values.
     pub fn advance_variational_observed(
         &self,
         t0: f64,
         y: &mut [f64],
         phi: &mut DMatrix<f64>,
         periods: usize,
-        mut obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+        obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
     ) -> Result<f64, PeriodicError> {
         let n = y.len();
         if n == 2 {
-            return self.advance_variational_fixed::<2>(t0, y, phi, periods, obs);
+            // the radial orbit search: Φ on stack arrays (the 2 × 2 products through `DMatrix`
+            // were about a quarter of its variational cost)
+            let mut tan = FixedTangent::<2>::new(phi);
+            let r = self.integrate::<_, [f64; 2]>(t0, y, &mut tan, periods, obs);
+            tan.store(phi);
+            return r;
         }
+        let mut tan = DynTangent::new(phi);
+        self.integrate::<_, Vec<f64>>(t0, y, &mut tan, periods, obs)
+    }
+
+    /// [`integrate`](Self::integrate) with the stage buffers on the stack for the radial orbit
+    /// search (n = 2), on the heap otherwise.
+    fn integrate_any<T: Tangent>(
+        &self,
+        t0: f64,
+        y: &mut [f64],
+        tan: &mut T,
+        periods: usize,
+        obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+    ) -> Result<f64, PeriodicError> {
+        match y.len() {
+            2 => self.integrate::<T, [f64; 2]>(t0, y, tan, periods, obs),
+            _ => self.integrate::<T, Vec<f64>>(t0, y, tan, periods, obs),
+        }
+    }
+
+    /// The one RK4 loop of the period map: y by the classical stages, the tangent `tan` (none,
+    /// or Φ) by the same stages with the Jacobian at each stage point, `obs` at every grid point.
+    fn integrate<T: Tangent, B: Buf>(
+        &self,
+        t0: f64,
+        y_io: &mut [f64],
+        tan: &mut T,
+        periods: usize,
+        mut obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+    ) -> Result<f64, PeriodicError> {
+        let n = y_io.len();
         let h = self.period / self.steps_per_period as f64;
-        let mut ws = VarWork::new(n);
         let total = periods * self.steps_per_period;
-        let mut kp: [DMatrix<f64>; 4] = std::array::from_fn(|_| DMatrix::zeros(n, n));
-        let mut ky = vec![vec![0.0; n]; 4];
-        let mut tmp = vec![0.0; n];
-        let mut ptmp = DMatrix::zeros(n, n);
+        let mut y = B::zeros(n);
+        y.as_mut().copy_from_slice(y_io);
+        let mut ky: [B; 4] = std::array::from_fn(|_| B::zeros(n));
+        let mut tmp = B::zeros(n);
         for s in 0..total {
             let t = t0 + s as f64 * h;
             for (st, &(c, from)) in NODES.iter().enumerate() {
                 if st == 0 {
-                    tmp.copy_from_slice(y);
-                    ptmp.copy_from(phi);
+                    tmp.as_mut().copy_from_slice(y.as_ref());
                 } else {
-                    for i in 0..n {
-                        tmp[i] = y[i] + c * h * ky[from][i];
+                    for ((x, &yi), &k) in tmp.as_mut().iter_mut().zip(y.as_ref()).zip(ky[from].as_ref()) {
+                        *x = yi + c * h * k;
                     }
-                    ptmp.copy_from(phi);
-                    ptmp.zip_apply(&kp[from], |a, b| *a += c * h * b);
                 }
+                tan.stage(st, c * h, from);
                 // the Jacobian first: a system whose exact Jacobian computes f too may keep it
                 // for the rhs call at the same point (stability::Radial)
-                ws.jacobian(self.sys, t + c * h, &tmp);
-                self.sys.rhs(t + c * h, &tmp, &mut ky[st]);
-                kp[st].gemm(1.0, &ws.jac, &ptmp, 0.0);
+                tan.jacobian(self.sys, t + c * h, tmp.as_ref());
+                self.sys.rhs(t + c * h, tmp.as_ref(), ky[st].as_mut());
+                tan.product(st);
                 if st == 0 {
                     if let Some(o) = obs.as_mut() {
-                        o(t, y, &ky[0]);
+                        o(t, y.as_ref(), ky[0].as_ref());
                     }
                 }
             }
-            for i in 0..n {
-                y[i] += h / 6.0 * (ky[0][i] + 2.0 * ky[1][i] + 2.0 * ky[2][i] + ky[3][i]);
+            let [k0, k1, k2, k3] = &ky;
+            let ks = k0.as_ref().iter().zip(k1.as_ref()).zip(k2.as_ref()).zip(k3.as_ref());
+            for (yi, (((a, b), c), d)) in y.as_mut().iter_mut().zip(ks) {
+                *yi += h / 6.0 * (a + 2.0 * b + 2.0 * c + d);
             }
-            for (w, k) in [(1.0, 0), (2.0, 1), (2.0, 2), (1.0, 3)] {
-                phi.zip_apply(&kp[k], |a, b| *a += w * h / 6.0 * b);
-            }
-            if y.iter().chain(phi.iter()).any(|v| !v.is_finite()) {
+            tan.accumulate(h);
+            if y.as_ref().iter().any(|v| !v.is_finite()) || !tan.is_finite() {
+                y_io.copy_from_slice(y.as_ref());
                 return Err(PeriodicError::NonFinite { t: t + h });
             }
         }
+        y_io.copy_from_slice(y.as_ref());
         let t = t0 + total as f64 * h;
         if let Some(o) = obs.as_mut() {
-            self.sys.rhs(t, y, &mut ky[0]);
-            o(t, y, &ky[0]);
+            self.sys.rhs(t, y_io, ky[0].as_mut());
+            o(t, y_io, ky[0].as_ref());
         }
         Ok(t)
     }
 }
 
-impl RkFlow<'_> {
-    /// [`RkFlow::advance_variational_observed`] for N state components on stack arrays (the
-    /// radial orbit search, N = 2: the 2 × 2 products through `DMatrix` were about a quarter of
-    /// its variational cost). The same stages and sums; y, and so the observed grid, are the same
-    /// to the bit, Φ to rounding (the products' summation order).
-    fn advance_variational_fixed<const N: usize>(
-        &self,
-        t0: f64,
-        y: &mut [f64],
-        phi: &mut DMatrix<f64>,
-        periods: usize,
-        mut obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
-    ) -> Result<f64, PeriodicError> {
-        let h = self.period / self.steps_per_period as f64;
-        let total = periods * self.steps_per_period;
-        let mut ws = VarWork::new(N);
-        let mut yv = [0.0; N];
-        yv.copy_from_slice(y);
-        let mut p: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| phi[(i, j)]));
-        let mut jac = [[0.0; N]; N];
-        let (mut ky, mut kp) = ([[0.0; N]; 4], [[[0.0; N]; N]; 4]);
-        for s in 0..total {
-            let t = t0 + s as f64 * h;
-            for (st, &(c, from)) in NODES.iter().enumerate() {
-                let (mut tmp, mut pt) = (yv, p);
-                if st > 0 {
-                    for i in 0..N {
-                        tmp[i] = yv[i] + c * h * ky[from][i];
-                        for j in 0..N {
-                            pt[i][j] += c * h * kp[from][i][j];
-                        }
-                    }
-                }
-                ws.jacobian_into(self.sys, t + c * h, &tmp, jac.as_flattened_mut());
-                self.sys.rhs(t + c * h, &tmp, &mut ky[st]);
-                for i in 0..N {
-                    for j in 0..N {
-                        kp[st][i][j] = (0..N).map(|k| jac[i][k] * pt[k][j]).sum();
-                    }
-                }
-                if st == 0 {
-                    if let Some(o) = obs.as_mut() {
-                        o(t, &yv, &ky[0]);
-                    }
-                }
-            }
-            for i in 0..N {
-                yv[i] += h / 6.0 * (ky[0][i] + 2.0 * ky[1][i] + 2.0 * ky[2][i] + ky[3][i]);
-            }
-            for (w, k) in [(1.0, 0), (2.0, 1), (2.0, 2), (1.0, 3)] {
-                for i in 0..N {
-                    for j in 0..N {
-                        p[i][j] += w * h / 6.0 * kp[k][i][j];
-                    }
-                }
-            }
-            if yv.iter().chain(p.as_flattened()).any(|v| !v.is_finite()) {
-                y.copy_from_slice(&yv);
-                return Err(PeriodicError::NonFinite { t: t + h });
-            }
-        }
-        y.copy_from_slice(&yv);
-        for i in 0..N {
-            for j in 0..N {
-                phi[(i, j)] = p[i][j];
-            }
-        }
-        let t = t0 + total as f64 * h;
-        if let Some(o) = obs.as_mut() {
-            self.sys.rhs(t, y, &mut ky[0]);
-            o(t, y, &ky[0]);
-        }
-        Ok(t)
+/// The stage buffers of [`RkFlow::integrate`]: an array (length known to the compiler) or a Vec.
+trait Buf: AsRef<[f64]> + AsMut<[f64]> {
+    fn zeros(n: usize) -> Self;
+}
+
+impl<const N: usize> Buf for [f64; N] {
+    fn zeros(_: usize) -> Self {
+        [0.0; N]
+    }
+}
+
+impl Buf for Vec<f64> {
+    fn zeros(n: usize) -> Self {
+        vec![0.0; n]
     }
 }
 
 /// The RK4 stages: (node c, stage whose slope the stage's point uses).
 const NODES: [(f64, usize); 4] = [(0.0, 0), (0.5, 0), (0.5, 1), (1.0, 2)];
+/// The RK4 weights: (weight, stage).
+const WEIGHTS: [(f64, usize); 4] = [(1.0, 0), (2.0, 1), (2.0, 2), (1.0, 3)];
+
+/// What [`RkFlow::integrate`] carries beside y: nothing, or Φ with its stage slopes K = J Φ.
+trait Tangent {
+    /// The stage point's Φ: Φ (stage 0) or Φ + c h K_from.
+    fn stage(&mut self, st: usize, ch: f64, from: usize);
+    /// J at the stage point.
+    fn jacobian(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64]);
+    /// K_st = J · (the stage point's Φ).
+    fn product(&mut self, st: usize);
+    /// Φ += h/6 (K_0 + 2K_1 + 2K_2 + K_3).
+    fn accumulate(&mut self, h: f64);
+    fn is_finite(&self) -> bool;
+}
+
+/// The period map alone.
+struct NoTangent;
+
+impl Tangent for NoTangent {
+    fn stage(&mut self, _: usize, _: f64, _: usize) {}
+    fn jacobian(&mut self, _: &dyn OdeSystem, _: f64, _: &[f64]) {}
+    fn product(&mut self, _: usize) {}
+    fn accumulate(&mut self, _: f64) {}
+    fn is_finite(&self) -> bool {
+        true
+    }
+}
+
+/// Φ as a `DMatrix` (n × n), the products by `gemm`.
+struct DynTangent<'p> {
+    phi: &'p mut DMatrix<f64>,
+    kp: [DMatrix<f64>; 4],
+    ptmp: DMatrix<f64>,
+    ws: VarWork,
+}
+
+impl<'p> DynTangent<'p> {
+    fn new(phi: &'p mut DMatrix<f64>) -> Self {
+        let n = phi.nrows();
+        Self { kp: std::array::from_fn(|_| DMatrix::zeros(n, n)), ptmp: DMatrix::zeros(n, n), ws: VarWork::new(n), phi }
+    }
+}
+
+impl Tangent for DynTangent<'_> {
+    fn stage(&mut self, st: usize, ch: f64, from: usize) {
+        self.ptmp.copy_from(self.phi);
+        if st > 0 {
+            self.ptmp.zip_apply(&self.kp[from], |a, b| *a += ch * b);
+        }
+    }
+    fn jacobian(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64]) {
+        self.ws.jacobian(sys, t, y);
+    }
+    fn product(&mut self, st: usize) {
+        self.kp[st].gemm(1.0, &self.ws.jac, &self.ptmp, 0.0);
+    }
+    fn accumulate(&mut self, h: f64) {
+        for (w, k) in WEIGHTS {
+            self.phi.zip_apply(&self.kp[k], |a, b| *a += w * h / 6.0 * b);
+        }
+    }
+    fn is_finite(&self) -> bool {
+        self.phi.iter().all(|v| v.is_finite())
+    }
+}
+
+/// Φ for N state components on stack arrays; the same stages and sums as [`DynTangent`], Φ to
+/// rounding (the products' summation order).
+struct FixedTangent<const N: usize> {
+    p: [[f64; N]; N],
+    pt: [[f64; N]; N],
+    kp: [[[f64; N]; N]; 4],
+    jac: [[f64; N]; N],
+    ws: VarWork,
+}
+
+impl<const N: usize> FixedTangent<N> {
+    fn new(phi: &DMatrix<f64>) -> Self {
+        let p = std::array::from_fn(|i| std::array::from_fn(|j| phi[(i, j)]));
+        Self { p, pt: p, kp: [[[0.0; N]; N]; 4], jac: [[0.0; N]; N], ws: VarWork::new(N) }
+    }
+    fn store(&self, phi: &mut DMatrix<f64>) {
+        for i in 0..N {
+            for j in 0..N {
+                phi[(i, j)] = self.p[i][j];
+            }
+        }
+    }
+}
+
+impl<const N: usize> Tangent for FixedTangent<N> {
+    fn stage(&mut self, st: usize, ch: f64, from: usize) {
+        self.pt = self.p;
+        if st > 0 {
+            for i in 0..N {
+                for j in 0..N {
+                    self.pt[i][j] += ch * self.kp[from][i][j];
+                }
+            }
+        }
+    }
+    fn jacobian(&mut self, sys: &dyn OdeSystem, t: f64, y: &[f64]) {
+        self.ws.jacobian_into(sys, t, y, self.jac.as_flattened_mut());
+    }
+    fn product(&mut self, st: usize) {
+        for i in 0..N {
+            for j in 0..N {
+                self.kp[st][i][j] = (0..N).map(|k| self.jac[i][k] * self.pt[k][j]).sum();
+            }
+        }
+    }
+    fn accumulate(&mut self, h: f64) {
+        for (w, k) in WEIGHTS {
+            for i in 0..N {
+                for j in 0..N {
+                    self.p[i][j] += w * h / 6.0 * self.kp[k][i][j];
+                }
+            }
+        }
+    }
+    fn is_finite(&self) -> bool {
+        self.p.as_flattened().iter().all(|v| v.is_finite())
+    }
+}
 
 /// Jacobian workspace of [`RkFlow::advance_variational`].
 struct VarWork {
