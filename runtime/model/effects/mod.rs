@@ -229,7 +229,7 @@ pub trait Term: std::fmt::Debug {
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian);
     /// Adds the exact ∂P/∂R, ∂P/∂Ṙ of the term's share of the radial pressure at `at` (the
     /// shape amplitudes held fixed) to `dp`: the 2 × 2 radial Jacobian of the periodic-orbit
-    /// search (runtime/analysis/periodic.rs) without a full [`LoadJacobian`]. The default takes
+    /// search (runtime/analysis/periodic/) without a full [`LoadJacobian`]. The default takes
     /// them from [`add_jacobian`](Term::add_jacobian) over z's modes; a term overrides it with
     /// the same expressions (equality property-tested: tests/suite/pressure_gradient.rs).
     fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
