@@ -23,7 +23,7 @@ import pandas as pd
 from . import _magbubble as _ext
 from ._util import family_arg, frame, freq_arg, override_list, progress_bar, toml_text
 
-__all__ = ["Scene", "Run", "run", "modes", "floquet", "stability", "sweep", "coefficients", "KMAX"]
+__all__ = ["Scene", "Run", "Accuracy", "run", "modes", "floquet", "stability", "sweep", "accuracy", "coefficients", "KMAX"]
 __version__ = "0.1.0"
 
 #: The largest mode order of the generated coupling tables (build setting MAGBUBBLE_KMAX).
@@ -172,6 +172,85 @@ def floquet(
     for w in result.get("warnings", []):
         warnings.warn(w, RuntimeWarning, stacklevel=2)
     return result
+
+
+class Accuracy:
+    """What accuracy costs in time (``magbubble accuracy``), as DataFrames.
+
+    Time-series study (the default):
+
+    - ``ladders``: one row per rung, the columns of ``accuracy.csv`` (``method, setting, e_r,
+      e_a, error, wall_seconds, rhs_evals, steps, rejected``) and ``status``;
+    - ``orders``: per method the observed order against the step (``order_dt``) and against
+      the work (``order_work``; None where the work barely changes), and ``work_ratio``;
+    - ``sizes``: the mode and grid ladders, the columns of ``sizes.csv`` and ``status``.
+
+    Critical-ε_p study (``critical=`` a frequency): ``rungs``, one row per search (the
+    references first, error 0), the columns of ``critical.csv`` plus ``closure`` and ``outcome``.
+
+    ``report`` is the whole dict (``accuracy.json`` / ``critical.json``).
+    """
+
+    __slots__ = ("report", "ladders", "orders", "sizes", "rungs")
+
+    def __init__(self, report: Dict[str, Any]) -> None:
+        self.report = report
+        self.ladders = self.orders = self.sizes = self.rungs = None
+        if "ladders" in report:
+            rows, orders = [], []
+            for lad in report["ladders"]:
+                for r in lad["rungs"]:
+                    st = r["stats"]
+                    rows.append((lad["method"], r["setting"], r["e_r"], r["e_a"], r["error"], r["wall_seconds"],
+                                 st["rhs_evals"], st["steps"], st["rejected"], r["status"]))
+                orders.append((lad["method"], lad["setting_name"], lad["order_dt"], lad["order_work"], lad["work_ratio"]))
+            self.ladders = pd.DataFrame(rows, columns=["method", "setting", "e_r", "e_a", "error", "wall_seconds",
+                                                       "rhs_evals", "steps", "rejected", "status"])
+            self.orders = pd.DataFrame(orders, columns=["method", "setting_name", "order_dt", "order_work", "work_ratio"])
+            sizes = [(label, r["size"], r["wall_seconds"], r["stats"]["rhs_evals"], r["stats"]["steps"],
+                      r["delta_r"], r["delta_a2"], r["status"])
+                     for label in ("modes", "grid") for r in report[label]]
+            self.sizes = pd.DataFrame(sizes, columns=["ladder", "size", "wall_seconds", "rhs_evals", "steps",
+                                                      "delta_r", "delta_a2", "status"])
+        else:
+            rows = [(r["ladder"], r["closure"], r["setting"], r["critical"], r["error"], r["wall_seconds"],
+                     r["evaluations"], r["outcome"]) for r in report["references"] + report["rungs"]]
+            self.rungs = pd.DataFrame(rows, columns=["ladder", "closure", "setting", "critical", "error",
+                                                     "wall_seconds", "evaluations", "outcome"])
+
+    def __repr__(self) -> str:
+        if self.ladders is not None:
+            return f"Accuracy(methods={list(self.orders['method'])}, rungs={len(self.ladders)})"
+        return f"Accuracy(critical, searches={len(self.rungs)})"
+
+
+def accuracy(
+    scene_or_path: SceneOrPath,
+    overrides: Optional[Mapping[str, Any]] = None,
+    *,
+    quick: bool = False,
+    repeats: Optional[int] = None,
+    duration: Optional[float] = None,
+    critical: Optional[float] = None,
+    progress: Progress = True,
+) -> Accuracy:
+    """What accuracy costs in time (``magbubble accuracy``): every integrator's error against
+    its work on the scene, and the mode (and grid) ladders; with ``critical`` (a drive
+    frequency [Hz]) the error of the critical ε_p against its cost instead (``--critical``).
+    ``quick``: the short study (5 µs, three rungs per ladder). Releases the GIL; a tqdm bar
+    counts the simulations; KeyboardInterrupt stops the study before its next simulation.
+    Bad ``repeats``, ``duration`` or ``critical`` raise ValueError before any work."""
+    scene = _scene(scene_or_path, overrides)
+    if critical is not None:
+        if repeats is not None or duration is not None:
+            raise ValueError("repeats and duration have no meaning with critical= (a Floquet study)")
+        return Accuracy(_ext.accuracy_critical(scene._inner, float(critical), quick))
+    update, close = progress_bar(progress, "accuracy study", "runs")
+    try:
+        report = _ext.accuracy_study(scene._inner, quick, repeats, duration, update)
+    finally:
+        close()
+    return Accuracy(report)
 
 
 def coefficients(field: str, kmax: int) -> Dict[str, Any]:

@@ -27,7 +27,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 }
 
 /// The [`Monitor`] of a worker: progress to the calling thread, its cancel flag.
-fn with_monitor<T>(ctl: &worker::Control, work: impl FnOnce(&Monitor) -> T) -> T {
+pub(crate) fn with_monitor<T>(ctl: &worker::Control, work: impl FnOnce(&Monitor) -> T) -> T {
     let report = |done: f64, total: f64| {
         ctl.set_total(total);
         ctl.set_done(done);

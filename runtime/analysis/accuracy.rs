@@ -37,6 +37,9 @@ pub enum AccuracyError {
     Reference { what: String, status: String },
     #[error("{what} = {value}: {reason}")]
     Setting { what: &'static str, value: String, reason: &'static str },
+    /// The caller's cancel flag was raised (between two simulations).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 /// What to run.
@@ -165,6 +168,8 @@ struct Tally<'a> {
     done: std::cell::Cell<usize>,
     total: std::cell::Cell<usize>,
     f: &'a dyn Fn(usize, usize),
+    /// Checked before every simulation: once set, the study ends with [`AccuracyError::Cancelled`].
+    cancel: Option<&'a std::sync::atomic::AtomicBool>,
 }
 
 impl Tally<'_> {
@@ -179,7 +184,10 @@ impl Tally<'_> {
     }
 }
 
-fn run_once(scene: &Scene, tally: &Tally) -> Result<Trajectory, ModelError> {
+fn run_once(scene: &Scene, tally: &Tally) -> Result<Trajectory, AccuracyError> {
+    if tally.cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
+        return Err(AccuracyError::Cancelled);
+    }
     let mut rows = vec![];
     let rep = simulate(scene, &mut |_, row| rows.push(row.to_vec()));
     tally.tick();
@@ -200,7 +208,7 @@ fn median(v: &mut [f64]) -> f64 {
 }
 
 /// Runs `repeats` times; the first trajectory with the median wall time.
-fn run_timed(scene: &Scene, repeats: usize, tally: &Tally) -> Result<Trajectory, ModelError> {
+fn run_timed(scene: &Scene, repeats: usize, tally: &Tally) -> Result<Trajectory, AccuracyError> {
     let mut first = run_once(scene, tally)?;
     let mut walls = vec![first.wall];
     for _ in 1..repeats.max(1) {
@@ -273,7 +281,7 @@ fn ladder(
     repeats: usize,
     configure: &dyn Fn(&mut Scene, f64),
     tally: &Tally,
-) -> Result<Ladder, ModelError> {
+) -> Result<Ladder, AccuracyError> {
     let r0 = base.bubble.radius;
     let mut rungs = vec![];
     for &s in settings {
@@ -338,7 +346,18 @@ pub fn accuracy_study_with(
     opts: &AccuracyOptions,
     progress: &dyn Fn(usize, usize),
 ) -> Result<AccuracyReport, AccuracyError> {
-    let tally = Tally { done: 0.into(), total: planned_runs(scene, opts).into(), f: progress };
+    accuracy_study_cancellable(scene, opts, progress, None)
+}
+
+/// [`accuracy_study_with`] that stops before the next simulation once `cancel` is set
+/// ([`AccuracyError::Cancelled`]; the simulation in flight finishes first).
+pub fn accuracy_study_cancellable(
+    scene: &Scene,
+    opts: &AccuracyOptions,
+    progress: &dyn Fn(usize, usize),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<AccuracyReport, AccuracyError> {
+    let tally = Tally { done: 0.into(), total: planned_runs(scene, opts).into(), f: progress, cancel };
     let tally = &tally;
     if opts.samples < 2 {
         return Err(AccuracyError::Setting { what: "samples", value: opts.samples.to_string(), reason: "need at least 2" });
@@ -438,7 +457,7 @@ pub fn accuracy_study_with(
             base.run.integrator.method, base.run.integrator.rtol, base.run.integrator.atol, base.run.integrator.dt
         )
     };
-    let size = |configure: &dyn Fn(&mut Scene, usize), sizes: &[usize]| -> Result<Vec<SizeRung>, ModelError> {
+    let size = |configure: &dyn Fn(&mut Scene, usize), sizes: &[usize]| -> Result<Vec<SizeRung>, AccuracyError> {
         let mut runs = vec![];
         for &n in sizes {
             let mut sc = base.clone();

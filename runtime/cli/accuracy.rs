@@ -4,7 +4,7 @@
 //! rung), `DIR/sizes.csv` (mode and grid ladders), `DIR/accuracy.json` (everything) and with
 //! `--plot` `DIR/work_precision.{svg,png}` (error against wall time, log–log).
 
-use crate::api::accuracy::{study, AccuracyOptions, MIN_WORK_RATIO};
+use crate::api::accuracy::{options, study, MIN_WORK_RATIO};
 use crate::api::{Monitor, Scene};
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::kinds::{work_precision, Curve};
@@ -46,19 +46,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
     if let Some(f) = args.critical {
         return super::accuracy_critical::run(args, &scene, f);
     }
-    let mut opts = if args.quick { AccuracyOptions::quick() } else { AccuracyOptions::full() };
-    if let Some(r) = args.repeats {
-        if r == 0 {
-            anyhow::bail!("--repeats = 0: need at least one run per setting");
-        }
-        opts.repeats = r;
-    }
-    if let Some(d) = args.duration {
-        if !(d.is_finite() && d > 0.0) {
-            anyhow::bail!("--duration = {d}: must be a positive time in seconds");
-        }
-        opts.duration = Some(d);
-    }
+    let opts = options(args.quick, args.repeats, args.duration)?;
     // A fraction-done bar over the study's simulations (on a terminal only).
     let report = study(&scene, &opts, &Monitor { bar: true, ..Monitor::default() })?;
     outln!(

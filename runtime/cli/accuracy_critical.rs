@@ -4,18 +4,15 @@
 //! `DIR/critical_work_precision.{svg,png}` (error against wall time, one curve per ladder).
 
 use super::accuracy::AccuracyArgs;
-use crate::api::accuracy::{check_frequency, critical, CriticalAccuracyOptions, CriticalRung};
+use crate::api::accuracy::{critical, critical_options, CriticalRung};
 use crate::api::Scene;
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::kinds::{work_precision, Curve};
 use anyhow::Context;
 
 pub(super) fn run(args: &AccuracyArgs, scene: &Scene, frequency_hz: f64) -> anyhow::Result<()> {
-    check_frequency(frequency_hz)?;
-    anyhow::ensure!(args.duration.is_none(), "--duration has no meaning with --critical (a Floquet study has no simulated time)");
-    anyhow::ensure!(args.repeats.is_none(), "--repeats has no meaning with --critical (each search runs once; its wall time is reported)");
+    let opts = critical_options(frequency_hz, args.quick, args.repeats, args.duration)?;
     anyhow::ensure!(scene.scene().drive.is_some(), "{}: --critical needs a [drive] section (ε_p is the varied quantity)", args.scene.display());
-    let opts = if args.quick { CriticalAccuracyOptions::quick(frequency_hz) } else { CriticalAccuracyOptions::full(frequency_hz) };
     let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "accuracy"));
     let dir = OutputDir::create(&out)?;
     outln!("critical ε_p at f_d = {frequency_hz:e} Hz, N = {} (scene), bracket tolerance {:e} relative", scene.scene().modes.max_order, opts.tol);
