@@ -57,7 +57,9 @@ fn run<'py>(
 /// Natural frequencies (`damped`: the damped spectrum) as a dict: what `modes` prints as JSON.
 #[pyfunction]
 #[pyo3(signature = (scene, kmax = None, damped = false))]
-fn modes<'py>(py: Python<'py>, scene: &PyScene, kmax: Option<usize>, damped: bool) -> PyResult<Bound<'py, PyAny>> {
+fn modes<'py>(py: Python<'py>, scene: &PyScene, kmax: Option<i64>, damped: bool) -> PyResult<Bound<'py, PyAny>> {
+    // a negative kmax gets the library's message for a too small one (not OverflowError)
+    let kmax = kmax.map(|k| usize::try_from(k).map_err(|_| value_error(format!("kmax = {k}: must be ≥ 2")))).transpose()?;
     let sc = &scene.inner;
     let m = worker::run(py, None, |_| api::modes::modes(sc, kmax, damped))?.map_err(|e| chain_error(&e))?;
     Ok(to_python(py, &m)?)

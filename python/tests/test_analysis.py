@@ -69,3 +69,9 @@ def test_coefficients_bad_arguments():
         mb.coefficients("coil", mb.KMAX + 1)
     with pytest.raises(ValueError, match="expected 'coil' or 'dipole'"):
         mb.coefficients("solenoid", 4)
+
+
+@pytest.mark.parametrize("kmax, message", [(-1, "kmax = -1: must be ≥ 2"), (1, "--kmax 1: must be ≥ 2"), (1000, "stop at k = 64")])
+def test_bad_kmax_is_a_value_error(kmax, message):
+    with pytest.raises(ValueError, match=message):
+        mb.modes(SCENE, kmax)
