@@ -194,16 +194,61 @@ pub fn summary_blow_up(summary: &Path) -> Option<(String, f64)> {
 pub fn series_plot(csv_path: &Path, out_dir: &Path) -> Result<Saved, PlotError> {
     let table = SeriesTable::read(csv_path)?;
     let mut run = table.to_time_series("", false)?;
-    run.blow_up = summary_blow_up(&csv_path.with_file_name("summary.json"));
-    let mut title = csv_path
-        .parent()
-        .and_then(|p| p.file_name())
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "run".into());
-    if let Some((mode, t)) = &run.blow_up {
-        title = format!("{title}: blow-up of {mode} at t = {:.2} µs", t * 1e6);
-    }
+    let summary_path = csv_path.with_file_name("summary.json");
+    run.blow_up = summary_blow_up(&summary_path);
+    let summary = std::fs::read_to_string(&summary_path).ok().and_then(|t| serde_json::from_str(&t).ok());
+    let title = match summary.as_ref().and_then(run_title) {
+        Some(t) => t,
+        // a series.csv without its summary: the folder's name
+        None => {
+            let dir = csv_path.parent().and_then(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned());
+            let title = dir.unwrap_or_else(|| "run".into());
+            match &run.blow_up {
+                Some((mode, t)) => format!("{title}: blow-up of {mode} at t = {:.2} µs", t * 1e6),
+                None => title,
+            }
+        }
+    };
     time_series(&title, std::slice::from_ref(&run)).save(out_dir, "series")
+}
+
+/// The title of a run's plot from its summary.json (issue 29 item 14): the scene (file stem,
+/// and how many overrides), the model (Keller–Miksis or not, closure, coupling, shell law,
+/// integrator) and how the run ended — a blow-up, a stop at the credible bound, a failure.
+pub fn run_title(summary: &serde_json::Value) -> Option<String> {
+    let scene = summary.get("scene")?;
+    let file = summary.pointer("/source/file")?.as_str()?;
+    let stem = Path::new(file).file_stem()?.to_string_lossy().into_owned();
+    let overrides = summary.pointer("/source/overrides").and_then(|o| o.as_array()).map_or(0, |o| o.len());
+    let name = match overrides {
+        0 => stem,
+        1 => format!("{stem} (1 override)"),
+        n => format!("{stem} ({n} overrides)"),
+    };
+    let mut model = vec![];
+    if scene.pointer("/liquid/sound_speed").is_some_and(|c| !c.is_null()) {
+        model.push("Keller–Miksis".to_string());
+    }
+    if scene.pointer("/modes/max_order").and_then(|n| n.as_u64()).unwrap_or(0) > 0 {
+        model.push(scene.pointer("/modes/viscous")?.as_str()?.to_string());
+        model.push(format!("{} coupling", scene.pointer("/modes/coupling")?.as_str()?));
+    }
+    let law = scene.pointer("/shell/law/name").and_then(|n| n.as_str()).unwrap_or("mooney-rivlin");
+    model.push(law.to_string());
+    model.push(scene.pointer("/run/integrator/method")?.as_str()?.to_string());
+    let us = |v: Option<&serde_json::Value>| v.and_then(|t| t.as_f64()).map_or("?".to_string(), |t| format!("{:.2} µs", t * 1e6));
+    let status = summary.get("status")?;
+    let end = if let Some(b) = status.get("blow_up") {
+        format!("blow-up of {} at {}", b.get("mode")?.as_str()?, us(b.get("t")))
+    } else if let Some(c) = status.get("out_of_credible_range") {
+        let bound = c.get("bound").and_then(|b| b.as_f64()).unwrap_or(f64::NAN);
+        format!("{} left |a|/R0 ≤ {bound} at {}", c.get("mode")?.as_str()?, us(c.get("t")))
+    } else if status.as_str() == Some("completed") {
+        format!("completed {}", us(summary.get("t_end")))
+    } else {
+        format!("{} at {}", status.as_object().and_then(|o| o.keys().next()).map_or("failed", |k| k.as_str()), us(summary.get("t_end")))
+    };
+    Some(format!("{name}: {} — {end}", model.join(", ")))
 }
 
 #[cfg(test)]
