@@ -432,4 +432,16 @@ fn run_plot_title_names_scene_model_and_stop() {
     let title = magbubble::plot::run_title(&summary).unwrap();
     assert!(title.starts_with("keller_miksis: Keller–Miksis, "), "{title}");
     assert!(title.contains(" — completed ") || title.contains(" — blow-up of "), "{title}");
+    // a free bubble has no shell law
+    let fb = dir.path().join("fb");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_magbubble"))
+        .args(["run", "scenes/free_bubble.toml", "--out"])
+        .arg(&fb)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(fb.join("summary.json")).unwrap()).unwrap();
+    let title = magbubble::plot::run_title(&summary).unwrap();
+    assert!(title.contains(", free bubble, ") && !title.contains("mooney"), "{title}");
 }
