@@ -87,3 +87,31 @@ fn figure_rejects_unknown_number() {
     assert!(err.contains("no figure 2"), "{err}");
     assert!(!Path::new(&tmp.path().join("fig02.csv")).exists());
 }
+
+/// The caption says what was run (issue 29 item 14): `--quick` and `--set` change the duration
+/// and the current it names, in the console note, figNN.md and the gallery index.
+#[test]
+fn figure_caption_follows_the_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_magbubble"))
+        .args(["figure", "12", "--quick", "--set", "field.coil.current=150e3", "--out"])
+        .arg(dir.path())
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(dir.path().join("fig12.md")).unwrap();
+    let caption = "R(t) and a_2(t) over 20 µs for several susceptibilities χ (coil, I = 150 kA)";
+    assert!(md.contains(caption), "fig12.md: {}", md.lines().take(4).collect::<Vec<_>>().join("\n"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains(caption));
+    assert!(!md.contains("2000 µs for several") && !md.contains("100 kA"));
+    // `figure list` names the shipped scenes' values
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_magbubble"))
+        .args(["figure", "list"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let list = String::from_utf8_lossy(&o.stdout);
+    assert!(list.contains("over 2000 µs for several susceptibilities χ (coil, I = 100 kA)"), "{list}");
+    assert!(list.contains("over 100 µs for R0 = 10, 15, 20 µm"), "{list}");
+}

@@ -28,6 +28,9 @@ impl Simulator for ModelSimulator {
     fn model(&self) -> Option<String> {
         (!self.extra.is_empty()).then(|| self.extra.join(", "))
     }
+    fn overrides(&self) -> Vec<String> {
+        self.extra.clone()
+    }
     fn simulate(&self, path: &Path, overrides: &[String]) -> Result<RunOutput, String> {
         let all: Vec<String> = overrides.iter().chain(&self.extra).cloned().collect();
         let scene = scene::load(path, &all).map_err(|e| e.to_string())?;

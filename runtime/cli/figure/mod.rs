@@ -38,8 +38,10 @@ pub struct FigureArgs {
 
 pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
     if args.figure == "list" {
+        // the captions with the shipped scenes' values (placeholders where they are absent)
+        let list_scenes = scenes_dir(args.scenes.as_deref()).unwrap_or_default();
         for f in paper::FIGURES {
-            outln!("{:>2}  {:<32} {}", f.number, f.scene, f.shows);
+            outln!("{:>2}  {:<32} {}", f.number, f.scene, f.caption(&list_scenes, &[]));
         }
         return Ok(());
     }
@@ -64,7 +66,7 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
     let mut done = Vec::new();
     let mut failed = Vec::new();
     for fig in figures {
-        noteln!("figure {}: {}", fig.number, fig.shows);
+        noteln!("figure {}: {}", fig.number, fig.caption(&scenes, &paper::caption_overrides(args.quick, &args.set)));
         let parts = paper::parts::parts_dir(&args.out, &fig.stem());
         if args.fresh {
             match std::fs::remove_dir_all(&parts) {
@@ -92,7 +94,7 @@ pub fn run(args: &FigureArgs) -> anyhow::Result<()> {
         }
     }
     if args.figure == "all" {
-        write_index(&args.out, &done, &failed)?;
+        write_index(&args.out, &done, &failed, &|f: &PaperFigure| f.caption(&scenes, &paper::caption_overrides(args.quick, &args.set)))?;
     }
     match failed.len() {
         0 => Ok(()),
@@ -225,11 +227,12 @@ fn write_index(
     out: &Path,
     done: &[FigureReport],
     failed: &[(u32, FigureError)],
+    caption: &dyn Fn(&PaperFigure) -> String,
 ) -> anyhow::Result<()> {
     let mut s = String::from("# magbubble: the paper's figures\n\n| figure | what it shows | time [s] | files |\n|---|---|---|---|\n");
     let mut rows: Vec<(u32, String)> = Vec::new();
     for r in done {
-        let shows = paper::find(r.number).map(|f| f.shows).unwrap_or("");
+        let shows = paper::find(r.number).map(caption).unwrap_or_default();
         let files: Vec<String> = r
             .files
             .iter()

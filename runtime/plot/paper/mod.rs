@@ -107,6 +107,27 @@ impl PaperFigure {
         format!("fig{:02}", self.number)
     }
 
+    /// What the figure shows with its parameters as run (issue 29 item 14): the registry's
+    /// `shows` with `{duration}` → the scene's run.duration [µs] and `{current}` → the coil's
+    /// static current [kA], from the figure's scene in `scenes_dir` with `overrides` (the
+    /// `--quick` and `--set` ones). Where the scene cannot be read, the placeholders say so.
+    pub fn caption(&self, scenes_dir: &Path, overrides: &[String]) -> String {
+        let scene = self.scene_in(scenes_dir).ok().and_then(|p| crate::scene::load(p, overrides).ok());
+        let num = |v: f64| {
+            let s = format!("{v:.3}");
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        };
+        let duration = scene.as_ref().map_or("the scene's duration".to_string(), |s| format!("{} µs", num(s.run.duration * 1e6)));
+        let current = match scene.as_ref().and_then(|s| s.field.as_ref()) {
+            Some(crate::scene::Field::Coil(c)) => match c.current {
+                crate::scene::Current::Static { value } => format!("{} kA", num(value / 1e3)),
+                crate::scene::Current::Cosine { amplitude, frequency_hz } => format!("{} kA at {} MHz", num(amplitude / 1e3), num(frequency_hz / 1e6)),
+            },
+            _ => "the scene's current".to_string(),
+        };
+        self.shows.replace("{duration}", &duration).replace("{current}", &current)
+    }
+
     /// The figure's scene file in `scenes_dir`; [`FigureError::MissingScene`] when it is not a file.
     pub fn scene_in(&self, scenes_dir: &Path) -> Result<PathBuf, FigureError> {
         let path = scenes_dir.join(self.scene);
@@ -152,6 +173,17 @@ pub trait Simulator: Sync {
     fn model(&self) -> Option<String> {
         None
     }
+    /// The overrides the simulator adds to every run (`figure --set`), for the caption.
+    fn overrides(&self) -> Vec<String> {
+        Vec::new()
+    }
+}
+
+/// The overrides a figure's runs get besides their variant's: `--quick`'s, then `--set`'s (the
+/// order [`make_time_series`] applies them in); what [`PaperFigure::caption`] reads.
+pub fn caption_overrides(quick: bool, set: &[String]) -> Vec<String> {
+    let quick = if quick { QUICK_OVERRIDES } else { &[] };
+    quick.iter().map(|s| s.to_string()).chain(set.iter().cloned()).collect()
 }
 
 /// Errors of the figure pipeline.

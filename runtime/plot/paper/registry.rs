@@ -173,7 +173,7 @@ pub static FIGURES: &[PaperFigure] = &[
     PaperFigure {
         number: 12,
         scene: "fig12_chi.toml",
-        shows: "R(t) and a_2(t) over 2000 µs for several susceptibilities χ (coil, I = 100 kA)",
+        shows: "R(t) and a_2(t) over {duration} for several susceptibilities χ (coil, I = {current})",
         paper: "R(t) is unaffected by χ; the a_2 amplitude grows with χ (bounded oscillations over 2000 µs)",
         recipe: Recipe::TimeSeries(TimeSeriesSpec {
             variants: &[
@@ -189,7 +189,7 @@ pub static FIGURES: &[PaperFigure] = &[
     PaperFigure {
         number: 13,
         scene: "fig13_radius.toml",
-        shows: "R(t) and a_2(t) over 100 µs for R0 = 10, 15, 20 µm (χ = 1)",
+        shows: "R(t) and a_2(t) over {duration} for R0 = 10, 15, 20 µm (χ = 1)",
         paper: "R oscillates less for larger R0; the a_2 amplitude grows about 2.25× (15 µm) and 4× (20 µm)",
         recipe: Recipe::TimeSeries(TimeSeriesSpec {
             variants: &[
@@ -234,7 +234,7 @@ pub static FIGURES: &[PaperFigure] = &[
     PaperFigure {
         number: 16,
         scene: "fig16_dipole.toml",
-        shows: "dipole: R(t), a_2(t), a_4(t) over 2000 µs for several moments M (χ = 5, z = 0.01 m)",
+        shows: "dipole: R(t), a_2(t), a_4(t) over {duration} for several moments M (χ = 5, z = 0.01 m)",
         paper: "larger M slightly increases R's amplitude and strongly increases a_2 (forcing ∝ M²)",
         recipe: Recipe::TimeSeries(TimeSeriesSpec {
             variants: &[

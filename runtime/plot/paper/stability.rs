@@ -372,7 +372,8 @@ pub fn make_stability(
         parts,
     };
     let md = out_dir.join(format!("{stem}.md"));
-    let mut note = super::timeseries::note(fig, &report, &scene);
+    let caption = fig.caption(scenes_dir, &super::caption_overrides(quick, &[]));
+    let mut note = super::timeseries::note(fig, &caption, &report, &scene);
     let _ = writeln!(
         note,
         "\nSweep: `{}` over {} points {:.3}…{:.3} MHz; critical `{}` searched in [{}, {}].",

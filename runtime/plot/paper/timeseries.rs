@@ -182,7 +182,8 @@ pub fn make_time_series(
         quick,
         parts,
     };
-    let mut text = note(fig, &report, &scene);
+    let caption = fig.caption(scenes_dir, &super::caption_overrides(quick, &sim.overrides()));
+    let mut text = note(fig, &caption, &report, &scene);
     text.push_str(&amplitudes(spec, &runs));
     write_atomic(&md, text.as_bytes())?;
     let mut report = report;
@@ -222,10 +223,10 @@ fn long_csv(spec: &TimeSeriesSpec, outputs: &[RunOutput]) -> String {
     s
 }
 
-pub(super) fn note(fig: &PaperFigure, r: &FigureReport, scene: &Path) -> String {
+pub(super) fn note(fig: &PaperFigure, caption: &str, r: &FigureReport, scene: &Path) -> String {
     let mut s = format!(
-        "# Figure {}\n\n{}.\n\nThe paper reports: {}.\n\n",
-        fig.number, fig.shows, fig.paper
+        "# Figure {}\n\n{caption}.\n\nThe paper reports: {}.\n\n",
+        fig.number, fig.paper
     );
     let _ = writeln!(
         s,
