@@ -51,7 +51,7 @@ pub(super) fn run(args: &AccuracyArgs, scene: &Scene, frequency_hz: f64) -> anyh
                 curves.push(Curve::new(name.to_string(), x, y));
             }
         }
-        let fig = work_precision(&format!("critical ε_p at {frequency_hz:e} Hz: {}", args.scene.display()), "|ε_c − ε_c,ref| / ε_c,ref", &curves);
+        let fig = work_precision(&format!("critical ε_p at {frequency_hz:e} Hz: {}", args.scene.display()), "|ε_c − ε_c,ref| / ε_c,ref", &[("wall time [s]", curves)]);
         fig.save(dir.path(), "critical_work_precision").context("writing the critical work–precision plot")?;
     }
     outln!("wrote {}", out.display());

@@ -196,14 +196,21 @@ pub fn max_multiplier(title: &str, x_label: &str, curves: &[Curve], log_y: bool)
     Figure::single(p).title(title)
 }
 
-/// Work–precision: error against wall time, log–log, one curve per integrator (x = wall time
-/// [s], y = error [–]).
-pub fn work_precision(title: &str, error_label: &str, curves: &[Curve]) -> Figure {
-    let mut p = Panel::new(Axis::log("wall time [s]"), Axis::log(error_label));
-    for (i, c) in curves.iter().enumerate() {
-        p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
-    }
-    Figure::single(p).title(title)
+/// Work–precision, one curve per integrator (y = error [–]): one panel per work measure `(axis label, curves)`, error against work, log–log: a count
+/// that does not vary from run to run (rhs evaluations, Floquet evaluations) first, then the
+/// wall time a user waits (issue 29 item 14: on millisecond runs the wall time alone zig-zags).
+pub fn work_precision(title: &str, error_label: &str, work: &[(&str, Vec<Curve>)]) -> Figure {
+    let panels = work
+        .iter()
+        .map(|(label, curves)| {
+            let mut p = Panel::new(Axis::log(*label), Axis::log(error_label));
+            for (i, c) in curves.iter().enumerate() {
+                p.push(Series::line_points(c.label.clone(), c.x.clone(), c.y.clone()).color(i));
+            }
+            p
+        })
+        .collect();
+    Figure::new(panels).title(title)
 }
 
 /// Convergence: error against the step (e.g. Δt' [–]), log–log, with dashed reference lines

@@ -149,10 +149,11 @@ fn every_kind_of_figure_renders() {
         Curve::new("rk4", times.clone(), vec![1e-3, 1e-5, 1e-7, 1e-9]),
         Curve::new("radau5", times.clone(), vec![1e-4, 1e-7, 1e-10, 0.0]), // 0: off a log axis, skipped
     ];
-    kinds::work_precision("work–precision", "error [–]", &wp)
+    let evals = vec![Curve::new("rk4", vec![1e3, 2e3, 4e3, 8e3], vec![1e-3, 1e-5, 1e-7, 1e-9])];
+    kinds::work_precision("work–precision", "error [–]", &[("rhs evaluations", evals), ("wall time [s]", wp.to_vec())])
         .save(&dir, "wp")
         .unwrap();
-    assert_rendered(&dir, "wp", &["wall time [s]", "radau5"]);
+    assert_rendered(&dir, "wp", &["rhs evaluations", "wall time [s]", "radau5"]);
 
     let dt = vec![1e-2, 5e-3, 2.5e-3, 1.25e-3];
     let e: Vec<f64> = dt.iter().map(|d: &f64| 3.0 * d.powi(2)).collect();
