@@ -27,6 +27,8 @@ pub struct ConvergenceRow {
     pub worst_k_s: usize,
     /// Wall-clock seconds of this run.
     pub seconds: f64,
+    /// Steps of the staggered scheme: the run's work, a count that does not vary between runs.
+    pub steps: u64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -135,9 +137,9 @@ pub fn convergence_study(
                 let e_f = (0..c.orders().len())
                     .map(|mi| rel_l2(&run.t_end[mi], &reference.t_end[mi]))
                     .fold(0.0f64, f64::max);
-                ConvergenceRow { dt, e_s, e_f, worst_k_s: worst, seconds: run.seconds }
+                ConvergenceRow { dt, e_s, e_f, worst_k_s: worst, seconds: run.seconds, steps }
             }
-            Err(_) => ConvergenceRow { dt, e_s: f64::INFINITY, e_f: f64::INFINITY, worst_k_s: 0, seconds: f64::NAN },
+            Err(_) => ConvergenceRow { dt, e_s: f64::INFINITY, e_f: f64::INFINITY, worst_k_s: 0, seconds: f64::NAN, steps },
         };
         rows.push(row);
     }

@@ -129,6 +129,11 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
             &[("rhs evaluations (Jacobian columns included; LU solves not)", counted), ("wall time [s], median of the repeats", curves)],
         );
         fig.save(dir.path(), "work_precision").context("writing the work–precision plot")?;
+    } else {
+        // an earlier run's plot would sit beside the new data (issue 29 item 9)
+        for stale in crate::plot::remove_stale_plots(dir.path(), &["work_precision"]) {
+            noteln!("removed {} (an earlier run's plot; --plot draws a new one)", stale.display());
+        }
     }
     outln!("wrote {}", out.display());
     Ok(())

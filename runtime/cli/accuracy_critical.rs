@@ -53,6 +53,11 @@ pub(super) fn run(args: &AccuracyArgs, scene: &Scene, frequency_hz: f64) -> anyh
         }
         let fig = work_precision(&format!("critical ε_p at {frequency_hz:e} Hz: {}", args.scene.display()), "|ε_c − ε_c,ref| / ε_c,ref", &[("wall time [s]", curves)]);
         fig.save(dir.path(), "critical_work_precision").context("writing the critical work–precision plot")?;
+    } else {
+        // an earlier run's plot would sit beside the new data (issue 29 item 9)
+        for stale in crate::plot::remove_stale_plots(dir.path(), &["critical_work_precision"]) {
+            noteln!("removed {} (an earlier run's plot; --plot draws a new one)", stale.display());
+        }
     }
     outln!("wrote {}", out.display());
     Ok(())

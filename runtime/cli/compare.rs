@@ -64,6 +64,11 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             .save(dir.path(), "compare")
             .context("writing the compare plot")?;
         outln!("plotted {}", dir.join("compare.svg").display());
+    } else {
+        // an earlier run's plot would sit beside the new data (issue 29 item 9)
+        for stale in crate::plot::remove_stale_plots(dir.path(), &["compare"]) {
+            noteln!("removed {} (an earlier run's plot; --plot draws a new one)", stale.display());
+        }
     }
     outln!("wrote {}", out.display());
     Ok(())

@@ -78,11 +78,16 @@ pub fn run(args: &ConvergenceArgs) -> anyhow::Result<()> {
     write_json(&dir.join("convergence.json"), &report)?;
     if args.plot {
         let points: Vec<ConvergencePoint> =
-            report.rows.iter().map(|r| ConvergencePoint { dt: r.dt, e_s: r.e_s, e_f: r.e_f, seconds: r.seconds }).collect();
+            report.rows.iter().map(|r| ConvergencePoint { dt: r.dt, e_s: r.e_s, e_f: r.e_f, steps: r.steps as f64 }).collect();
         convergence_figure(&format!("time-step convergence: {}", args.scene.display()), &points, 2)
             .save(dir.path(), "convergence")
             .context("writing the convergence plot")?;
         outln!("plotted {}", dir.join("convergence.svg").display());
+    } else {
+        // an earlier run's plot would sit beside the new data (issue 29 item 9)
+        for stale in crate::plot::remove_stale_plots(dir.path(), &["convergence"]) {
+            noteln!("removed {} (an earlier run's plot; --plot draws a new one)", stale.display());
+        }
     }
     outln!("wrote {}", out.display());
     Ok(())

@@ -178,6 +178,11 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
                 noteln!("wrote {} and {}", s.svg.display(), s.png.display());
             }
         }
+    } else if shard == Shard::ALL {
+        // an earlier diagram's plot would sit beside the new rows (issue 29 item 9)
+        for stale in crate::plot::remove_stale_plots(&req.out, &["stability", "stability_mode"]) {
+            noteln!("removed {} (an earlier run's plot; --plot draws a new one)", stale.display());
+        }
     }
     anyhow::ensure!(failed.is_empty(), "{}", failed.join("\n"));
     Ok(())

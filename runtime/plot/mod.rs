@@ -30,7 +30,7 @@ pub use figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series, VLine};
 pub use logshape::{log_magnitudes, wants_log, LOG_SPAN};
 pub use from_csv::{stability_plot, CsvTable};
 pub use render::Saved;
-pub use series_csv::{remove_stale_series_plot, run_title, series_plot, summary_blow_up, SeriesTable};
+pub use series_csv::{remove_stale_plots, remove_stale_series_plot, run_title, series_plot, summary_blow_up, SeriesTable};
 
 use std::path::PathBuf;
 

@@ -276,8 +276,15 @@ mod tests {
 /// those that were there: a run without `--plot` must not leave an earlier run's plot beside its
 /// new data (issue 29 item 9).
 pub fn remove_stale_series_plot(out_dir: &Path) -> Vec<std::path::PathBuf> {
-    ["series.svg", "series.png"]
+    remove_stale_plots(out_dir, &["series"])
+}
+
+/// Removes `out_dir/STEM.svg` and `STEM.png` for each stem: a command run without `--plot`
+/// into a folder where an earlier run drew its plot (issue 29 item 9); the paths removed.
+pub fn remove_stale_plots(out_dir: &Path, stems: &[&str]) -> Vec<std::path::PathBuf> {
+    stems
         .iter()
+        .flat_map(|s| [format!("{s}.svg"), format!("{s}.png")])
         .map(|n| out_dir.join(n))
         .filter(|p| std::fs::remove_file(p).is_ok())
         .collect()

@@ -13,11 +13,12 @@ pub struct ConvergencePoint {
     pub dt: f64,
     pub e_s: f64,
     pub e_f: f64,
-    pub seconds: f64,
+    /// The run's work: steps of the scheme (wall times of millisecond runs are noise).
+    pub steps: f64,
 }
 
 /// Two panels: e_s and e_f against Δt′ with a dashed slope-`order` guide (the scheme's
-/// expected order), and the same errors against the wall time of each run.
+/// expected order), and the same errors against the work of each run (its steps).
 pub fn convergence_figure(title: &str, points: &[ConvergencePoint], order: u32) -> Figure {
     let pick = |f: fn(&ConvergencePoint) -> f64, x: fn(&ConvergencePoint) -> f64| -> (Vec<f64>, Vec<f64>) {
         (points.iter().map(x).collect(), points.iter().map(f).collect())
@@ -31,9 +32,9 @@ pub fn convergence_figure(title: &str, points: &[ConvergencePoint], order: u32) 
         ]
     };
     let by_step = convergence("", "Δt′ [–]", "relative L2 error [–]", &curves(|p| p.dt), &[order]);
-    let mut work = Panel::new(Axis::log("wall time [s]"), Axis::log("relative L2 error [–]"))
+    let mut work = Panel::new(Axis::log("steps (work)"), Axis::log("relative L2 error [–]"))
         .title("error against work");
-    for (i, c) in curves(|p| p.seconds).into_iter().enumerate() {
+    for (i, c) in curves(|p| p.steps).into_iter().enumerate() {
         work.push(Series::line_points(c.label, c.x, c.y).color(i));
     }
     let mut step = by_step.panels.into_iter().next().expect("convergence() has one panel");

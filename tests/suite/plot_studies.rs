@@ -116,9 +116,15 @@ fn convergence_and_compare_plot() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_png(&conv.join("convergence.png"));
     let svg = std::fs::read_to_string(conv.join("convergence.svg")).unwrap();
-    for text in ["Δt′ [–]", "wall time [s]", "relative L2 error [–]", "e_s (shape amplitudes)", "slope 2", "error against work"] {
+    for text in ["Δt′ [–]", "steps (work)", "relative L2 error [–]", "e_s (shape amplitudes)", "slope 2", "error against work"] {
         assert!(svg.contains(text), "convergence.svg lacks `{text}`");
     }
+    // the work is the steps: halving Δt′ doubles it exactly (issue 29 item 14: wall times of
+    // millisecond runs zig-zag)
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(conv.join("convergence.json")).unwrap()).unwrap();
+    let steps: Vec<u64> = report["rows"].as_array().unwrap().iter().map(|r| r["steps"].as_u64().unwrap()).collect();
+    assert_eq!(steps.len(), 3);
+    assert!(steps.windows(2).all(|w| w[0] == 2 * w[1]), "steps {steps:?}");
     let cmp = tmp.path().join("cmp");
     let o = magbubble()
         .args(["compare", "scenes/figures/fig04_compare.toml", "--set", "run.duration=5e-6", "--plot", "--out"])
@@ -142,4 +148,29 @@ fn convergence_and_compare_plot() {
         .unwrap();
     assert!(o.status.success());
     assert!(!plain.join("compare.svg").exists());
+}
+
+/// A command run without `--plot` into a folder that holds its earlier plot removes that plot
+/// (issue 29 item 9: it would describe other data): accuracy and stability, as run does.
+#[test]
+fn a_rerun_without_plot_removes_the_stale_plot() {
+    let tmp = tempfile::tempdir().unwrap();
+    let acc = tmp.path().join("acc");
+    let cases: [(&[&str], &std::path::Path, &[&str]); 2] = [
+        (&["accuracy", "scenes/free_bubble.toml", "--quick"], &acc, &["work_precision"]),
+        (&["stability", "scenes/no_field.toml", "--freq", "1e6", "--set", "modes.max_order=2"], &tmp.path().join("st"), &["stability"]),
+    ];
+    for (args, out, stems) in cases {
+        let o = magbubble().args(args).arg("--plot").arg("--out").arg(out).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        for s in stems {
+            assert!(out.join(format!("{s}.svg")).is_file(), "{s}.svg not drawn");
+        }
+        let o = magbubble().args(args).arg("--out").arg(out).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        for s in stems {
+            assert!(!out.join(format!("{s}.svg")).exists() && !out.join(format!("{s}.png")).exists(), "{s} plot survived");
+        }
+        assert!(String::from_utf8_lossy(&o.stderr).contains("an earlier run's plot"));
+    }
 }
