@@ -395,20 +395,26 @@ fn stability_csvs_are_plotted_with_their_modes() {
     assert_rendered(&dir, "stability_mode", &["first unstable mode k"]);
 }
 
+/// `magbubble run ARGS --out OUT` from the repository root; its summary.json.
+fn run_summary(args: &[&str], out: &std::path::Path) -> serde_json::Value {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_magbubble"))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
 /// A run's plot is titled with its scene, its model and how it ended (issue 29 item 14), not
 /// with the output folder's name.
 #[test]
 fn run_plot_title_names_scene_model_and_stop() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("whatever_folder");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_magbubble"))
-        .args(["run", "scenes/coil_static.toml", "--set", "modes.coupling=\"quadratic\"", "--plot", "--out"])
-        .arg(&out)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let summary = run_summary(&["run", "scenes/coil_static.toml", "--set", "modes.coupling=\"quadratic\"", "--plot"], &out);
     let c = &summary["status"]["out_of_credible_range"];
     let title = magbubble::plot::run_title(&summary).unwrap();
     let expected = format!(
@@ -420,29 +426,11 @@ fn run_plot_title_names_scene_model_and_stop() {
     let svg = std::fs::read_to_string(out.join("series.svg")).unwrap();
     assert!(svg.contains("coil_static (1 override)"), "the plot's title is not the scene's");
     assert!(!svg.contains("whatever_folder"), "the plot is still titled with the folder");
-    // a Keller–Miksis free bubble that completes
-    let km = dir.path().join("km");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_magbubble"))
-        .args(["run", "scenes/keller_miksis.toml", "--out"])
-        .arg(&km)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    assert!(o.status.success());
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(km.join("summary.json")).unwrap()).unwrap();
-    let title = magbubble::plot::run_title(&summary).unwrap();
+    // a Keller–Miksis bubble
+    let title = magbubble::plot::run_title(&run_summary(&["run", "scenes/keller_miksis.toml"], &dir.path().join("km"))).unwrap();
     assert!(title.starts_with("keller_miksis: Keller–Miksis, "), "{title}");
     assert!(title.contains(" — completed ") || title.contains(" — blow-up of "), "{title}");
     // a free bubble has no shell law
-    let fb = dir.path().join("fb");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_magbubble"))
-        .args(["run", "scenes/free_bubble.toml", "--out"])
-        .arg(&fb)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    assert!(o.status.success());
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(fb.join("summary.json")).unwrap()).unwrap();
-    let title = magbubble::plot::run_title(&summary).unwrap();
+    let title = magbubble::plot::run_title(&run_summary(&["run", "scenes/free_bubble.toml"], &dir.path().join("fb"))).unwrap();
     assert!(title.contains(", free bubble, ") && !title.contains("mooney"), "{title}");
 }
