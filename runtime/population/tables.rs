@@ -107,9 +107,14 @@ impl PopulationTables {
         let mut panel = Panel::new(Axis::linear("f [MHz]"), Axis::linear("eps_p [-]"));
         for (j, q) in LEVELS.iter().enumerate() {
             let (x, y): (Vec<f64>, Vec<f64>) = self.contours.iter().filter(|c| c.1[j].is_finite()).map(|c| (c.0 / 1e6, c.1[j])).unzip();
-            panel.push(Series::line_points(format!("{:.0} % unstable", q * 100.0), x, y));
+            if !x.is_empty() {
+                panel.push(Series::line_points(format!("{:.0} % unstable", q * 100.0), x, y));
+            }
         }
-        Figure::single(panel).title("population: fraction shape-unstable").save(dir, "population_map")?;
+        // no level reached anywhere in the range: nothing to draw (population.csv says so)
+        if !panel.series.is_empty() {
+            Figure::single(panel).title("population: fraction shape-unstable (contours of the map)").save(dir, "population_map")?;
+        }
         Ok(())
     }
 }
