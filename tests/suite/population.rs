@@ -215,3 +215,29 @@ fn monodisperse_free_bubble_attenuation_is_commander_prosperetti() {
     assert_eq!(text.lines().next().unwrap(), "frequency_hz,attenuation_db_per_cm,backscatter_per_m_sr");
     assert_eq!(text.lines().count(), 10);
 }
+
+#[test]
+fn fraction_unstable_converges_in_bins() {
+    // A narrow distribution around R0 = 4.1 µm at 1 MHz, where every bin has a threshold
+    // rising with R0 (0.14 … 0.45): the equal-probability rule's error is ≤ 1/(2N) for a
+    // monotone threshold (docs/population.md), so 64 against 256 bins differ by ≤ 1/128 + 1/512.
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("{BASE}\n[population]\nmedian_radius = 4.1e-6\ngeometric_std = 1.05\n");
+    let path = dir.path().join("conv.toml");
+    std::fs::write(&path, text).unwrap();
+    let map = |bins: usize| {
+        let scene = Scene::load(&path, &[format!("population.bins={bins}")]).unwrap();
+        let mut req = pop_request(&dir.path().join(format!("b{bins}")), Shard::ALL);
+        req.freq = FreqAxis::parse("1e6").unwrap();
+        req.window_check = false;
+        req.eps_points = 201;
+        population(&scene, &req, &Monitor::default()).unwrap().tables.unwrap()
+    };
+    let (a, b) = (map(64), map(256));
+    let thresholds = a.bins.iter().filter(|r| r[5] == "critical").count();
+    assert!(thresholds >= 60, "the test map has thresholds in most bins: {thresholds} of 64");
+    let worst = a.fraction.iter().zip(&b.fraction).map(|(x, y)| (x.2 - y.2).abs()).fold(0.0, f64::max);
+    eprintln!("fraction unstable, 64 vs 256 bins: largest difference {worst}");
+    assert!(worst < 0.01, "64 vs 256 bins: {worst}");
+    assert!(a.fraction.last().unwrap().2 > 0.9, "the grid reaches most of the population");
+}
