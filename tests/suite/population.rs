@@ -241,3 +241,26 @@ fn fraction_unstable_converges_in_bins() {
     assert!(worst < 0.01, "64 vs 256 bins: {worst}");
     assert!(a.fraction.last().unwrap().2 > 0.9, "the grid reaches most of the population");
 }
+
+#[test]
+fn bins_keep_every_key_but_the_radius_unless_scaled() {
+    let dir = tempfile::tempdir().unwrap();
+    let shelled = BASE.replace("c1 = 0.0\nc2 = 0.0\n", "thickness = 3e-8\n");
+    let pop = |scale: &str| scene(&format!("{shelled}\n[population]\nbins = 3\ngeometric_std = 1.4\nscale_with_radius = \"{scale}\"\n"), dir.path());
+    for (scale, scaled) in [("", false), ("shell.thickness", true)] {
+        let s = pop(scale);
+        let p = s.scene().population.clone().unwrap();
+        let bins = magbubble::population::bin_templates(s.template(), &p).unwrap();
+        for (t, b) in bins.iter().zip(&p.bins) {
+            let sc = t.scene();
+            assert_eq!(sc.bubble.radius, b.radius);
+            let want = if scaled { 3e-8 * (b.radius / 3e-6) } else { 3e-8 };
+            assert_eq!(sc.shell.thickness, want, "scale = {scale:?}");
+            assert_eq!(sc.shell.c1, 0.1, "c1 stays");
+        }
+    }
+    // a key not written in the scene cannot be scaled (its default is not a value to scale)
+    let s = pop("shell.c2");
+    let e = magbubble::population::bin_templates(s.template(), s.scene().population.as_ref().unwrap()).err().unwrap();
+    assert!(format!("{e:#}").contains("`shell.c2` is not given in the scene"), "{e:#}");
+}
