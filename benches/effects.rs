@@ -33,6 +33,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
         },
         warnings: Vec::new(),
         echo: None,
+        population: None,
     }
 }
 

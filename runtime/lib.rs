@@ -31,6 +31,7 @@ pub mod integrate;
 pub mod model;
 #[macro_use]
 pub mod output;
+pub mod population;
 pub mod plot;
 pub mod scene;
 pub mod simd;

@@ -23,7 +23,7 @@ import pandas as pd
 from . import _magbubble as _ext
 from ._util import family_arg, frame, freq_arg, override_list, progress_bar, toml_text
 
-__all__ = ["Scene", "Run", "Accuracy", "run", "modes", "floquet", "stability", "sweep", "accuracy", "coefficients", "KMAX"]
+__all__ = ["Scene", "Run", "Accuracy", "run", "modes", "floquet", "stability", "sweep", "accuracy", "coefficients", "KMAX", "population", "attenuation"]
 __version__ = "0.1.0"
 
 #: The largest mode order of the generated coupling tables (build setting MAGBUBBLE_KMAX).
@@ -275,6 +275,8 @@ def stability(
     out: Optional[PathLike] = None,
     shard: Optional[str] = None,
     progress: Progress = True,
+    executor: Any = None,
+    shards: Optional[int] = None,
 ) -> pd.DataFrame:
     """A stability diagram (``magbubble stability``): one row per frequency and family member,
     the columns of the CSV (``index``, the frequency key, ``critical``, ``outcome``, …), with the
@@ -290,6 +292,11 @@ def stability(
     keeps only the whole rows finished so far (a rerun with the same ``out`` resumes). ``progress``: a tqdm bar of points, or a function ``(done, total)``.
     """
     scene = _scene(scene_or_path, overrides)
+    if executor is not None:  # issue 33: shards on any concurrent.futures.Executor (_shards.py)
+        from ._shards import run_sharded
+
+        kwargs = dict(family=family, method=method, vary=vary, freq_key=freq_key, range=range, tol=tol, abs_tol=abs_tol, scan=scan)
+        return run_sharded(executor, "stability", scene, (freq,), kwargs, out, shards, progress)
     lo, hi = range
     freq = freq_arg(freq)
     family = family_arg(family)
@@ -330,6 +337,8 @@ def sweep(
     shard: Optional[str] = None,
     series: bool = False,
     progress: Progress = True,
+    executor: Any = None,
+    shards: Optional[int] = None,
 ) -> pd.DataFrame:
     """A grid of runs in parallel (``magbubble sweep SCENE --grid KEY=V1,V2 …``): every
     combination of the values in ``grid`` (the first key slowest), one row per run with its
@@ -348,6 +357,12 @@ def sweep(
     scene = _scene(scene_or_path, overrides)
     if not isinstance(grid, Mapping) or not grid:
         raise TypeError("grid must be a non-empty dict {key: [values]} or {key: 'START:STOP:N'}")
+    if executor is not None:  # issue 33: shards on any concurrent.futures.Executor (_shards.py)
+        if series:
+            raise ValueError("series=True with an executor: the series stay in the workers; run without executor")
+        from ._shards import run_sharded
+
+        return run_sharded(executor, "sweep", scene, (dict(grid),), {}, out, shards, progress)
     axes = []
     for key, values in grid.items():
         if isinstance(values, str):
@@ -377,3 +392,7 @@ def _family_value(text: str) -> Any:
             return float(text)
         except ValueError:
             return text
+
+
+# populations (issue 33)
+from ._population import attenuation, population  # noqa: E402

@@ -67,3 +67,24 @@ def sweep(
     return_series: bool = False,
     progress: _Progress = None,
 ) -> Tuple[List[_Column], Optional[List[_Series]], int, int, str]: ...
+
+# populations (issue 33)
+_Triple = Tuple[List[float], List[float], List[float]]
+
+def population(
+    scene: Scene,
+    freq: Union[str, List[float]],
+    out: str,
+    range: Tuple[float, float] = (0.0, 1.0),
+    eps_points: int = 101,
+    tol: float = 1e-3,
+    abs_tol: Optional[float] = None,
+    scan: int = 8,
+    window_check: bool = True,
+    shard: Optional[str] = None,
+    progress: _Progress = None,
+) -> Tuple[str, int, int, Optional[List[_Column]], Optional[_Triple], Optional[str], List[str]]: ...
+def attenuation(
+    scene: Scene, freq: Union[str, List[float]], out: str, shard: Optional[str] = None, progress: _Progress = None
+) -> Tuple[str, int, int, Optional[_Triple], Optional[str]]: ...
+def merge(inputs: List[str], out: str) -> int: ...

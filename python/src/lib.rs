@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 mod calls;
 mod convert;
 mod studies;
+mod population; // issue 33
 mod worker;
 
 use magbubble::api;
@@ -104,6 +105,7 @@ fn _magbubble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyScene>()?;
     calls::register(m)?;
     studies::register(m)?;
+    population::register(m)?; // issue 33
     m.add("KMAX", magbubble::coefficients::KMAX)?;
     Ok(())
 }

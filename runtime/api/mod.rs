@@ -14,6 +14,8 @@
 //! | sweep          | [`sweep`]         | [`sweep::sweep`] (rows streamed to a sink)    | [`sweep::SweepSummary`] |
 //! | accuracy       | [`accuracy`]      | [`accuracy::study`], [`accuracy::critical`]   | the analysis reports |
 //! | coefficients   | [`coefficients`]  | [`coefficients::coefficients`]                | [`coefficients::Coefficients`] |
+//! | population     | [`population`]    | [`population::population`]                   | [`population::PopulationOutput`] |
+//! | attenuation    | [`attenuation`]   | [`attenuation::attenuation`]                  | [`attenuation::AttenuationOutput`] |
 //!
 //! A table of results (a sweep's rows, a stability diagram's) is also available as typed
 //! columns ([`table::Table`], [`sweep::SweepTable`]), what Python turns into a DataFrame.
@@ -37,6 +39,9 @@
 //!    `pythonize` or to numpy arrays; `python/magbubble/__init__.py` wraps it.
 
 pub mod accuracy;
+// population (issue 33)
+pub mod attenuation;
+pub mod population;
 pub mod coefficients;
 pub mod common;
 pub mod floquet;

@@ -12,6 +12,7 @@ pub mod convergence;
 pub mod figure;
 pub mod floquet;
 pub mod modes;
+pub mod population;
 pub mod response;
 pub mod run;
 pub mod scene;
@@ -54,6 +55,11 @@ pub enum Command {
     Figure(figure::FigureArgs),
     /// Linear radial response: amplitude, phase, damping by source, σ_s, σ_e per frequency.
     Response(response::ResponseArgs),
+    /// A polydisperse population's stability map: per frequency each bin's critical ε_p and
+    /// the fraction unstable (population.csv, population_bins.csv).
+    Population(population::PopulationArgs),
+    /// A population's linear attenuation [dB/cm] and backscatter coefficient (attenuation.csv).
+    Attenuation(population::AttenuationArgs),
 }
 
 /// Parses the arguments, runs the subcommand, prints the whole error chain on failure.
@@ -109,5 +115,7 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Accuracy(a) => accuracy::run(&a),
         Command::Figure(a) => figure::run(&a),
         Command::Response(a) => response::run(&a),
+        Command::Population(a) => population::run_population(&a),
+        Command::Attenuation(a) => population::run_attenuation(&a),
     }
 }

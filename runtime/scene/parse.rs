@@ -73,15 +73,17 @@ pub(crate) fn validate_table(
     })
 }
 
-/// A relative `drive.file` is read from the scene file's directory (when `origin` is a path
+/// A relative `drive.file` or `population.file` is read from the scene file's directory (when `origin` is a path
 /// whose directory exists; otherwise from the working directory).
 fn resolve_paths(table: &mut Table, origin: &str) {
-    let Some(Value::Table(drive)) = table.get_mut("drive") else { return };
-    let Some(Value::String(file)) = drive.get_mut("file") else { return };
-    let rel = Path::new(file.as_str());
-    if rel.is_relative() {
-        if let Some(dir) = Path::new(origin).parent().filter(|d| !d.as_os_str().is_empty() && d.is_dir()) {
-            *file = dir.join(rel).display().to_string();
+    for section in ["drive", "population"] {
+        let Some(Value::Table(t)) = table.get_mut(section) else { continue };
+        let Some(Value::String(file)) = t.get_mut("file") else { continue };
+        let rel = Path::new(file.as_str());
+        if rel.is_relative() {
+            if let Some(dir) = Path::new(origin).parent().filter(|d| !d.as_os_str().is_empty() && d.is_dir()) {
+                *file = dir.join(rel).display().to_string();
+            }
         }
     }
 }

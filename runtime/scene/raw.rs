@@ -22,6 +22,19 @@ pub struct RawScene {
     pub vorticity: Option<RawVorticity>,
     pub run: Option<RawRun>,
     pub echo: Option<RawEcho>,
+    pub population: Option<RawPopulation>,
+}
+
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPopulation {
+    pub distribution: Option<String>,
+    pub median_radius: Option<f64>,
+    pub geometric_std: Option<f64>,
+    pub bins: Option<i64>,
+    pub file: Option<String>,
+    pub concentration: Option<f64>,
+    pub scale_with_radius: Option<String>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

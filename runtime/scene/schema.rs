@@ -419,6 +419,32 @@ pub static SCHEMA: &[Param] = &[
        (must not exceed run.duration)."),
     p("run.integrator.max_steps", K::Int, "", D::Int(50_000_000), Rg::IntBetween(1, i64::MAX), "",
       "Hard cap on the number of steps; a run that needs more fails with that reason."),
+    section("population", D::Absent,
+      "A polydisperse suspension (issue 33; docs/population.md) for `magbubble population` and `attenuation`: \
+       the size distribution of bubble.radius, its quadrature (equal-probability bins in ln R0, each bin's \
+       node at its median quantile, weight 1/bins) and the number concentration. Each bin is the scene with \
+       bubble.radius = the bin's radius; every other key stays as written (shell thickness, c1, c2, initial \
+       tension, surface tension fixed) unless listed in scale_with_radius. Absent: a single bubble."),
+    p("population.distribution", K::Choice(&["lognormal", "file"]), "", D::Str("lognormal"), Rg::None, "n(R0)",
+      "`lognormal`: ln R0 normal with median ln(median_radius) and standard deviation ln(geometric_std); `file`: \
+       the rows of population.file are the bins."),
+    p("population.median_radius", K::Float, "m", D::SameAs("bubble.radius"), Rg::Positive, "R_med",
+      "Median radius of the lognormal distribution (distribution = \"lognormal\" only)."),
+    p("population.geometric_std", K::Float, "", D::Float(1.5),
+      Rg::Between { lo: 1.0, hi: f64::INFINITY, lo_incl: true, hi_incl: false }, "sigma_g",
+      "Geometric standard deviation exp(sd of ln R0) of the lognormal distribution (1: every bin at the median; \
+       distribution = \"lognormal\" only)."),
+    p("population.bins", K::Int, "", D::Int(64), Rg::IntBetween(1, 100_000), "N_b",
+      "Bins of the lognormal distribution: bin i covers the quantiles [i/N_b, (i+1)/N_b], node at the quantile \
+       (i + 1/2)/N_b, weight 1/N_b (distribution = \"lognormal\" only)."),
+    p("population.file", K::Text, "", D::Absent, Rg::None, "",
+      "A CSV with columns radius [m] and weight [-] (relative paths: from the scene file's directory); one bin \
+       per row, weights normalised to sum 1 (distribution = \"file\" only)."),
+    p("population.concentration", K::Float, "bubbles/mL", D::Absent, Rg::Positive, "n",
+      "Number of bubbles per millilitre of suspension (needed by `attenuation`)."),
+    p("population.scale_with_radius", K::Text, "", D::Derived("none"), Rg::None, "",
+      "Comma-separated numeric scene keys scaled in proportion to the bin's radius (value x R_bin / bubble.radius), \
+       e.g. \"shell.thickness\"; a key must be given in the scene to be scaled. Default: none."),
 ];
 
 /// The schema entry of a dotted key.

@@ -61,6 +61,21 @@ impl SceneTemplate {
         toml::to_string(&self.table)
     }
 
+    /// The number written at a dotted key (overrides applied); `None` when the scene does not
+    /// give it (its default applies) or it is not a number.
+    pub fn given_number(&self, key: &str) -> Option<f64> {
+        let (path, leaf) = key.rsplit_once('.').unwrap_or(("", key));
+        let mut t = &self.table;
+        for part in path.split('.').filter(|p| !p.is_empty()) {
+            t = t.get(part)?.as_table()?;
+        }
+        match t.get(leaf)? {
+            Value::Float(f) => Some(*f),
+            Value::Integer(i) => Some(*i as f64),
+            _ => None,
+        }
+    }
+
     /// The validated scene, by value.
     pub fn into_scene(self) -> Scene {
         self.scene

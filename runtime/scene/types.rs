@@ -30,6 +30,36 @@ pub struct Scene {
     /// `None`: no echo recorded.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub echo: Option<Echo>,
+    /// `None`: a single bubble (no `[population]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub population: Option<Population>,
+}
+
+/// `[population]`: a size distribution resolved into its bins (docs/population.md).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Population {
+    pub distribution: Distribution,
+    /// The quadrature nodes: radius [m] and weight (the weights sum to 1).
+    pub bins: Vec<PopulationBin>,
+    /// Bubbles per millilitre (`None`: not given; `attenuation` needs it).
+    pub concentration_per_ml: Option<f64>,
+    /// Numeric scene keys scaled ∝ the bin's radius.
+    pub scale_with_radius: Vec<String>,
+}
+
+/// `population.distribution`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Distribution {
+    Lognormal { median_radius: f64, geometric_std: f64 },
+    File { path: std::path::PathBuf },
+}
+
+/// One bin of a population.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PopulationBin {
+    pub radius: f64,
+    pub weight: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -10,6 +10,7 @@ mod check;
 mod warn;
 mod lipid;
 mod drive;
+mod population;
 use check::Check;
 
 impl TryFrom<RawScene> for Scene {
@@ -201,6 +202,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     let vorticity = build_vorticity(c, raw.vorticity);
     let run = build_run(c, raw.run, &bubble, &shell, &liquid);
     let echo = drive::build_echo(c, raw.echo, &bubble, &run);
+    let population = population::build(c, raw.population, &bubble, &shell);
 
     // Shell viscosity (issue 11 part 3): the shape-mode viscous loads multiply ḃ_k, an output of
     // the tangential balance; the boundary-layer system solves for it (runtime/model/
@@ -244,6 +246,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         run,
         warnings: Vec::new(),
         echo,
+        population,
     }
 }
 

@@ -189,6 +189,9 @@ fn every_guide_example_runs() {
         "my_scene.toml",
         "out/skalak/series.png",
         "out/skalak/summary.json",
+        "out/pop/population.csv",
+        "out/pop/population_bins.csv",
+        "out/att/attenuation.csv",
     ] {
         assert!(dir.path().join(f).is_file(), "{f} missing after the guide's examples");
     }

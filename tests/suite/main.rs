@@ -15,6 +15,7 @@ mod drives;
 mod drives_hard;
 mod echo;
 mod response;
+mod population;
 mod equations_jacobian;
 mod marmottant;
 mod pressure_gradient;

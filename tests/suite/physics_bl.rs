@@ -35,6 +35,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
         },
         warnings: Vec::new(),
         echo: None,
+        population: None,
     }
 }
 

@@ -162,6 +162,12 @@ fn every_choice_value_loads_through_set() {
                         set.pop();
                     }
                 }
+                // a population from a file needs the file (issue 33)
+                if p.key == "population.distribution" && *o == "file" {
+                    let csv = std::env::temp_dir().join(format!("magbubble-choice-{}.csv", std::process::id()));
+                    std::fs::write(&csv, "radius,weight\n2e-6,1\n").unwrap();
+                    set.push(format!("population.file=\"{}\"", csv.display()));
+                }
                 // a Marmottant law needs its elasticity (issue 31: required, no default)
                 let text = if o.starts_with("marmottant") { "[shell]\nelasticity = 0.5\n" } else { "" };
                 let scene = load_str(text, "x", &set);

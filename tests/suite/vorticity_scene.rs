@@ -34,6 +34,7 @@ fn scene(amplitude: f64, a2: f64, points: usize) -> Scene {
         },
         warnings: Vec::new(),
         echo: None,
+        population: None,
     }
 }
 

@@ -62,6 +62,7 @@ pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
         },
         warnings: Vec::new(),
         echo: None,
+        population: None,
     }
 }
 
