@@ -29,7 +29,7 @@ mod simulate;
 pub mod vorticity;
 
 pub use boundary_layer::BoundaryLayerSystem;
-pub use events::BlowUpEvent;
+pub use events::{BlowUpEvent, BranchEvent, BranchFractions, BRANCH_TOLERANCE};
 pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};
@@ -84,6 +84,9 @@ pub struct Model {
     t_end: f64,
     /// The last full state handed to [`Model::to_si_into`], when tapped ([`Model::with_state_tap`]).
     state_tap: Option<std::sync::Mutex<Vec<f64>>>,
+    /// The kinked Marmottant law (issue 31), whose branch switches are events of a run, and the
+    /// time a run spends on each branch (model/events.rs).
+    kinked: Option<(effects::lipid::LipidLaw, std::sync::Mutex<events::BranchClock>)>,
 }
 
 impl Model {
@@ -136,8 +139,10 @@ impl Model {
             terms.push(Box::new(membrane_term(&params, &kf)));
             material.push(terms.len() - 1);
         }
-        // issue 31: a Marmottant law replaces the membrane (c1 keeps setting t*)
-        if let Some(t) = effects::lipid::term(&scene.shell.law, &scales, &kf) {
+        // issue 31: a Marmottant law replaces the membrane (c1 keeps setting t*); one law, its
+        // clones in every term share the run's branch (model/events.rs)
+        let lipid = effects::lipid::LipidLaw::from_scene(&scene.shell.law, &scales);
+        if let Some(t) = lipid.as_ref().and_then(|l| effects::lipid::term(&scene.shell.law, l, &kf)) {
             terms.push(Box::new(t));
             material.push(terms.len() - 1);
         }
@@ -157,9 +162,9 @@ impl Model {
             check_quadratic(scene)?;
             let gamma = scene.shell.surface_tension / (scales.pressure * scales.length);
             second.push(Box::new(effects::quadratic::QuadraticCoupling::new(params.rho, gamma, params.three_kappa, params.pg0, params.r0, &kf)));
-            if let Some(law) = effects::lipid::LipidLaw::from_scene(&scene.shell.law, &scales) {
+            if let Some(law) = &lipid {
                 // issue 31: the kinked Marmottant law's, branch by branch
-                let t = effects::lipid_quadratic::LipidQuadratic::new(law, &kf).ok_or(ModelError::Unsupported {
+                let t = effects::lipid_quadratic::LipidQuadratic::new(law.clone(), &kf).ok_or(ModelError::Unsupported {
                     key: "shell.law",
                     value: "marmottant-smooth".into(),
                     reason: "modes.coupling = quadratic: the smooth law's second-order loads need W‴ (not derived); use shell.law = \"marmottant\"",
@@ -171,7 +176,7 @@ impl Model {
             }
             quadratic_shell_terms(scene, &scales, params.r0, &kf, &mut terms, &mut second)?;
             // the membrane's loads are material-frame: mapped to the state's Eulerian amplitudes
-            if let Some(t) = frame_map(scene, &params, &scales, &kf) {
+            if let Some(t) = frame_map(scene, &params, &scales, &kf, lipid.as_ref()) {
                 second.push(Box::new(t));
             }
         }
@@ -262,7 +267,8 @@ impl Model {
         };
         let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
         let t_end = scene.run.duration / scales.time;
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, state_tap: None })
+        let kinked = lipid.filter(|l| l.smoothing.is_none()).map(|l| (l, Default::default()));
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, state_tap: None, kinked })
     }
 
     /// The equations, as the integrators see them.
@@ -493,12 +499,12 @@ fn quadratic_shell_terms(
 /// The frame mapping of the material-frame linear loads (membrane law, bending, shell
 /// viscosity; not γ, whose second order is the free bubble's, nor the field, whose second order
 /// is left out), when the scene has any (issue 12; effects/quadratic_frame.rs).
-fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64]) -> Option<effects::quadratic_frame::FrameMap> {
+fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64], lipid: Option<&effects::lipid::LipidLaw>) -> Option<effects::quadratic_frame::FrameMap> {
     let mut lagrangian: Vec<Box<dyn Term>> = Vec::new();
     if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
         lagrangian.push(Box::new(membrane_term(params, kf)));
     }
-    if let Some(t) = effects::lipid::term(&scene.shell.law, sc, kf) {
+    if let Some(t) = lipid.and_then(|l| effects::lipid::term(&scene.shell.law, l, kf)) {
         lagrangian.push(Box::new(t));
     }
     lagrangian.extend(effects::shell::terms(&material_shell(&scene.shell), sc, params.r0, kf));

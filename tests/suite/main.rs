@@ -17,6 +17,7 @@ mod echo;
 mod response;
 mod equations_jacobian;
 mod marmottant;
+mod marmottant_events;
 mod pressure_gradient;
 mod run_loop;
 mod floquet_blocks;
