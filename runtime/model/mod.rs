@@ -92,7 +92,7 @@ pub struct Model {
 impl Model {
     pub fn from_scene(scene: &Scene) -> Result<Model, ModelError> {
         let scales = Scales::from_scene(scene);
-        let params = Params::from_scene(scene, &scales);
+        let mut params = Params::from_scene(scene, &scales);
         let orders: Vec<usize> = scene.modes.orders().collect();
         if scene.modes.max_order > KMAX {
             return Err(ModelError::TooManyModes { max_order: scene.modes.max_order, kmax: KMAX });
@@ -133,6 +133,11 @@ impl Model {
             .map(|w| w.scaled(scales.time, scales.pressure));
         terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone() }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
+        // issue 31 part 2: Prosperetti's thermal damping (its μ_th once the stiffness is known)
+        let thermal_at = (!scene.gas.thermal.is_polytropic()).then(|| {
+            terms.push(Box::new(effects::thermal_damping::ThermalDamping { mu: 0.0, label: String::new() }));
+            terms.len() - 1
+        });
         // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
         let mut material = Vec::new();
         if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
@@ -155,6 +160,9 @@ impl Model {
         material.extend(first..terms.len());
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
+        }
+        if let Some(i) = thermal_at {
+            effects::thermal_damping::assemble(scene, &scales, &mut params, &mut terms, i)?;
         }
         // issue 12: the quadratic coupling, a second-pass term (nothing is assembled for `linear`)
         let mut second: Vec<Box<dyn effects::second_order::SecondOrderTerm>> = Vec::new();

@@ -78,6 +78,9 @@ pub struct RawGas {
     pub polytropic_exponent: Option<f64>,
     pub reference_pressure: Option<f64>,
     pub vapour_pressure: Option<f64>,
+    pub thermal: Option<String>,
+    pub thermal_diffusivity: Option<f64>,
+    pub heat_capacity_ratio: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

@@ -204,6 +204,33 @@ pub struct Gas {
     pub reference_pressure_given: bool,
     /// p_v [Pa], 0 = no vapour term.
     pub vapour_pressure: f64,
+    /// `gas.thermal` (issue 31 part 2): the polytropic law alone (default; not written into
+    /// summary.json, which keeps its bytes) or Prosperetti's linear thermal damping.
+    #[serde(skip_serializing_if = "Thermal::is_polytropic")]
+    pub thermal: Thermal,
+}
+
+/// The gas's heat exchange (`gas.thermal`; docs/model.md, "Thermal damping").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+#[serde(rename_all = "kebab-case", tag = "name")]
+pub enum Thermal {
+    /// p_in = p_g0 (R0/R)^{3κ} with `gas.polytropic_exponent`.
+    #[default]
+    Polytropic,
+    /// Prosperetti 1977's linear theory at one frequency: κ_eff(ω) and −4μ_th(ω)Ṙ/R
+    /// (runtime/model/effects/thermal_damping.rs).
+    Prosperetti {
+        /// D [m²/s], `gas.thermal_diffusivity`
+        thermal_diffusivity: f64,
+        /// γ, `gas.heat_capacity_ratio`
+        heat_capacity_ratio: f64,
+    },
+}
+
+impl Thermal {
+    pub fn is_polytropic(&self) -> bool {
+        *self == Thermal::Polytropic
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -18,6 +18,7 @@ mod response;
 mod equations_jacobian;
 mod marmottant;
 mod marmottant_events;
+mod thermal_damping;
 mod pressure_gradient;
 mod run_loop;
 mod floquet_blocks;
