@@ -140,7 +140,7 @@ impl Model {
         });
         // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
         let mut material = Vec::new();
-        if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
+        if !scene.shell.is_free() && !scene.shell.law.is_area_law() {
             terms.push(Box::new(membrane_term(&params, &kf)));
             material.push(terms.len() - 1);
         }
@@ -275,7 +275,7 @@ impl Model {
         };
         let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
         let t_end = scene.run.duration / scales.time;
-        let kinked = lipid.filter(|l| l.smoothing.is_none()).map(|l| (l, Default::default()));
+        let kinked = lipid.filter(|l| l.is_kinked()).map(|l| (l, Default::default()));
         Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, state_tap: None, kinked })
     }
 
@@ -460,6 +460,9 @@ fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
     if let crate::scene::ShellLaw::MarmottantSmooth(_) = sh.law {
         return refuse("the smooth Marmottant law's second-order loads need W‴ (not derived); use shell.law = \"marmottant\"");
     }
+    if let crate::scene::ShellLaw::Sarkar(_) = sh.law {
+        return refuse("the Sarkar law's second-order loads need W‴ (not derived)");
+    }
     if !sh.is_free() && effects::quadratic_membrane::QuadraticMembrane::law(law_name(&sh.law)).is_none() {
         return refuse("the second-order membrane loads of this shell.law are not derived (derivations/shell/ laws with a strain energy W are)");
     }
@@ -509,7 +512,7 @@ fn quadratic_shell_terms(
 /// is left out), when the scene has any (issue 12; effects/quadratic_frame.rs).
 fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64], lipid: Option<&effects::lipid::LipidLaw>) -> Option<effects::quadratic_frame::FrameMap> {
     let mut lagrangian: Vec<Box<dyn Term>> = Vec::new();
-    if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
+    if !scene.shell.is_free() && !scene.shell.law.is_area_law() {
         lagrangian.push(Box::new(membrane_term(params, kf)));
     }
     if let Some(t) = lipid.and_then(|l| effects::lipid::term(&scene.shell.law, l, kf)) {
@@ -545,7 +548,7 @@ fn law_name(law: &crate::scene::ShellLaw) -> &'static str {
         // branch-wise use of the spec's tables (effects/lipid_quadratic.rs); the smooth law is
         // refused by check_quadratic
         crate::scene::ShellLaw::Marmottant(_) => "marmottant",
-        crate::scene::ShellLaw::MarmottantSmooth(_) => "",
+        crate::scene::ShellLaw::MarmottantSmooth(_) | crate::scene::ShellLaw::Sarkar(_) => "",
     }
 }
 

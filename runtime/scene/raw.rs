@@ -70,6 +70,8 @@ pub struct RawShell {
     pub initial_tension: Option<f64>,
     pub rupture_tension: Option<f64>,
     pub smoothing: Option<f64>,
+    pub elasticity_decay: Option<f64>,
+    pub reference_tension: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

@@ -144,6 +144,22 @@ pub enum ShellLaw {
     Marmottant(Lipid),
     /// The same with a smooth tension of width `smoothing`.
     MarmottantSmooth(Lipid),
+    /// Paul, Katiyar, Sarkar, Chatterjee, Shi & Forsberg 2010, the exponential elasticity model
+    /// (docs/model.md, "Lipid shells: Sarkar").
+    Sarkar(Sarkar),
+}
+
+/// The constants of the exponential elasticity model, resolved.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Sarkar {
+    /// E0^s [N/m]
+    pub elasticity: f64,
+    /// α^s [–]
+    pub elasticity_decay: f64,
+    /// γ0 [N/m]
+    pub reference_tension: f64,
+    /// R_E [m]: the unstrained radius, where the net tension γ0 + E^s β vanishes at R0
+    pub unstrained_radius: f64,
 }
 
 /// The constants of a Marmottant shell, resolved (R_b and σ(R0) both, from whichever was given).
@@ -165,6 +181,11 @@ pub struct Lipid {
 impl ShellLaw {
     pub fn is_mooney_rivlin(&self) -> bool {
         matches!(self, ShellLaw::MooneyRivlin)
+    }
+    /// An isotropic area-only law (Marmottant, Sarkar): it replaces the Mooney–Rivlin membrane
+    /// (runtime/model/effects/lipid.rs).
+    pub fn is_area_law(&self) -> bool {
+        matches!(self, ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_))
     }
     /// The Marmottant constants, for either Marmottant law.
     pub fn lipid(&self) -> Option<&Lipid> {

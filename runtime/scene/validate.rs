@@ -9,6 +9,7 @@ use super::types::*;
 mod check;
 mod warn;
 mod lipid;
+mod sarkar;
 mod drive;
 use check::Check;
 
@@ -95,7 +96,11 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     if !law_name.starts_with("marmottant") {
         lipid::refuse_keys(c, &rs, law_name);
     }
+    if law_name != "sarkar" {
+        sarkar::refuse_keys(c, &rs, law_name);
+    }
     let law = match law_name {
+        "sarkar" => ShellLaw::Sarkar(sarkar::build(c, &rs, r0)),
         "marmottant" => ShellLaw::Marmottant(lipid::build(c, &rs, r0, false)),
         "marmottant-smooth" => ShellLaw::MarmottantSmooth(lipid::build(c, &rs, r0, true)),
         "skalak" => ShellLaw::Skalak {

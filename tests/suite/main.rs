@@ -19,6 +19,7 @@ mod equations_jacobian;
 mod marmottant;
 mod marmottant_events;
 mod thermal_damping;
+mod sarkar;
 mod pressure_gradient;
 mod run_loop;
 mod floquet_blocks;

@@ -86,6 +86,8 @@ pub struct LipidLaw {
     pub r0: f64,
     /// The branch of a run (kinked law only).
     pub branch: BranchState,
+    /// `shell.law = "sarkar"`: its τ(J) (effects/sarkar.rs) instead of Marmottant's.
+    pub sarkar: Option<super::sarkar::SarkarTension>,
 }
 
 /// softplus(z) = ln(1 + e^z), without overflow.
@@ -99,10 +101,21 @@ fn logistic(z: f64) -> f64 {
 }
 
 impl LipidLaw {
-    /// The law of a scene's `shell.law`, if it is a Marmottant law.
+    /// The law of a scene's `shell.law`, if it is an area-only law (Marmottant, Sarkar).
     pub fn from_scene(law: &ShellLaw, sc: &Scales) -> Option<Self> {
-        let l: &Lipid = law.lipid()?;
         let t = |v: f64| v / (sc.pressure * sc.length);
+        if let ShellLaw::Sarkar(p) = law {
+            let sarkar = super::sarkar::SarkarTension {
+                e0: t(p.elasticity),
+                alpha: p.elasticity_decay,
+                gamma0: t(p.reference_tension),
+                je: (p.unstrained_radius / sc.length).powi(2),
+            };
+            // the Marmottant fields unused: τ is the EEM's (a smooth law, no branches)
+            let (chi, jb, sigma_r, smoothing) = (sarkar.e0, sarkar.je, f64::INFINITY, None);
+            return Some(Self { chi, jb, sigma_r, smoothing, r0: 1.0, branch: BranchState::default(), sarkar: Some(sarkar) });
+        }
+        let l: &Lipid = law.lipid()?;
         Some(Self {
             chi: t(l.elasticity),
             jb: (l.buckling_radius / sc.length).powi(2),
@@ -110,6 +123,7 @@ impl LipidLaw {
             smoothing: l.smoothing.map(t),
             r0: 1.0,
             branch: BranchState::default(),
+            sarkar: None,
         })
     }
 
@@ -126,6 +140,11 @@ impl LipidLaw {
     pub fn branch_margins(&self, r: f64) -> [f64; 2] {
         let (rb, rr) = self.radii();
         [r - rb, r - rr]
+    }
+
+    /// Whether the law has kinks (the kinked Marmottant law): its switches are events of a run.
+    pub fn is_kinked(&self) -> bool {
+        self.smoothing.is_none() && self.sarkar.is_none()
     }
 
     /// The branch of the kinked law at radius `r` (model units): buckled below R_b, ruptured
@@ -154,6 +173,9 @@ impl LipidLaw {
 
     /// τ(J), dτ/dJ, d²τ/dJ² (kinked law: on the run's branch, or J's outside a run).
     pub fn tension(&self, j: f64) -> [f64; 3] {
+        if let Some(s) = &self.sarkar {
+            return s.tension(j);
+        }
         let (chi, sr) = (self.chi, self.sigma_r);
         let x = chi * (j / self.jb - 1.0);
         let xj = chi / self.jb;
@@ -279,6 +301,13 @@ impl Term for LipidTerm {
 /// The scene's Marmottant term on the law `l` (a clone: it shares the law's run branch).
 pub fn term(law: &ShellLaw, l: &LipidLaw, orders: &[f64]) -> Option<LipidTerm> {
     let l = l.clone();
+    if let ShellLaw::Sarkar(p) = law {
+        let label = format!(
+            "sarkar shell (exponential elasticity) E0 = {} N/m, alpha = {}, gamma0 = {} N/m, R_E = {} m",
+            p.elasticity, p.elasticity_decay, p.reference_tension, p.unstrained_radius
+        );
+        return Some(LipidTerm { law: l, orders: orders.to_vec(), label });
+    }
     let p = law.lipid()?;
     let name = if p.smoothing.is_some() { "marmottant-smooth" } else { "marmottant" };
     Some(LipidTerm {

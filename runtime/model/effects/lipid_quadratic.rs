@@ -22,7 +22,7 @@ pub struct LipidQuadratic {
 impl LipidQuadratic {
     /// None for the smooth law, or if the generated table is missing.
     pub fn new(law: LipidLaw, orders: &[f64]) -> Option<Self> {
-        if law.smoothing.is_some() {
+        if !law.is_kinked() {
             return None;
         }
         let table = QuadraticMembrane::law("marmottant")?;
