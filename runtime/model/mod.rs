@@ -140,7 +140,7 @@ impl Model {
         });
         // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
         let mut material = Vec::new();
-        if !scene.shell.is_free() && !scene.shell.law.is_area_law() {
+        if !scene.shell.is_free() && !scene.shell.law.replaces_membrane() {
             terms.push(Box::new(membrane_term(&params, &kf)));
             material.push(terms.len() - 1);
         }
@@ -150,6 +150,17 @@ impl Model {
         if let Some(t) = lipid.as_ref().and_then(|l| effects::lipid::term(&scene.shell.law, l, &kf)) {
             terms.push(Box::new(t));
             material.push(terms.len() - 1);
+        }
+        // issue 31: Church–Hoff, radial only
+        if let Some(t) = effects::church_hoff::term(&scene.shell, &scales, params.r0) {
+            if !orders.is_empty() {
+                return Err(ModelError::Unsupported {
+                    key: "modes.max_order",
+                    value: scene.modes.max_order.to_string(),
+                    reason: "shell.law = \"church-hoff\" is radial only (its shape-mode loads are not derived): set modes.max_order = 0",
+                });
+            }
+            terms.push(Box::new(t));
         }
         // issue 11 / issue 10 part 2: only the shell effects the scene switches on (γ, then the
         // material-frame ones: the summation order of the whole list)
@@ -512,7 +523,7 @@ fn quadratic_shell_terms(
 /// is left out), when the scene has any (issue 12; effects/quadratic_frame.rs).
 fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64], lipid: Option<&effects::lipid::LipidLaw>) -> Option<effects::quadratic_frame::FrameMap> {
     let mut lagrangian: Vec<Box<dyn Term>> = Vec::new();
-    if !scene.shell.is_free() && !scene.shell.law.is_area_law() {
+    if !scene.shell.is_free() && !scene.shell.law.replaces_membrane() {
         lagrangian.push(Box::new(membrane_term(params, kf)));
     }
     if let Some(t) = lipid.and_then(|l| effects::lipid::term(&scene.shell.law, l, kf)) {
@@ -548,7 +559,7 @@ fn law_name(law: &crate::scene::ShellLaw) -> &'static str {
         // branch-wise use of the spec's tables (effects/lipid_quadratic.rs); the smooth law is
         // refused by check_quadratic
         crate::scene::ShellLaw::Marmottant(_) => "marmottant",
-        crate::scene::ShellLaw::MarmottantSmooth(_) | crate::scene::ShellLaw::Sarkar(_) => "",
+        crate::scene::ShellLaw::MarmottantSmooth(_) | crate::scene::ShellLaw::Sarkar(_) | crate::scene::ShellLaw::ChurchHoff { .. } => "",
     }
 }
 

@@ -72,6 +72,8 @@ pub struct RawShell {
     pub smoothing: Option<f64>,
     pub elasticity_decay: Option<f64>,
     pub reference_tension: Option<f64>,
+    pub modulus: Option<f64>,
+    pub viscosity: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

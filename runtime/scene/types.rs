@@ -147,6 +147,14 @@ pub enum ShellLaw {
     /// Paul, Katiyar, Sarkar, Chatterjee, Shi & Forsberg 2010, the exponential elasticity model
     /// (docs/model.md, "Lipid shells: Sarkar").
     Sarkar(Sarkar),
+    /// Church 1995 in Hoff et al. 2000's thin-shell form: radial only (docs/model.md,
+    /// "Shells: Church–Hoff").
+    ChurchHoff {
+        /// G_s [Pa], the shell material's shear modulus
+        modulus: f64,
+        /// η_s [Pa s]
+        viscosity: f64,
+    },
 }
 
 /// The constants of the exponential elasticity model, resolved.
@@ -186,6 +194,10 @@ impl ShellLaw {
     /// (runtime/model/effects/lipid.rs).
     pub fn is_area_law(&self) -> bool {
         matches!(self, ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_))
+    }
+    /// A law with its own term in place of the Mooney–Rivlin membrane (an area law, Church–Hoff).
+    pub fn replaces_membrane(&self) -> bool {
+        self.is_area_law() || matches!(self, ShellLaw::ChurchHoff { .. })
     }
     /// The Marmottant constants, for either Marmottant law.
     pub fn lipid(&self) -> Option<&Lipid> {

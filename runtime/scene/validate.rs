@@ -99,7 +99,15 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     if law_name != "sarkar" {
         sarkar::refuse_keys(c, &rs, law_name);
     }
+    if law_name != "church-hoff" {
+        for (key, v) in [("shell.modulus", rs.modulus), ("shell.viscosity", rs.viscosity)] {
+            if let Some(v) = v {
+                c.push(key, Some(fmt_num(v)), format!("a key of shell.law = \"church-hoff\", but shell.law = \"{law_name}\": it would do nothing (remove it or set shell.law)"));
+            }
+        }
+    }
     let law = match law_name {
+        "church-hoff" => church_hoff(c, &rs, modes.max_order),
         "sarkar" => ShellLaw::Sarkar(sarkar::build(c, &rs, r0)),
         "marmottant" => ShellLaw::Marmottant(lipid::build(c, &rs, r0, false)),
         "marmottant-smooth" => ShellLaw::MarmottantSmooth(lipid::build(c, &rs, r0, true)),
@@ -424,4 +432,29 @@ fn thermal(c: &mut Check, rg: &super::raw::RawGas) -> Thermal {
             Thermal::Polytropic
         }
     }
+}
+
+/// `shell.law = "church-hoff"`: G_s required, η_s default 0; radial only (shape modes refused).
+fn church_hoff(c: &mut Check, rs: &RawShell, max_order: usize) -> ShellLaw {
+    let modulus = match rs.modulus {
+        Some(g) => c.float("shell.modulus", Some(g)),
+        None => {
+            c.push("shell.modulus", None, "required with shell.law = \"church-hoff\" (the shell's shear modulus G_s [Pa])");
+            f64::NAN
+        }
+    };
+    let viscosity = c.float_or("shell.viscosity", rs.viscosity, 0.0);
+    for (key, v) in [("shell.shear_modulus", rs.shear_modulus), ("shell.elasticity", rs.elasticity)] {
+        if let Some(v) = v {
+            c.push(key, Some(fmt_num(v)), "not a key of shell.law = \"church-hoff\" (its modulus is shell.modulus [Pa]): it would do nothing");
+        }
+    }
+    if max_order > 0 {
+        c.push(
+            "modes.max_order",
+            Some(max_order.to_string()),
+            "shell.law = \"church-hoff\" is radial only (Church's solid shell resists shape change by its shear stiffness, which is not an isotropic surface energy; its shape-mode loads are not derived): set modes.max_order = 0",
+        );
+    }
+    ShellLaw::ChurchHoff { modulus, viscosity }
 }

@@ -20,6 +20,7 @@ mod marmottant;
 mod marmottant_events;
 mod thermal_damping;
 mod sarkar;
+mod church_hoff;
 mod pressure_gradient;
 mod run_loop;
 mod floquet_blocks;

@@ -22,6 +22,7 @@ pub mod drive;
 pub mod gas;
 pub mod lipid;
 pub mod lipid_quadratic;
+pub mod church_hoff;
 pub mod sarkar;
 pub mod thermal_damping;
 pub mod magnetic;
