@@ -136,7 +136,7 @@ impl LipidLaw {
     /// The signed branch margins at radius `r` (model units): [R − R_b, R − R_r]. A sign change
     /// of either is a branch switch of the kinked law (buckled below R_b, ruptured above R_r);
     /// for the smooth law they mark the centres of its two blends. The event functions the
-    /// integration loop is to locate (`Model::events`, at merge).
+    /// run loop locates (`model/events.rs`, `BranchEvent`).
     pub fn branch_margins(&self, r: f64) -> [f64; 2] {
         let (rb, rr) = self.radii();
         [r - rb, r - rr]
