@@ -18,7 +18,7 @@ fn fig12(max_order: usize, field: Option<Field>, method: Method) -> Scene {
             initial: Initial { radius: 10e-6, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new(), seed: Default::default() },
         },
         shell: Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper),
-        gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0 },
+        gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0, thermal: Thermal::Polytropic },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None, temperature: 293.15 },
         drive: Some(Drive::cosine(0.5, 1e6)),
         field,

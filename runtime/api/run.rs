@@ -70,6 +70,10 @@ pub struct Summary {
     /// The echo's levels (issue 30 part 2), with `[echo]`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub echo: Option<serde_json::Value>,
+    /// Issue 31: with the kinked Marmottant law, the fractions of the run's time spent
+    /// buckled / elastic / ruptured (from the located branch switches) and the switch count.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shell_branches: Option<crate::model::BranchFractions>,
 }
 
 /// Where a run's scene came from.
@@ -108,6 +112,7 @@ impl Summary {
             scene: scene.scene().clone(),
             source: Source { file: scene.origin().to_string(), overrides: scene.overrides().to_vec() },
             echo: None,
+            shell_branches: report.shell_branches,
         }
     }
 }

@@ -1,9 +1,14 @@
 //! The model's hooks into the run loop ([`crate::integrate::run_loop`]): the known
 //! discontinuity times of a run ([`Model::stop_times`]) and its event functions
-//! ([`Model::events`]). The run executor ([`super::executor`]) passes both to the loop.
+//! ([`Model::events`]): the blow-up threshold and, for the kinked Marmottant law, its branch
+//! switches ([`BranchEvent`]). The run executor ([`super::executor`]) passes both to the loop,
+//! starts the branch clock ([`Model::start_branches`]) and reads it at the end
+//! ([`Model::finish_branches`]).
 
+use super::effects::lipid::{Branch, LipidLaw};
 use super::Model;
-use crate::integrate::run_loop::Event;
+use crate::integrate::run_loop::{Action, Direction, Event};
+use serde::Serialize;
 
 /// The blow-up threshold as an event: g = [`Model::blow_up_margin`] on the boundary-layer
 /// layout z = [R, Ṙ, (a, ȧ, b)_k], rising through 0, located to 1e-13 · max(t, t_end) on the
@@ -23,19 +28,133 @@ impl Event for BlowUpEvent<'_> {
     }
 }
 
+/// The relative time tolerance of a branch switch: located to `BRANCH_TOLERANCE · t_end` on the
+/// dense output, so |R(t_switch) − R_b| ≤ |Ṙ| · 1e-12 · t_end plus the dense output's error
+/// (tests/suite/marmottant_events.rs measures it).
+pub const BRANCH_TOLERANCE: f64 = 1e-12;
+
+/// A branch switch of the kinked Marmottant law (issue 31; docs/model.md, "Branch switches"):
+/// g = R − R_b (`which` = 0) or R − R_r (1), either direction, located on the dense output to
+/// [`BRANCH_TOLERANCE`]; at the crossing the run's branch becomes R's there and the stepper
+/// restarts, so no step straddles a kink of τ(R) and the law inside each step is the smooth
+/// formula of one branch. Both layouts the executor runs (boundary layer, monolithic) start
+/// with [R, Ṙ].
+pub struct BranchEvent<'a> {
+    pub law: &'a LipidLaw,
+    pub which: usize,
+    pub clock: &'a std::sync::Mutex<BranchClock>,
+}
+
+impl Event for BranchEvent<'_> {
+    fn g(&self, _t: f64, z: &[f64]) -> f64 {
+        self.law.branch_margins(z[0])[self.which]
+    }
+    fn direction(&self) -> Direction {
+        Direction::Either
+    }
+    fn tolerance(&self) -> f64 {
+        BRANCH_TOLERANCE
+    }
+    fn action(&self) -> Action {
+        Action::Restart
+    }
+    fn update(&self, t: f64, y: &mut [f64]) {
+        let b = self.law.branch_of(y[0]);
+        self.law.branch.set(Some(b));
+        if let Ok(mut c) = self.clock.lock() {
+            c.switch(t, b);
+        }
+    }
+}
+
+/// The time a run has spent on each branch (model units).
+#[derive(Debug, Default, Clone)]
+pub struct BranchClock {
+    start: f64,
+    current: Option<Branch>,
+    since: f64,
+    spent: [f64; 3],
+    switches: u64,
+}
+
+impl BranchClock {
+    fn index(b: Branch) -> usize {
+        Branch::ALL.iter().position(|&x| x == b).unwrap_or(0)
+    }
+
+    /// The run is on branch `b` from time t.
+    fn switch(&mut self, t: f64, b: Branch) {
+        if let Some(c) = self.current {
+            self.spent[Self::index(c)] += t - self.since;
+            if c != b {
+                self.switches += 1;
+            }
+        }
+        self.current = Some(b);
+        self.since = t;
+    }
+}
+
+/// `summary.json`'s `shell_branches` (issue 31): the fraction of the run's time spent on each
+/// branch of the kinked Marmottant law, from the located switch times, and the number of
+/// switches.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BranchFractions {
+    pub buckled: f64,
+    pub elastic: f64,
+    pub ruptured: f64,
+    pub switches: u64,
+}
+
 impl Model {
     /// The event functions of a run, in priority order for events located at the same time;
-    /// each sees the boundary-layer layout z = [R, Ṙ, (a, ȧ, b)_k] (nondimensional). Default:
-    /// the blow-up threshold alone ([`BlowUpEvent`]); the executor maps a stop at event 0 to
-    /// [`Model::stop_status`].
-    ///
-    /// **For a kinked shell law** (wire at merge): add one event per branch switch with
-    /// g = the law's branch-switch margin (e.g. strain − kink strain), `Direction::Either`,
-    /// `Action::Restart`, and [`Event::update`] setting the law's branch (interior
-    /// mutability); the equations must evaluate the law on the current branch, not re-decide
-    /// it from the state inside a step. The executor reports every Stop event by
-    /// [`Model::stop_status`]: a new kind of Stop event adds its status there.
+    /// each sees the boundary-layer layout z = [R, Ṙ, (a, ȧ, b)_k] (nondimensional): the
+    /// blow-up threshold ([`BlowUpEvent`], index 0: the executor maps a stop at it to
+    /// [`Model::stop_status`]), then, for the kinked Marmottant law, its two branch switches
+    /// ([`BranchEvent`], `Action::Restart`). The equations evaluate the law on the run's
+    /// branch ([`crate::model::effects::lipid::BranchState`]), which
+    /// [`Model::start_branches`] sets at t0 and each switch updates.
     pub fn events(&self) -> Vec<Box<dyn Event + '_>> {
+        let mut v: Vec<Box<dyn Event + '_>> = vec![Box::new(BlowUpEvent { model: self })];
+        if let Some((law, clock)) = &self.kinked {
+            for which in 0..2 {
+                v.push(Box::new(BranchEvent { law, which, clock }));
+            }
+        }
+        v
+    }
+
+    /// The events of [`Model::events`] without the branch switches: the law re-decides its
+    /// branch from R at every evaluation and the steppers step over its kinks (for comparison
+    /// in tests; tests/suite/marmottant_events.rs).
+    pub fn events_without_branches(&self) -> Vec<Box<dyn Event + '_>> {
         vec![Box::new(BlowUpEvent { model: self })]
+    }
+
+    /// Starts a run at time t0 from state z0 (R first): the kinked law's branch becomes R0's
+    /// and the branch clock starts. No-op without a kinked law.
+    pub fn start_branches(&self, t0: f64, z0: &[f64]) {
+        if let Some((law, clock)) = &self.kinked {
+            let b = law.branch_of(z0[0]);
+            law.branch.set(Some(b));
+            if let Ok(mut c) = clock.lock() {
+                *c = BranchClock { start: t0, ..Default::default() };
+                c.switch(t0, b);
+            }
+        }
+    }
+
+    /// Ends a run at time t: the fractions of [t0, t] spent on each branch, and the law back
+    /// to R's branch at each evaluation (for analyses after the run). `None` without a kinked
+    /// law or before [`Model::start_branches`].
+    pub fn finish_branches(&self, t: f64) -> Option<BranchFractions> {
+        let (law, clock) = self.kinked.as_ref()?;
+        law.branch.set(None);
+        let mut c = clock.lock().ok()?;
+        let b = c.current?;
+        c.switch(t, b);
+        let total = t - c.start;
+        let f = |i: usize| if total > 0.0 { c.spent[i] / total } else { (i == BranchClock::index(b)) as u8 as f64 };
+        Some(BranchFractions { buckled: f(0), elastic: f(1), ruptured: f(2), switches: c.switches })
     }
 }

@@ -39,6 +39,8 @@ pub(crate) struct Outcome {
     pub max_abs: Vec<f64>,
     /// The last row (R, a2, b2, …) [m].
     pub row: Vec<f64>,
+    /// The fractions of time on each branch of a kinked Marmottant law (issue 31).
+    pub branches: Option<super::events::BranchFractions>,
 }
 
 struct Rows<'a> {
@@ -64,7 +66,7 @@ impl Rows<'_> {
     }
 
     fn outcome(self, status: RunStatus, stats: Stats) -> Outcome {
-        Outcome { status, stats, t_last: self.t_last, max_abs: self.max_abs, row: self.row }
+        Outcome { status, stats, t_last: self.t_last, max_abs: self.max_abs, row: self.row, branches: None }
     }
 }
 
@@ -87,6 +89,8 @@ pub(crate) fn execute(
     };
     debug_assert_eq!(plan.layout.len(), StateLayout::reduced(model.orders().len()).dim(), "layout of z");
     let t0 = st.t();
+    let z0: Vec<f64> = plan.layout.iter().map(|&i| st.y()[i]).collect();
+    model.start_branches(t0, &z0);
     let stop_times = model.stop_times();
     let events = model.events();
     let events: Vec<&dyn Event> = events.iter().map(|e| &**e).collect();
@@ -103,6 +107,8 @@ pub(crate) fn execute(
         rows.emit(t, z);
         Control::Continue
     });
+    let t_fin = result.as_ref().map_or(st.t(), |f| f.t);
+    let branches = model.finish_branches(t_fin);
     let status = match result {
         Ok(fin) => match fin.reason {
             StopReason::End | StopReason::Observer => RunStatus::Completed,
@@ -116,7 +122,7 @@ pub(crate) fn execute(
         },
         Err(e) => failure_status(&e, ts, plan),
     };
-    rows.outcome(status, st.stats())
+    Outcome { branches, ..rows.outcome(status, st.stats()) }
 }
 
 /// A failed step: a non-finite state is a blow-up (a result, FORMULATION §5), the rest are

@@ -29,7 +29,7 @@ mod simulate;
 pub mod vorticity;
 
 pub use boundary_layer::BoundaryLayerSystem;
-pub use events::BlowUpEvent;
+pub use events::{BlowUpEvent, BranchEvent, BranchFractions, BRANCH_TOLERANCE};
 pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};
@@ -84,12 +84,15 @@ pub struct Model {
     t_end: f64,
     /// The last full state handed to [`Model::to_si_into`], when tapped ([`Model::with_state_tap`]).
     state_tap: Option<std::sync::Mutex<Vec<f64>>>,
+    /// The kinked Marmottant law (issue 31), whose branch switches are events of a run, and the
+    /// time a run spends on each branch (model/events.rs).
+    kinked: Option<(effects::lipid::LipidLaw, std::sync::Mutex<events::BranchClock>)>,
 }
 
 impl Model {
     pub fn from_scene(scene: &Scene) -> Result<Model, ModelError> {
         let scales = Scales::from_scene(scene);
-        let params = Params::from_scene(scene, &scales);
+        let mut params = Params::from_scene(scene, &scales);
         let orders: Vec<usize> = scene.modes.orders().collect();
         if scene.modes.max_order > KMAX {
             return Err(ModelError::TooManyModes { max_order: scene.modes.max_order, kmax: KMAX });
@@ -130,16 +133,34 @@ impl Model {
             .map(|w| w.scaled(scales.time, scales.pressure));
         terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone() }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
+        // issue 31 part 2: Prosperetti's thermal damping (its μ_th once the stiffness is known)
+        let thermal_at = (!scene.gas.thermal.is_polytropic()).then(|| {
+            terms.push(Box::new(effects::thermal_damping::ThermalDamping { mu: 0.0, label: String::new() }));
+            terms.len() - 1
+        });
         // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
         let mut material = Vec::new();
-        if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
+        if !scene.shell.is_free() && !scene.shell.law.replaces_membrane() {
             terms.push(Box::new(membrane_term(&params, &kf)));
             material.push(terms.len() - 1);
         }
-        // issue 31: a Marmottant law replaces the membrane (c1 keeps setting t*)
-        if let Some(t) = effects::lipid::term(&scene.shell.law, &scales, &kf) {
+        // issue 31: a Marmottant law replaces the membrane (c1 keeps setting t*); one law, its
+        // clones in every term share the run's branch (model/events.rs)
+        let lipid = effects::lipid::LipidLaw::from_scene(&scene.shell.law, &scales);
+        if let Some(t) = lipid.as_ref().and_then(|l| effects::lipid::term(&scene.shell.law, l, &kf)) {
             terms.push(Box::new(t));
             material.push(terms.len() - 1);
+        }
+        // issue 31: Church–Hoff, radial only
+        if let Some(t) = effects::church_hoff::term(&scene.shell, &scales, params.r0) {
+            if !orders.is_empty() {
+                return Err(ModelError::Unsupported {
+                    key: "modes.max_order",
+                    value: scene.modes.max_order.to_string(),
+                    reason: "shell.law = \"church-hoff\" is radial only (its shape-mode loads are not derived): set modes.max_order = 0",
+                });
+            }
+            terms.push(Box::new(t));
         }
         // issue 11 / issue 10 part 2: only the shell effects the scene switches on (γ, then the
         // material-frame ones: the summation order of the whole list)
@@ -151,15 +172,18 @@ impl Model {
         if let (Some(l), Some(s)) = (loads, &source) {
             terms.push(Box::new(effects::magnetic::MagneticTerm { loads: l, label: s.label.clone() }));
         }
+        if let Some(i) = thermal_at {
+            effects::thermal_damping::assemble(scene, &scales, &mut params, &mut terms, i)?;
+        }
         // issue 12: the quadratic coupling, a second-pass term (nothing is assembled for `linear`)
         let mut second: Vec<Box<dyn effects::second_order::SecondOrderTerm>> = Vec::new();
         if scene.modes.coupling == Coupling::Quadratic && !orders.is_empty() {
             check_quadratic(scene)?;
             let gamma = scene.shell.surface_tension / (scales.pressure * scales.length);
             second.push(Box::new(effects::quadratic::QuadraticCoupling::new(params.rho, gamma, params.three_kappa, params.pg0, params.r0, &kf)));
-            if let Some(law) = effects::lipid::LipidLaw::from_scene(&scene.shell.law, &scales) {
+            if let Some(law) = &lipid {
                 // issue 31: the kinked Marmottant law's, branch by branch
-                let t = effects::lipid_quadratic::LipidQuadratic::new(law, &kf).ok_or(ModelError::Unsupported {
+                let t = effects::lipid_quadratic::LipidQuadratic::new(law.clone(), &kf).ok_or(ModelError::Unsupported {
                     key: "shell.law",
                     value: "marmottant-smooth".into(),
                     reason: "modes.coupling = quadratic: the smooth law's second-order loads need W‴ (not derived); use shell.law = \"marmottant\"",
@@ -171,7 +195,7 @@ impl Model {
             }
             quadratic_shell_terms(scene, &scales, params.r0, &kf, &mut terms, &mut second)?;
             // the membrane's loads are material-frame: mapped to the state's Eulerian amplitudes
-            if let Some(t) = frame_map(scene, &params, &scales, &kf) {
+            if let Some(t) = frame_map(scene, &params, &scales, &kf, lipid.as_ref()) {
                 second.push(Box::new(t));
             }
         }
@@ -262,7 +286,8 @@ impl Model {
         };
         let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
         let t_end = scene.run.duration / scales.time;
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, state_tap: None })
+        let kinked = lipid.filter(|l| l.is_kinked()).map(|l| (l, Default::default()));
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, state_tap: None, kinked })
     }
 
     /// The equations, as the integrators see them.
@@ -446,6 +471,9 @@ fn check_quadratic(scene: &Scene) -> Result<(), ModelError> {
     if let crate::scene::ShellLaw::MarmottantSmooth(_) = sh.law {
         return refuse("the smooth Marmottant law's second-order loads need W‴ (not derived); use shell.law = \"marmottant\"");
     }
+    if let crate::scene::ShellLaw::Sarkar(_) = sh.law {
+        return refuse("the Sarkar law's second-order loads need W‴ (not derived)");
+    }
     if !sh.is_free() && effects::quadratic_membrane::QuadraticMembrane::law(law_name(&sh.law)).is_none() {
         return refuse("the second-order membrane loads of this shell.law are not derived (derivations/shell/ laws with a strain energy W are)");
     }
@@ -493,12 +521,12 @@ fn quadratic_shell_terms(
 /// The frame mapping of the material-frame linear loads (membrane law, bending, shell
 /// viscosity; not γ, whose second order is the free bubble's, nor the field, whose second order
 /// is left out), when the scene has any (issue 12; effects/quadratic_frame.rs).
-fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64]) -> Option<effects::quadratic_frame::FrameMap> {
+fn frame_map(scene: &Scene, params: &Params, sc: &Scales, kf: &[f64], lipid: Option<&effects::lipid::LipidLaw>) -> Option<effects::quadratic_frame::FrameMap> {
     let mut lagrangian: Vec<Box<dyn Term>> = Vec::new();
-    if !scene.shell.is_free() && scene.shell.law.lipid().is_none() {
+    if !scene.shell.is_free() && !scene.shell.law.replaces_membrane() {
         lagrangian.push(Box::new(membrane_term(params, kf)));
     }
-    if let Some(t) = effects::lipid::term(&scene.shell.law, sc, kf) {
+    if let Some(t) = lipid.and_then(|l| effects::lipid::term(&scene.shell.law, l, kf)) {
         lagrangian.push(Box::new(t));
     }
     lagrangian.extend(effects::shell::terms(&material_shell(&scene.shell), sc, params.r0, kf));
@@ -531,7 +559,7 @@ fn law_name(law: &crate::scene::ShellLaw) -> &'static str {
         // branch-wise use of the spec's tables (effects/lipid_quadratic.rs); the smooth law is
         // refused by check_quadratic
         crate::scene::ShellLaw::Marmottant(_) => "marmottant",
-        crate::scene::ShellLaw::MarmottantSmooth(_) => "",
+        crate::scene::ShellLaw::MarmottantSmooth(_) | crate::scene::ShellLaw::Sarkar(_) | crate::scene::ShellLaw::ChurchHoff { .. } => "",
     }
 }
 

@@ -105,7 +105,7 @@ impl Membrane {
         match (law, form) {
             // a Marmottant law is not a membrane table (effects/lipid.rs): the Mooney–Rivlin
             // tables with zero constants stand in where a table is read (odd-mode frequencies)
-            (ShellLaw::MooneyRivlin | ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_), form) => Self::new(form),
+            (ShellLaw::MooneyRivlin | ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_) | ShellLaw::ChurchHoff { .. }, form) => Self::new(form),
             (ShellLaw::Skalak { .. }, MembraneForm::Paper) => tables!(membrane::skalak::paper),
             (ShellLaw::Skalak { .. }, MembraneForm::Tension) => tables!(membrane::skalak::tension),
         }
@@ -184,7 +184,7 @@ impl Params {
             membrane_args: match s.shell.law {
                 ShellLaw::MooneyRivlin => (c(s.shell.c1), c(s.shell.c2)),
                 ShellLaw::Skalak { shear_modulus, area_dilatation } => (c(shear_modulus), area_dilatation),
-                ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) => (0.0, 0.0),
+                ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_) | ShellLaw::ChurchHoff { .. } => (0.0, 0.0),
             },
         }
     }

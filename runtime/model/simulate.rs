@@ -103,6 +103,9 @@ pub struct RunReport {
     /// Dimension of the integrated state (2 + 3M).
     pub state_dimension: usize,
     pub groups: Groups,
+    /// The kinked Marmottant law's fractions of time buckled / elastic / ruptured (issue 31).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shell_branches: Option<super::events::BranchFractions>,
 }
 
 /// The integrator of a scene's settings; `time_scale` [s] is the model's unit of time (the model
@@ -177,6 +180,7 @@ impl Model {
             active_effects,
             state_dimension: dim,
             groups: self.groups(),
+            shell_branches: out.branches,
         }
     }
 }

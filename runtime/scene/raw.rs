@@ -83,6 +83,10 @@ pub struct RawShell {
     pub initial_tension: Option<f64>,
     pub rupture_tension: Option<f64>,
     pub smoothing: Option<f64>,
+    pub elasticity_decay: Option<f64>,
+    pub reference_tension: Option<f64>,
+    pub modulus: Option<f64>,
+    pub viscosity: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
@@ -91,6 +95,9 @@ pub struct RawGas {
     pub polytropic_exponent: Option<f64>,
     pub reference_pressure: Option<f64>,
     pub vapour_pressure: Option<f64>,
+    pub thermal: Option<String>,
+    pub thermal_diffusivity: Option<f64>,
+    pub heat_capacity_ratio: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

@@ -233,20 +233,24 @@ pub static SCHEMA: &[Param] = &[
     p("shell.form", K::Choice(&["paper", "tension"]), "", D::Str("paper"), Rg::None, "eqs 2.26-2.29",
       "Membrane load: `paper` = divergence of the Cauchy stress (the paper's); `tension` = divergence of \
        the tension eps sigma/alpha (docs/model.md §2, audit 9)."),
-    p("shell.law", K::Choice(&["mooney-rivlin", "skalak", "marmottant", "marmottant-smooth"]), "", D::Str("mooney-rivlin"), Rg::None,
+    p("shell.law", K::Choice(&["mooney-rivlin", "skalak", "marmottant", "marmottant-smooth", "sarkar", "church-hoff"]), "", D::Str("mooney-rivlin"), Rg::None,
       "eq 2.24 / Skalak 1973 / Marmottant 2005",
       "Elastic law of the membrane (derivations/shell/): `mooney-rivlin` with c1, c2; `skalak` with \
        shear_modulus and area_dilatation; `marmottant` (buckled / elastic / ruptured lipid monolayer, \
        tension form whatever shell.form says) with elasticity, buckling_radius or initial_tension, \
-       rupture_tension; `marmottant-smooth` the same with a smooth tension (smoothing). c1 still sets \
-       the time scale t* (docs/model.md, \"Lipid shells: Marmottant\")."),
+       rupture_tension; `marmottant-smooth` the same with a smooth tension (smoothing); `sarkar` (the \
+       exponential elasticity model of Paul et al. 2010, area-only) with elasticity, elasticity_decay, \
+       reference_tension; `church-hoff` (Church 1995, Hoff et al. 2000's thin shell, radial only: \
+       modes.max_order = 0) with modulus, viscosity, thickness. c1 still sets the time scale t* \
+       (docs/model.md, \"Lipid shells\")."),
     p("shell.shear_modulus", K::Float, "N/m", D::Derived("2 (c1 + c2), the small-strain shear modulus of the Mooney-Rivlin membrane"),
       Rg::Positive, "G_s", "Skalak shear modulus (shell.law = \"skalak\" only)."),
     p("shell.area_dilatation", K::Float, "", D::Float(1.0), Rg::NonNegative, "C",
       "Skalak area-dilatation parameter: small-strain area modulus K = G_s (1 + 2C); C = 1 gives the \
        Mooney-Rivlin K = 6 (c1 + c2) when G_s = 2 (c1 + c2) (shell.law = \"skalak\" only)."),
-    p("shell.elasticity", K::Float, "N/m", D::Derived("none: required with shell.law = \"marmottant\" or \"marmottant-smooth\""),
-      Rg::Positive, "chi", "Marmottant elastic modulus: sigma(R) = chi (R^2/R_b^2 - 1) on the elastic branch (marmottant laws only)."),
+    p("shell.elasticity", K::Float, "N/m", D::Derived("none: required with shell.law = \"marmottant\", \"marmottant-smooth\" or \"sarkar\""),
+      Rg::Positive, "chi", "Marmottant elastic modulus: sigma(R) = chi (R^2/R_b^2 - 1) on the elastic branch (marmottant laws); \
+       E0^s of shell.law = \"sarkar\"."),
     p("shell.buckling_radius", K::Float, "m", D::Derived("R0 / sqrt(1 + sigma(R0)/chi) from shell.initial_tension; R0 when neither is given"),
       Rg::Positive, "R_b", "Marmottant buckling radius: sigma = 0 for R < R_b. Give this or shell.initial_tension, not both \
        (marmottant laws only)."),
@@ -259,6 +263,18 @@ pub static SCHEMA: &[Param] = &[
     p("shell.smoothing", K::Float, "N/m", D::Derived("0.005"), Rg::Positive, "s",
       "Tension width of marmottant-smooth: sigma = s [softplus(x/s) - softplus((x - sigma_r)/s)], x = chi (R^2/R_b^2 - 1), \
        i.e. the area modulus blends by tanh over s (marmottant-smooth only)."),
+    p("shell.elasticity_decay", K::Float, "", D::Derived("0 (a constant E^s: Sarkar et al. 2005's viscoelastic model)"), Rg::NonNegative, "alpha^s",
+      "Exponential elasticity model: E^s = E0^s exp(-alpha^s beta), beta = R^2/R_E^2 - 1 (shell.law = \"sarkar\" only; \
+       E0^s is shell.elasticity)."),
+    p("shell.reference_tension", K::Float, "N/m", D::Derived("0"), Rg::NonNegative, "gamma_0",
+      "Exponential elasticity model: tension gamma0 + E^s beta; R_E is set so that it vanishes at R0 (no net tension at \
+       rest, p_g0 = p0) (shell.law = \"sarkar\" only)."),
+    p("shell.modulus", K::Float, "Pa", D::Derived("none: required with shell.law = \"church-hoff\""), Rg::Positive, "G_s",
+      "Church-Hoff shell: shear modulus of the shell material (a bulk modulus, not N/m); radial pressure \
+       12 G_s d R0^2/R^3 (1 - R0/R) with d = shell.thickness (shell.law = \"church-hoff\" only)."),
+    p("shell.viscosity", K::Float, "Pa s", D::Derived("0"), Rg::NonNegative, "eta_s",
+      "Church-Hoff shell: shear viscosity of the shell material; radial pressure 12 eta_s d R0^2 (dR/dt)/R^4 \
+       (shell.law = \"church-hoff\" only)."),
     p("shell.bending_modulus", K::Float, "J", D::Float(0.0), Rg::NonNegative, "k_b",
       "Helfrich bending stiffness (zero spontaneous curvature): normal load (k-1)k(k+1)(k+2) k_b a_k/R^4 \
        on each mode, no radial load. 0 = off."),
@@ -282,6 +298,17 @@ pub static SCHEMA: &[Param] = &[
        value used (groups.p_g0_pa, groups.p_g0_rule)."),
     p("gas.vapour_pressure", K::Float, "Pa", D::Float(0.0), Rg::NonNegative, "p_v",
       "Vapour pressure inside the bubble (constant; 0 = off, no term assembled)."),
+    p("gas.thermal", K::Choice(&["polytropic", "prosperetti"]), "", D::Str("polytropic"), Rg::None,
+      "Prosperetti 1977",
+      "Heat exchange of the gas: `polytropic` = (R0/R)^(3 kappa) with gas.polytropic_exponent; `prosperetti` = \
+       Prosperetti's linear theory at the drive frequency (undriven: the radial natural frequency): \
+       (R0/R)^(3 kappa_eff) and a thermal damping -4 mu_th (dR/dt)/R, from thermal_diffusivity and \
+       heat_capacity_ratio (docs/model.md, \"Thermal damping\"). The issue's `reduced` (a nonlinear \
+       reduced model) is not implemented yet: refused with that message."),
+    p("gas.thermal_diffusivity", K::Float, "m^2/s", D::Derived("2.0e-5 (air at 20 C, 1 atm)"), Rg::Positive, "D_g",
+      "Thermal diffusivity of the gas at rest (gas.thermal = \"prosperetti\" only)."),
+    p("gas.heat_capacity_ratio", K::Float, "", D::Derived("1.4 (air)"), Rg::Positive, "gamma",
+      "Ratio of specific heats c_p/c_v of the gas (gas.thermal = \"prosperetti\" only; the adiabatic limit of kappa_eff)."),
     section("liquid", D::Present, "The surrounding liquid (default: water)."),
     p("liquid.density", K::Float, "kg/m^3", D::Float(1000.0), Rg::Positive, "rho", "Liquid density."),
     p("liquid.viscosity", K::Float, "Pa s", D::Float(1e-3), Rg::Positive, "eta", "Dynamic viscosity."),

@@ -174,6 +174,30 @@ pub enum ShellLaw {
     Marmottant(Lipid),
     /// The same with a smooth tension of width `smoothing`.
     MarmottantSmooth(Lipid),
+    /// Paul, Katiyar, Sarkar, Chatterjee, Shi & Forsberg 2010, the exponential elasticity model
+    /// (docs/model.md, "Lipid shells: Sarkar").
+    Sarkar(Sarkar),
+    /// Church 1995 in Hoff et al. 2000's thin-shell form: radial only (docs/model.md,
+    /// "Shells: Church–Hoff").
+    ChurchHoff {
+        /// G_s [Pa], the shell material's shear modulus
+        modulus: f64,
+        /// η_s [Pa s]
+        viscosity: f64,
+    },
+}
+
+/// The constants of the exponential elasticity model, resolved.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Sarkar {
+    /// E0^s [N/m]
+    pub elasticity: f64,
+    /// α^s [–]
+    pub elasticity_decay: f64,
+    /// γ0 [N/m]
+    pub reference_tension: f64,
+    /// R_E [m]: the unstrained radius, where the net tension γ0 + E^s β vanishes at R0
+    pub unstrained_radius: f64,
 }
 
 /// The constants of a Marmottant shell, resolved (R_b and σ(R0) both, from whichever was given).
@@ -195,6 +219,15 @@ pub struct Lipid {
 impl ShellLaw {
     pub fn is_mooney_rivlin(&self) -> bool {
         matches!(self, ShellLaw::MooneyRivlin)
+    }
+    /// An isotropic area-only law (Marmottant, Sarkar): it replaces the Mooney–Rivlin membrane
+    /// (runtime/model/effects/lipid.rs).
+    pub fn is_area_law(&self) -> bool {
+        matches!(self, ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_))
+    }
+    /// A law with its own term in place of the Mooney–Rivlin membrane (an area law, Church–Hoff).
+    pub fn replaces_membrane(&self) -> bool {
+        self.is_area_law() || matches!(self, ShellLaw::ChurchHoff { .. })
     }
     /// The Marmottant constants, for either Marmottant law.
     pub fn lipid(&self) -> Option<&Lipid> {
@@ -234,6 +267,33 @@ pub struct Gas {
     pub reference_pressure_given: bool,
     /// p_v [Pa], 0 = no vapour term.
     pub vapour_pressure: f64,
+    /// `gas.thermal` (issue 31 part 2): the polytropic law alone (default; not written into
+    /// summary.json, which keeps its bytes) or Prosperetti's linear thermal damping.
+    #[serde(skip_serializing_if = "Thermal::is_polytropic")]
+    pub thermal: Thermal,
+}
+
+/// The gas's heat exchange (`gas.thermal`; docs/model.md, "Thermal damping").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+#[serde(rename_all = "kebab-case", tag = "name")]
+pub enum Thermal {
+    /// p_in = p_g0 (R0/R)^{3κ} with `gas.polytropic_exponent`.
+    #[default]
+    Polytropic,
+    /// Prosperetti 1977's linear theory at one frequency: κ_eff(ω) and −4μ_th(ω)Ṙ/R
+    /// (runtime/model/effects/thermal_damping.rs).
+    Prosperetti {
+        /// D [m²/s], `gas.thermal_diffusivity`
+        thermal_diffusivity: f64,
+        /// γ, `gas.heat_capacity_ratio`
+        heat_capacity_ratio: f64,
+    },
+}
+
+impl Thermal {
+    pub fn is_polytropic(&self) -> bool {
+        *self == Thermal::Polytropic
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

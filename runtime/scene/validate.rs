@@ -9,6 +9,7 @@ use super::types::*;
 mod check;
 mod warn;
 mod lipid;
+mod sarkar;
 mod drive;
 mod population;
 use check::Check;
@@ -96,7 +97,19 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     if !law_name.starts_with("marmottant") {
         lipid::refuse_keys(c, &rs, law_name);
     }
+    if law_name != "sarkar" {
+        sarkar::refuse_keys(c, &rs, law_name);
+    }
+    if law_name != "church-hoff" {
+        for (key, v) in [("shell.modulus", rs.modulus), ("shell.viscosity", rs.viscosity)] {
+            if let Some(v) = v {
+                c.push(key, Some(fmt_num(v)), format!("a key of shell.law = \"church-hoff\", but shell.law = \"{law_name}\": it would do nothing (remove it or set shell.law)"));
+            }
+        }
+    }
     let law = match law_name {
+        "church-hoff" => church_hoff(c, &rs, modes.max_order),
+        "sarkar" => ShellLaw::Sarkar(sarkar::build(c, &rs, r0)),
         "marmottant" => ShellLaw::Marmottant(lipid::build(c, &rs, r0, false)),
         "marmottant-smooth" => ShellLaw::MarmottantSmooth(lipid::build(c, &rs, r0, true)),
         "skalak" => ShellLaw::Skalak {
@@ -168,6 +181,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         reference_pressure: c.float_or("gas.reference_pressure", rg.reference_pressure, equilibrium),
         reference_pressure_given: rg.reference_pressure.is_some(),
         vapour_pressure,
+        thermal: thermal(c, &rg),
     };
     if !gas.reference_pressure_given && !(equilibrium > 0.0) && vapour_pressure.is_finite() {
         c.push(
@@ -394,4 +408,56 @@ fn build_run(
         blow_up_threshold,
         max_output_bytes: c.float("run.max_output_bytes", rr.max_output_bytes),
     }
+}
+
+/// `gas.thermal` and its keys (issue 31 part 2): a thermal key under the polytropic gas is an
+/// error naming it; `reduced` is refused (not implemented).
+fn thermal(c: &mut Check, rg: &super::raw::RawGas) -> Thermal {
+    if rg.thermal.as_deref() == Some("reduced") {
+        c.push(
+            "gas.thermal",
+            Some("\"reduced\"".into()),
+            "the nonlinear reduced heat-transfer model is not implemented in this version (issue 31 part 2): use \"prosperetti\" (linear theory) or \"polytropic\"",
+        );
+        return Thermal::Polytropic;
+    }
+    let name = c.choice("gas.thermal", rg.thermal.as_deref());
+    let d = c.float_or("gas.thermal_diffusivity", rg.thermal_diffusivity, 2.0e-5);
+    let g = c.float_or("gas.heat_capacity_ratio", rg.heat_capacity_ratio, 1.4);
+    match name {
+        "prosperetti" => Thermal::Prosperetti { thermal_diffusivity: d, heat_capacity_ratio: g },
+        _ => {
+            for (key, v) in [("gas.thermal_diffusivity", rg.thermal_diffusivity), ("gas.heat_capacity_ratio", rg.heat_capacity_ratio)] {
+                if let Some(v) = v {
+                    c.push(key, Some(fmt_num(v)), "a thermal-model key under gas.thermal = \"polytropic\": set gas.thermal = \"prosperetti\", or remove it");
+                }
+            }
+            Thermal::Polytropic
+        }
+    }
+}
+
+/// `shell.law = "church-hoff"`: G_s required, η_s default 0; radial only (shape modes refused).
+fn church_hoff(c: &mut Check, rs: &RawShell, max_order: usize) -> ShellLaw {
+    let modulus = match rs.modulus {
+        Some(g) => c.float("shell.modulus", Some(g)),
+        None => {
+            c.push("shell.modulus", None, "required with shell.law = \"church-hoff\" (the shell's shear modulus G_s [Pa])");
+            f64::NAN
+        }
+    };
+    let viscosity = c.float_or("shell.viscosity", rs.viscosity, 0.0);
+    for (key, v) in [("shell.shear_modulus", rs.shear_modulus), ("shell.elasticity", rs.elasticity)] {
+        if let Some(v) = v {
+            c.push(key, Some(fmt_num(v)), "not a key of shell.law = \"church-hoff\" (its modulus is shell.modulus [Pa]): it would do nothing");
+        }
+    }
+    if max_order > 0 {
+        c.push(
+            "modes.max_order",
+            Some(max_order.to_string()),
+            "shell.law = \"church-hoff\" is radial only (Church's solid shell resists shape change by its shear stiffness, which is not an isotropic surface energy; its shape-mode loads are not derived): set modes.max_order = 0",
+        );
+    }
+    ShellLaw::ChurchHoff { modulus, viscosity }
 }

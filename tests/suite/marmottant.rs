@@ -138,10 +138,10 @@ fn radial_motion_on_the_elastic_branch_matches_the_published_equation_to_1e_8() 
 
 #[test]
 fn radial_motion_through_buckling_and_rupture_matches_the_published_equation() {
-    // near the radial resonance (400 kHz), 3 periods: the kinks are stepped over by the adaptive
-    // controller (no event location yet; Dopri5 at rtol 1e-12). Measured max |ΔR|/R0: 1.3e-11,
-    // 3.7e-10, 2.3e-10, 6.4e-11 at ε_p = 0.1, 0.3, 0.6, 1 (7–11 switches): the step rejections
-    // at a C⁰ kink of σ keep the error within the 1e-8
+    // near the radial resonance (400 kHz), 3 periods, Dopri5 at rtol 1e-12: every switch is
+    // located by the run loop's events and the stepper restarts there (model/events.rs).
+    // Measured max |ΔR|/R0: 7.3e-12, 2.4e-11, 5.8e-11, 1.2e-10 at ε_p = 0.1, 0.3, 0.6, 1 (7–11
+    // switches; before the events, stepping over the kinks: 1.3e-11, 3.7e-10, 2.3e-10, 6.4e-11)
     let l = lipid(CHI, SIGMA0, SIGMA_R);
     for &eps in &[0.1, 0.3, 0.6, 1.0] {
         let (err, switches) = radial_error(eps, 4e5, l, 1e-12);

@@ -20,7 +20,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
             initial: Initial { radius: R0, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new(), seed: Default::default() },
         },
         shell: Shell::mooney_rivlin(C1, C2, 20e-9, 1.0, MembraneForm::Paper),
-        gas: Gas { polytropic_exponent: KAPPA, reference_pressure: P0, reference_pressure_given: true, vapour_pressure: 0.0 },
+        gas: Gas { polytropic_exponent: KAPPA, reference_pressure: P0, reference_pressure_given: true, vapour_pressure: 0.0, thermal: Thermal::Polytropic },
         liquid: Liquid { density: RHO, viscosity: ETA, ambient_pressure: P0, sound_speed: None, temperature: 293.15 },
         drive: None,
         field: None,

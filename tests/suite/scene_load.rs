@@ -169,7 +169,12 @@ fn every_choice_value_loads_through_set() {
                     set.push(format!("population.file=\"{}\"", csv.display()));
                 }
                 // a Marmottant law needs its elasticity (issue 31: required, no default)
-                let text = if o.starts_with("marmottant") { "[shell]\nelasticity = 0.5\n" } else { "" };
+                let text = match *o {
+                    o if o.starts_with("marmottant") || o == "sarkar" => "[shell]\nelasticity = 0.5\n",
+                    // radial only (issue 31)
+                    "church-hoff" => "[shell]\nmodulus = 5e7\n[modes]\nmax_order = 0\n",
+                    _ => "",
+                };
                 let scene = load_str(text, "x", &set);
                 assert!(scene.is_ok(), "{}={o}: {:?}", p.key, scene.err());
             }

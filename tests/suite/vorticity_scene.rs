@@ -19,7 +19,7 @@ fn scene(amplitude: f64, a2: f64, points: usize) -> Scene {
     Scene {
         bubble: Bubble { radius: r0, initial: Initial { radius: r0, velocity: 0.0, a, a_velocity: BTreeMap::new(), b: BTreeMap::new(), seed: Default::default() } },
         shell: Shell::mooney_rivlin(0.1, 0.12, 20e-9, 1.0, MembraneForm::Paper),
-        gas: Gas { polytropic_exponent: 1.4, reference_pressure: p0, reference_pressure_given: true, vapour_pressure: 0.0 },
+        gas: Gas { polytropic_exponent: 1.4, reference_pressure: p0, reference_pressure_given: true, vapour_pressure: 0.0, thermal: Thermal::Polytropic },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: p0, sound_speed: None, temperature: 293.15 },
         drive: Some(Drive::cosine(amplitude, 1e6)),
         field: None,

@@ -37,6 +37,7 @@ fn report(status: RunStatus, names: &[String]) -> RunReport {
             mn: None,
             omega_d_star: None,
         },
+        shell_branches: None,
     }
 }
 

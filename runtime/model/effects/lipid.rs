@@ -12,18 +12,67 @@
 //! (chi, chib) with τ″, which vanishes inside each branch of the kinked law.
 //!
 //! The branch switches are kinks of τ at R = R_b and R = R_r: [`LipidLaw::branch_margins`] gives
-//! their signed margins at a state, the hook for the integration loop's event functions
-//! (`Model::events`, being built beside this: until then the adaptive controller steps over the
-//! kinks).
+//! their signed margins at a state, the event functions of a run (`model/events.rs`,
+//! `BranchEvent`): the run loop locates each crossing on the dense output and restarts the
+//! stepper there, and inside a run the law is evaluated on the branch the run is on
+//! ([`BranchState`], set at the crossings), its formula continued a little beyond the kink —
+//! never re-decided from R inside a step (docs/model.md, "Lipid shells: Marmottant", "Branch
+//! switches"). Outside a run (modes, Floquet, Jacobians at a given state) the branch is R's.
 
 use super::{At, LoadJacobian, Loads, PressureRate, Term};
 use crate::model::layout::StateLayout;
 use crate::coefficients::membrane::marmottant::tension as m;
 use crate::model::params::Scales;
 use crate::scene::{Lipid, ShellLaw};
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::Arc;
+
+/// A branch of the kinked law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Branch {
+    /// R < R_b: τ = 0.
+    Buckled,
+    /// R_b ≤ R ≤ R_r: τ = χ(R²/R_b² − 1).
+    Elastic,
+    /// R > R_r: τ = σ_r.
+    Ruptured,
+}
+
+impl Branch {
+    pub const ALL: [Branch; 3] = [Branch::Buckled, Branch::Elastic, Branch::Ruptured];
+
+    fn code(self) -> u8 {
+        self as u8 + 1
+    }
+}
+
+/// The branch a run is on, shared by every clone of a law (the linear term, the quadratic
+/// loads, the frame mapping): empty outside a run (each evaluation takes R's branch); set by
+/// the run's events (`model/events.rs`) inside one.
+#[derive(Debug, Clone, Default)]
+pub struct BranchState(Arc<AtomicU8>);
+
+impl BranchState {
+    /// The branch set by the run, if any.
+    #[inline]
+    pub fn get(&self) -> Option<Branch> {
+        match self.0.load(Ordering::Relaxed) {
+            1 => Some(Branch::Buckled),
+            2 => Some(Branch::Elastic),
+            3 => Some(Branch::Ruptured),
+            _ => None,
+        }
+    }
+
+    /// Sets the branch (`None`: R's branch at each evaluation again).
+    pub fn set(&self, b: Option<Branch>) {
+        self.0.store(b.map_or(0, Branch::code), Ordering::Relaxed);
+    }
+}
 
 /// The Marmottant tension law of a scene, nondimensional (FORMULATION §4.5: tensions like c1).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Clones share the run's [`BranchState`].
+#[derive(Debug, Clone)]
 pub struct LipidLaw {
     /// χ
     pub chi: f64,
@@ -35,6 +84,10 @@ pub struct LipidLaw {
     pub smoothing: Option<f64>,
     /// R0 (1 in model units)
     pub r0: f64,
+    /// The branch of a run (kinked law only).
+    pub branch: BranchState,
+    /// `shell.law = "sarkar"`: its τ(J) (effects/sarkar.rs) instead of Marmottant's.
+    pub sarkar: Option<super::sarkar::SarkarTension>,
 }
 
 /// softplus(z) = ln(1 + e^z), without overflow.
@@ -48,16 +101,29 @@ fn logistic(z: f64) -> f64 {
 }
 
 impl LipidLaw {
-    /// The law of a scene's `shell.law`, if it is a Marmottant law.
+    /// The law of a scene's `shell.law`, if it is an area-only law (Marmottant, Sarkar).
     pub fn from_scene(law: &ShellLaw, sc: &Scales) -> Option<Self> {
-        let l: &Lipid = law.lipid()?;
         let t = |v: f64| v / (sc.pressure * sc.length);
+        if let ShellLaw::Sarkar(p) = law {
+            let sarkar = super::sarkar::SarkarTension {
+                e0: t(p.elasticity),
+                alpha: p.elasticity_decay,
+                gamma0: t(p.reference_tension),
+                je: (p.unstrained_radius / sc.length).powi(2),
+            };
+            // the Marmottant fields unused: τ is the EEM's (a smooth law, no branches)
+            let (chi, jb, sigma_r, smoothing) = (sarkar.e0, sarkar.je, f64::INFINITY, None);
+            return Some(Self { chi, jb, sigma_r, smoothing, r0: 1.0, branch: BranchState::default(), sarkar: Some(sarkar) });
+        }
+        let l: &Lipid = law.lipid()?;
         Some(Self {
             chi: t(l.elasticity),
             jb: (l.buckling_radius / sc.length).powi(2),
             sigma_r: t(l.rupture_tension),
             smoothing: l.smoothing.map(t),
             r0: 1.0,
+            branch: BranchState::default(),
+            sarkar: None,
         })
     }
 
@@ -70,21 +136,55 @@ impl LipidLaw {
     /// The signed branch margins at radius `r` (model units): [R − R_b, R − R_r]. A sign change
     /// of either is a branch switch of the kinked law (buckled below R_b, ruptured above R_r);
     /// for the smooth law they mark the centres of its two blends. The event functions the
-    /// integration loop is to locate (`Model::events`, at merge).
+    /// run loop locates (`model/events.rs`, `BranchEvent`).
     pub fn branch_margins(&self, r: f64) -> [f64; 2] {
         let (rb, rr) = self.radii();
         [r - rb, r - rr]
     }
 
-    /// τ(J), dτ/dJ, d²τ/dJ².
+    /// Whether the law has kinks (the kinked Marmottant law): its switches are events of a run.
+    pub fn is_kinked(&self) -> bool {
+        self.smoothing.is_none() && self.sarkar.is_none()
+    }
+
+    /// The branch of the kinked law at radius `r` (model units): buckled below R_b, ruptured
+    /// above R_r (R = R_b is elastic, R = R_r elastic).
+    pub fn branch_of(&self, r: f64) -> Branch {
+        self.classify(self.chi * ((r / self.r0).powi(2) / self.jb - 1.0))
+    }
+
+    /// The branch of x = χ(J/J_b − 1).
+    #[inline]
+    fn classify(&self, x: f64) -> Branch {
+        if x < 0.0 {
+            Branch::Buckled
+        } else if x <= self.sigma_r {
+            Branch::Elastic
+        } else {
+            Branch::Ruptured
+        }
+    }
+
+    /// The branch the law is evaluated on at radius `r`: the run's ([`BranchState`]) inside a
+    /// run, otherwise R's.
+    pub fn current_branch(&self, r: f64) -> Branch {
+        self.branch.get().unwrap_or_else(|| self.branch_of(r))
+    }
+
+    /// τ(J), dτ/dJ, d²τ/dJ² (kinked law: on the run's branch, or J's outside a run).
     pub fn tension(&self, j: f64) -> [f64; 3] {
+        if let Some(s) = &self.sarkar {
+            return s.tension(j);
+        }
         let (chi, sr) = (self.chi, self.sigma_r);
         let x = chi * (j / self.jb - 1.0);
         let xj = chi / self.jb;
         match self.smoothing {
-            None if x < 0.0 => [0.0, 0.0, 0.0],
-            None if x <= sr => [x, xj, 0.0],
-            None => [sr, 0.0, 0.0],
+            None => match self.branch.get().unwrap_or_else(|| self.classify(x)) {
+                Branch::Buckled => [0.0, 0.0, 0.0],
+                Branch::Elastic => [x, xj, 0.0],
+                Branch::Ruptured => [sr, 0.0, 0.0],
+            },
             Some(s) => {
                 // τ = s[sp(x/s) − sp((x − σ_r)/s)]: dτ/dx = L(x/s) − L((x − σ_r)/s), a tanh blend
                 let (z1, z2) = (x / s, (x - sr) / s);
@@ -198,9 +298,16 @@ impl Term for LipidTerm {
     }
 }
 
-/// The scene's Marmottant term, if its law is one.
-pub fn term(law: &ShellLaw, sc: &Scales, orders: &[f64]) -> Option<LipidTerm> {
-    let l = LipidLaw::from_scene(law, sc)?;
+/// The scene's Marmottant term on the law `l` (a clone: it shares the law's run branch).
+pub fn term(law: &ShellLaw, l: &LipidLaw, orders: &[f64]) -> Option<LipidTerm> {
+    let l = l.clone();
+    if let ShellLaw::Sarkar(p) = law {
+        let label = format!(
+            "sarkar shell (exponential elasticity) E0 = {} N/m, alpha = {}, gamma0 = {} N/m, R_E = {} m",
+            p.elasticity, p.elasticity_decay, p.reference_tension, p.unstrained_radius
+        );
+        return Some(LipidTerm { law: l, orders: orders.to_vec(), label });
+    }
     let p = law.lipid()?;
     let name = if p.smoothing.is_some() { "marmottant-smooth" } else { "marmottant" };
     Some(LipidTerm {

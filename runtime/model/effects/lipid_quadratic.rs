@@ -3,10 +3,10 @@
 //! derivations/shell/marmottant.rs with constant symbols — elastic (χ, χ/J_b), ruptured
 //! (−σ_r, 0), buckled W = const (no load) — so the spec's generated second-order loads
 //! (`coefficients::quadratic_membrane`, law `marmottant`, tension form; effects/
-//! quadratic_membrane.rs) are exact branch by branch. The branch is R's, as for the linear
-//! loads (effects/lipid.rs). The smooth law is not polynomial (its loads need W‴): refused.
+//! quadratic_membrane.rs) are exact branch by branch. The branch is the run's (R's outside a
+//! run), as for the linear loads (effects/lipid.rs). The smooth law is not polynomial (its loads need W‴): refused.
 
-use super::lipid::LipidLaw;
+use super::lipid::{Branch, LipidLaw};
 use super::quadratic_membrane::QuadraticMembrane;
 use super::{At, LoadJacobian, Loads, Term};
 use crate::coefficients::quadratic_membrane::Form;
@@ -22,28 +22,21 @@ pub struct LipidQuadratic {
 impl LipidQuadratic {
     /// None for the smooth law, or if the generated table is missing.
     pub fn new(law: LipidLaw, orders: &[f64]) -> Option<Self> {
-        if law.smoothing.is_some() {
+        if !law.is_kinked() {
             return None;
         }
         let table = QuadraticMembrane::law("marmottant")?;
         let make = |args: (f64, f64)| QuadraticMembrane::new(table, Form::Tension, law.r0, args, orders);
-        Some(Self {
-            law,
-            elastic: make((law.chi, law.chi / law.jb))?,
-            ruptured: make((-law.sigma_r, 0.0))?,
-            modes: orders.len(),
-        })
+        let (elastic, ruptured) = (make((law.chi, law.chi / law.jb))?, make((-law.sigma_r, 0.0))?);
+        Some(Self { law, elastic, ruptured, modes: orders.len() })
     }
 
-    /// The branch's loads at R (None: buckled).
+    /// The branch's loads at R (None: buckled): the run's branch inside a run.
     fn branch(&self, r: f64) -> Option<&QuadraticMembrane> {
-        let [mb, mr] = self.law.branch_margins(r);
-        if mb < 0.0 {
-            None
-        } else if mr > 0.0 {
-            Some(&self.ruptured)
-        } else {
-            Some(&self.elastic)
+        match self.law.current_branch(r) {
+            Branch::Buckled => None,
+            Branch::Elastic => Some(&self.elastic),
+            Branch::Ruptured => Some(&self.ruptured),
         }
     }
 }

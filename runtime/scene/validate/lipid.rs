@@ -26,6 +26,10 @@ fn given(rs: &RawShell) -> [(&'static str, Option<f64>); 5] {
 /// Under a law other than Marmottant's: each Marmottant key given is an error.
 pub(super) fn refuse_keys(c: &mut Check, rs: &RawShell, law: &str) {
     for (key, v) in given(rs) {
+        // χ is also E0^s of the Sarkar law (validate/sarkar.rs)
+        if key == "shell.elasticity" && (law == "sarkar" || law == "church-hoff") {
+            continue;
+        }
         if let Some(v) = v {
             c.push(key, Some(fmt_num(v)), format!("a key of shell.law = \"marmottant\" / \"marmottant-smooth\", but shell.law = \"{law}\": it would do nothing (remove it or set shell.law)"));
         }

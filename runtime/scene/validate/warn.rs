@@ -10,12 +10,17 @@ use super::super::types::{time_scale, Scene, ShellLaw};
 pub(super) struct Given {
     shear_modulus: Option<f64>,
     area_dilatation: Option<f64>,
+    polytropic_exponent: Option<f64>,
 }
 
 impl Given {
     pub(super) fn of(raw: &RawScene) -> Given {
         let sh = raw.shell.as_ref();
-        Given { shear_modulus: sh.and_then(|s| s.shear_modulus), area_dilatation: sh.and_then(|s| s.area_dilatation) }
+        Given {
+            shear_modulus: sh.and_then(|s| s.shear_modulus),
+            area_dilatation: sh.and_then(|s| s.area_dilatation),
+            polytropic_exponent: raw.gas.as_ref().and_then(|g| g.polytropic_exponent),
+        }
     }
 }
 
@@ -42,6 +47,12 @@ pub(super) fn check(given: &Given, scene: &Scene) -> (Vec<Issue>, Vec<String>) {
                 ));
             }
         }
+    }
+    if let (super::super::types::Thermal::Prosperetti { .. }, Some(k)) = (scene.gas.thermal, given.polytropic_exponent) {
+        warnings.push(format!(
+            "`gas.polytropic_exponent` = {} does nothing under gas.thermal = \"prosperetti\" (kappa_eff follows from gas.heat_capacity_ratio and gas.thermal_diffusivity)",
+            fmt_num(k)
+        ));
     }
     if let Some(c) = scene.liquid.sound_speed {
         let r0 = scene.bubble.radius;

@@ -47,7 +47,7 @@ pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
             initial: Initial { radius: R0, velocity: 0.0, a: BTreeMap::new(), a_velocity: BTreeMap::new(), b: BTreeMap::new(), seed: Default::default() },
         },
         shell: Shell::mooney_rivlin(C1, C2, 20e-9, 1.0, MembraneForm::Paper),
-        gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0 },
+        gas: Gas { polytropic_exponent: 1.4, reference_pressure: 101325.0, reference_pressure_given: true, vapour_pressure: 0.0, thermal: Thermal::Polytropic },
         liquid: Liquid { density: 1000.0, viscosity: 1e-3, ambient_pressure: 101325.0, sound_speed: None, temperature: 293.15 },
         drive: Some(Drive::cosine(eps_p, f_hz)),
         field: None,

@@ -1,0 +1,176 @@
+//! Thermal damping of the gas, `gas.thermal = "prosperetti"` (issue 31 part 2; docs/model.md,
+//! "Thermal damping"): Prosperetti's linear theory of the heat exchange between the gas and a
+//! liquid held at its ambient temperature (Prosperetti 1977, JASA 61, 17, eqs 14–17, in the
+//! limit of a liquid of large thermal conductivity and negligible G1 = M D ω/(γ R_g T) — the
+//! form Prosperetti, Crum & Commander 1988, JASA 83, 502, use; the equation numbers are those a
+//! public MATLAB implementation, `calc_thermal_damp.m`, cites for its full eqs 16–17):
+//!
+//!   Φ(ω) = 3γ / (1 − 3(γ − 1) iχ [√(i/χ) coth √(i/χ) − 1]),   χ = D/(ωR0²),
+//!
+//! with D the gas's thermal diffusivity at rest. A small radial motion ξ ∝ e^{iωt} sees the gas
+//! pressure p_g0(1 − Φ ξ/R0): the effective polytropic exponent κ_eff = Re Φ/3 and the thermal
+//! viscosity μ_th = p_g0 Im Φ/(4ω) (Prosperetti 1977 eqs 14–15), which the run uses as
+//! p_in = p_g0 (R0/R)^{3κ_eff} − 4μ_th Ṙ/R at one frequency ω: the drive's, or for an undriven
+//! scene the radial natural frequency ω0 with κ_eff(ω0) (a fixed point, [`natural_omega`]).
+//! κ_eff goes into the gas term ([`super::gas::PolytropicGas`]); −4μ_th Ṙ/R is [`ThermalDamping`].
+
+use super::{At, LoadJacobian, Loads, PressureRate, Term};
+
+/// A complex number (re, im): the few operations Φ needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct C(f64, f64);
+
+impl C {
+    fn mul(self, o: C) -> C {
+        C(self.0 * o.0 - self.1 * o.1, self.0 * o.1 + self.1 * o.0)
+    }
+    fn div(self, o: C) -> C {
+        let d = o.0 * o.0 + o.1 * o.1;
+        C((self.0 * o.0 + self.1 * o.1) / d, (self.1 * o.0 - self.0 * o.1) / d)
+    }
+    fn exp(self) -> C {
+        let m = self.0.exp();
+        C(m * self.1.cos(), m * self.1.sin())
+    }
+}
+
+/// Φ(ω) of Prosperetti's linear theory (module doc): D [m²/s], γ, ω [rad/s], R0 [m] (any
+/// consistent units: only χ = D/(ωR0²) enters).
+pub fn prosperetti_phi(omega: f64, r0: f64, diffusivity: f64, gamma: f64) -> (f64, f64) {
+    let chi = diffusivity / (omega * r0 * r0);
+    // z = √(i/χ) = (1 + i)/√(2χ); coth z = (1 + e^{−2z})/(1 − e^{−2z}), stable for Re z > 0
+    let s = (0.5 / chi).sqrt();
+    let z = C(s, s);
+    let e = C(-2.0 * z.0, -2.0 * z.1).exp();
+    let coth = C(1.0 + e.0, e.1).div(C(1.0 - e.0, -e.1));
+    let zc = z.mul(coth);
+    // iχ (z coth z − 1)
+    let w = C(0.0, chi).mul(C(zc.0 - 1.0, zc.1));
+    let den = C(1.0 - 3.0 * (gamma - 1.0) * w.0, -3.0 * (gamma - 1.0) * w.1);
+    let phi = C(3.0 * gamma, 0.0).div(den);
+    (phi.0, phi.1)
+}
+
+/// κ_eff = Re Φ/3 and μ_th = p_g0 Im Φ/(4ω) at ω (units of p_g0 / ω).
+pub fn effective(omega: f64, r0: f64, diffusivity: f64, gamma: f64, pg0: f64) -> (f64, f64) {
+    let (re, im) = prosperetti_phi(omega, r0, diffusivity, gamma);
+    (re / 3.0, pg0 * im / (4.0 * omega))
+}
+
+/// The radial natural frequency with κ_eff(ω0), a fixed point of
+/// ρR0²ω0² = 3κ_eff(ω0) p_g0 − R0 P′_rest, P′_rest the R-derivative of every other radial
+/// pressure at rest (model units: `omega_of` maps ω to (D/R0², …) through χ). Converges in a
+/// few iterations (κ_eff moves between 1 and γ); `None` if the rest stiffness is not positive.
+pub fn natural_omega(rho: f64, r0: f64, pg0: f64, dp_rest: f64, diffusivity: f64, gamma: f64) -> Option<f64> {
+    let stiff = |kappa: f64| (3.0 * kappa * pg0 / r0 - dp_rest) / (rho * r0);
+    let mut w = stiff(gamma).max(0.0).sqrt();
+    for _ in 0..200 {
+        if !(w > 0.0) {
+            return None;
+        }
+        let (k, _) = effective(w, r0, diffusivity, gamma, pg0);
+        let next = stiff(k);
+        if !(next > 0.0) {
+            return None;
+        }
+        let next = next.sqrt();
+        if (next - w).abs() <= 1e-14 * w {
+            return Some(next);
+        }
+        w = next;
+    }
+    Some(w)
+}
+
+/// −4μ_th Ṙ/R in the radial balance: Prosperetti's thermal damping at its frequency (module doc).
+#[derive(Debug, Clone)]
+pub struct ThermalDamping {
+    /// μ_th (model units, like η)
+    pub mu: f64,
+    pub label: String,
+}
+
+impl Term for ThermalDamping {
+    fn name(&self) -> &'static str {
+        "thermal damping"
+    }
+    fn label(&self) -> Option<String> {
+        Some(self.label.clone())
+    }
+    #[inline]
+    fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
+        loads.pressure -= 4.0 * self.mu * at.rdot() / at.r();
+    }
+    fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
+        let (r, rd) = (at.r(), at.rdot());
+        jac.pressure[0] += 4.0 * self.mu * rd / (r * r);
+        jac.pressure[1] -= 4.0 * self.mu / r;
+    }
+    fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
+        let (r, rd) = (at.r(), at.rdot());
+        dp[0] += 4.0 * self.mu * rd / (r * r);
+        dp[1] -= 4.0 * self.mu / r;
+    }
+    /// P = −4μ_thṘ/R: q = 4μ_thṘ²/R², s = −4μ_th/R.
+    fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
+        let (r, rd, e) = (at.r(), at.rdot(), 4.0 * self.mu);
+        rate.q += e * rd * rd / (r * r);
+        rate.dq[0] -= 2.0 * e * rd * rd / (r * r * r);
+        rate.dq[1] += 2.0 * e * rd / (r * r);
+        rate.s -= e / r;
+        rate.ds[0] += e / (r * r);
+        true
+    }
+}
+
+/// Sets up `gas.thermal = "prosperetti"` in an assembled term list (`Model::from_scene`): the
+/// frequency (the drive's, else [`natural_omega`] from the other terms' radial stiffness at
+/// rest), κ_eff into `params.three_kappa` and the gas term `terms[0]`, μ_th into the
+/// [`ThermalDamping`] placeholder at `terms[at]`.
+pub(crate) fn assemble(
+    scene: &crate::scene::Scene,
+    sc: &crate::model::Scales,
+    params: &mut crate::model::Params,
+    terms: &mut [Box<dyn Term>],
+    at: usize,
+) -> Result<(), crate::model::ModelError> {
+    let crate::scene::Thermal::Prosperetti { thermal_diffusivity, heat_capacity_ratio: gamma } = scene.gas.thermal else {
+        return Ok(());
+    };
+    let d = thermal_diffusivity * sc.time / (sc.length * sc.length);
+    let omega = match params.drive {
+        Some((_, w)) => Some(w),
+        None => {
+            let dim = crate::model::layout::StateLayout::reduced(scene.modes.orders().count()).dim();
+            let mut z = vec![0.0; dim];
+            z[0] = params.r0;
+            let mut dp = [0.0; 2];
+            let rest = At { t: 0.0, z: &z };
+            for (i, t) in terms.iter().enumerate() {
+                if i != 0 && i != at {
+                    t.add_pressure_gradient(&rest, &mut dp);
+                }
+            }
+            natural_omega(params.rho, params.r0, params.pg0, dp[0], d, gamma)
+        }
+    };
+    let omega = omega.filter(|w| w.is_finite() && *w > 0.0).ok_or(crate::model::ModelError::Unsupported {
+        key: "gas.thermal",
+        value: "\"prosperetti\"".into(),
+        reason: "an undriven scene whose radial stiffness at rest is not positive has no natural frequency to evaluate the thermal damping at",
+    })?;
+    let (kappa, mu) = effective(omega, params.r0, d, gamma, params.pg0);
+    params.three_kappa = 3.0 * kappa;
+    terms[0] = Box::new(super::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa });
+    let si_mu = mu * sc.pressure * sc.time;
+    terms[at] = Box::new(ThermalDamping {
+        mu,
+        label: format!(
+            "thermal damping (Prosperetti 1977, linear) at f = {:.6e} Hz: kappa_eff = {:.6}, mu_th = {:.4e} Pa s",
+            omega / (2.0 * std::f64::consts::PI * sc.time),
+            kappa,
+            si_mu
+        ),
+    });
+    Ok(())
+}
