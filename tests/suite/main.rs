@@ -48,6 +48,7 @@ mod bending_cutoff;
 mod free_bubble_stability;
 mod lamb_km;
 mod km_effects;
+mod fit_sensitivities;
 mod km_field;
 mod shell_viscosity;
 mod lamb_modes;
