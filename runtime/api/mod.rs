@@ -14,6 +14,7 @@
 //! | sweep          | [`sweep`]         | [`sweep::sweep`] (rows streamed to a sink)    | [`sweep::SweepSummary`] |
 //! | accuracy       | [`accuracy`]      | [`accuracy::study`], [`accuracy::critical`]   | the analysis reports |
 //! | coefficients   | [`coefficients`]  | [`coefficients::coefficients`]                | [`coefficients::Coefficients`] |
+//! | fit            | [`fit`]           | [`fit::fit`]                                  | [`fit::FitReport`] |
 //!
 //! A table of results (a sweep's rows, a stability diagram's) is also available as typed
 //! columns ([`table::Table`], [`sweep::SweepTable`]), what Python turns into a DataFrame.
@@ -39,6 +40,7 @@
 pub mod accuracy;
 pub mod coefficients;
 pub mod common;
+pub mod fit;
 pub mod floquet;
 pub mod modes;
 pub mod run;

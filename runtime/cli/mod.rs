@@ -10,6 +10,7 @@ pub mod coefficients;
 pub mod compare;
 pub mod convergence;
 pub mod figure;
+pub mod fit;
 pub mod floquet;
 pub mod modes;
 pub mod response;
@@ -54,6 +55,8 @@ pub enum Command {
     Figure(figure::FigureArgs),
     /// Linear radial response: amplitude, phase, damping by source, σ_s, σ_e per frequency.
     Response(response::ResponseArgs),
+    /// Fit scene parameters to measured R(t) (and a_k(t)): values, standard errors, correlations.
+    Fit(fit::FitArgs),
 }
 
 /// Parses the arguments, runs the subcommand, prints the whole error chain on failure.
@@ -109,5 +112,6 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Accuracy(a) => accuracy::run(&a),
         Command::Figure(a) => figure::run(&a),
         Command::Response(a) => response::run(&a),
+        Command::Fit(a) => fit::run(&a),
     }
 }
