@@ -138,6 +138,8 @@ pub fn resolve(template: &SceneTemplate, specs: &[ParamSpec], window: (f64, f64)
             high = h;
         }
         anyhow::ensure!(low < high, "--param {key}: reversed or empty bounds ({low} is not below {high})");
+        // the time offset starts at 0 or the nearest bound
+        let start = if key == TIME_OFFSET { start.clamp(low, high) } else { start };
         anyhow::ensure!(
             start >= low && start <= high,
             "--param {key}: the start value {start} (the scene's) is outside the bounds [{low}, {high}]"

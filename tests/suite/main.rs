@@ -49,6 +49,8 @@ mod free_bubble_stability;
 mod lamb_km;
 mod km_effects;
 mod fit_sensitivities;
+mod fit;
+mod fit_cli;
 mod km_field;
 mod shell_viscosity;
 mod lamb_modes;
