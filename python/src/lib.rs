@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 
 mod calls;
 mod convert;
+mod fit;
 mod worker;
 
 use magbubble::api;
@@ -102,6 +103,7 @@ pub(crate) fn chain_error(e: &anyhow::Error) -> PyErr {
 fn _magbubble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyScene>()?;
     calls::register(m)?;
+    fit::register(m)?;
     m.add("KMAX", magbubble::coefficients::KMAX)?;
     Ok(())
 }
