@@ -59,3 +59,12 @@ def sweep(
     return_series: bool = False,
     progress: _Progress = None,
 ) -> Tuple[List[_Column], Optional[List[_Series]], int, int, str]: ...
+
+# issue 32
+def fit(
+    scene: Scene,
+    params: List[str],
+    path: Optional[str] = None,
+    columns: Optional[List[Tuple[str, List[float]]]] = None,
+    starts: int = 1,
+) -> Tuple[Dict[str, Any], List[str], List[List[float]]]: ...

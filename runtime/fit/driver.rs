@@ -177,6 +177,13 @@ fn report(problem: &mut FitProblem<'_>, out: lm::Outcome, best_start: usize, sta
     let s2 = if estimated && m > p { chi2 / (m - p) as f64 } else { 1.0 };
     let cov = out.jac.as_ref().and_then(lm::covariance);
     let mut warnings = Vec::new();
+    if let Some(j) = &out.jac {
+        for (k, p) in params.iter().enumerate() {
+            if j.column(k).iter().all(|&v| v == 0.0) {
+                warnings.push(format!("{} has no effect on the fitted columns in this scene (its sensitivity is zero)", p.key));
+            }
+        }
+    }
     let (std_error, correlation) = match &cov {
         Some(c) => {
             let se: Vec<f64> = (0..p).map(|j| (c[(j, j)] * s2).sqrt() * params[j].dp_du(values[j]).abs()).collect();

@@ -219,3 +219,11 @@ fn time_offset_is_recovered() {
     assert_eq!(r.status, "converged", "{:?}", r.reason);
     assert!((r.parameters[0].value - 0.3e-6).abs() <= 3.0 * r.parameters[0].std_error + 1e-12, "{:?}", r.parameters[0]);
 }
+
+#[test]
+fn a_key_without_effect_is_flagged() {
+    // no field: χ does nothing
+    let truth = Scene::from_toml(&scene_text(""), "truth", &[] as &[&str]).unwrap();
+    let r = run_fit(&truth, noisy(&truth, &["R"], 1e-8, 1), &["shell.c1", "shell.susceptibility"]);
+    assert!(r.warnings.iter().any(|w| w.contains("shell.susceptibility has no effect")), "{:?}", r.warnings);
+}
