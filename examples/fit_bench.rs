@@ -93,4 +93,27 @@ fn main() {
         println!("  {} = {:e} ± {:e} ({})", p.key, p.value, p.std_error, p.derivative);
     }
     println!("  warnings: {:?}", rep.warnings);
+    // the same with an identifiable set: c1, the drive amplitude and the liquid viscosity
+    let keys2 = ["shell.c1", "drive.amplitude", "liquid.viscosity"];
+    let eta = sc.liquid.viscosity;
+    let start2 = scene
+        .with_overrides(&[format!("shell.c1={}", values[0] * 1.1), format!("drive.amplitude={}", values[2] * 1.1), format!("liquid.viscosity={}", eta * 0.9)])
+        .unwrap();
+    let req2 = FitRequest { params: keys2.iter().map(|k| k.parse().unwrap()).collect(), ..req };
+    let t0 = Instant::now();
+    let rep = fit(&start2, &req2, &Monitor::default()).unwrap();
+    let secs = t0.elapsed().as_secs_f64();
+    println!(
+        "3-parameter fit (c1, eps_p, eta): {:.3} s = {:.1} plain solves: status {}, {} iterations, {} plain + {} sensitivity solves",
+        secs,
+        secs / plain,
+        rep.status,
+        rep.iterations,
+        rep.plain_solves,
+        rep.sensitivity_solves
+    );
+    for p in &rep.parameters {
+        println!("  {} = {:e} ± {:e} ({})", p.key, p.value, p.std_error, p.derivative);
+    }
+    println!("  warnings: {:?}", rep.warnings);
 }

@@ -54,6 +54,10 @@ pub struct Options {
     /// Converged when a step changes every u_i by less than this (relative to 1 + |u_i|) or
     /// the cost by less than this relative.
     pub tolerance: f64,
+    /// Converged when the predicted decrease of the cost is below this many noise variances
+    /// s² = 2 cost/(m − p): a step of less than √(2·this) standard errors (5e-7: 1e-3 standard
+    /// errors; the solver's own noise makes smaller steps meaningless).
+    pub noise_fraction: f64,
 }
 
 fn cost(r: &[f64]) -> f64 {
@@ -68,10 +72,8 @@ pub fn minimise(problem: &mut dyn Problem, u0: &[f64], opt: &Options) -> Outcome
     let Some(mut r) = problem.residuals(&u) else { return fail(u, "the model cannot be evaluated at the start values", 0) };
     let Some(mut jac) = problem.jacobian(&u) else { return fail(u, "the sensitivities cannot be formed at the start values", 0) };
     let mut c = cost(&r);
-    let mut lambda = {
-        let a = jac.transpose() * &jac;
-        1e-3 * (0..p).map(|i| a[(i, i)]).fold(0.0, f64::max).max(1e-300)
-    };
+    // Marquardt: the damping multiplies diag(JᵀJ), so λ is dimensionless
+    let mut lambda = 1e-3;
     let mut nu = 2.0;
     for it in 1..=opt.max_iterations {
         if problem.cancelled() {
@@ -97,6 +99,10 @@ pub fn minimise(problem: &mut dyn Problem, u0: &[f64], opt: &Options) -> Outcome
                 return Outcome { u, r, jac: Some(jac), cost: c, iterations: it, status: Status::Converged };
             }
             let predicted = -(g.dot(&delta)) - 0.5 * delta.dot(&(&a * &delta));
+            let s2 = 2.0 * c / (r.len().saturating_sub(p).max(1)) as f64;
+            if predicted >= 0.0 && predicted <= opt.noise_fraction * s2 && lambda <= 1.0 {
+                return Outcome { u, r, jac: Some(jac), cost: c, iterations: it, status: Status::Converged };
+            }
             let Some(r_new) = problem.residuals(&trial) else {
                 lambda *= nu;
                 nu *= 2.0;
