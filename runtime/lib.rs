@@ -27,6 +27,7 @@ pub mod coefficients;
 pub mod drive;
 pub mod echo;
 pub mod field;
+pub mod fit;
 pub mod integrate;
 pub mod model;
 #[macro_use]

@@ -24,6 +24,7 @@ from . import _magbubble as _ext
 from ._util import family_arg, frame, freq_arg, override_list, progress_bar, toml_text
 
 __all__ = ["Scene", "Run", "Accuracy", "run", "modes", "floquet", "stability", "sweep", "accuracy", "coefficients", "KMAX", "population", "attenuation"]
+__all__ += ["Fit", "fit"]  # issue 32
 __version__ = "0.1.0"
 
 #: The largest mode order of the generated coupling tables (build setting MAGBUBBLE_KMAX).
@@ -396,3 +397,67 @@ def _family_value(text: str) -> Any:
 
 # populations (issue 33)
 from ._population import attenuation, population  # noqa: E402
+# --- fit (issue 32) ---------------------------------------------------------------------------
+
+
+class Fit:
+    """A fit of a scene to measurements (``magbubble fit``).
+
+    - ``parameters``: DataFrame, one row per fitted key: ``key, value, std_error, low, high``
+      (and ``start, log, derivative``: how ∂f/∂p was formed, "exact" or "finite_difference");
+    - ``correlation``: DataFrame of the parameters' correlations (index and columns: keys);
+    - ``curves``: DataFrame of fit.csv: ``t`` and per fitted column ``<c>_data, <c>_model,
+      <c>_residual``;
+    - ``status``: ``"converged"``, ``"max_iterations"`` or ``"failed"`` (``reason`` says why);
+    - ``warnings``, ``report`` (the dict of fit.json).
+    """
+
+    __slots__ = ("parameters", "correlation", "curves", "report")
+
+    def __init__(self, report: Dict[str, Any], names: List[str], columns: List[List[float]]) -> None:
+        self.report = report
+        self.parameters = pd.DataFrame(report["parameters"])
+        keys = [p["key"] for p in report["parameters"]]
+        self.correlation = pd.DataFrame(report["correlation"], index=keys, columns=keys, dtype=float)
+        self.curves = pd.DataFrame(dict(zip(names, columns)), columns=names)
+
+    @property
+    def status(self) -> str:
+        return self.report["status"]
+
+    @property
+    def reason(self) -> Optional[str]:
+        return self.report.get("reason")
+
+    @property
+    def warnings(self) -> List[str]:
+        return list(self.report["warnings"])
+
+    def __repr__(self) -> str:
+        vals = ", ".join(f"{k}={v:.6g}" for k, v in zip(self.parameters["key"], self.parameters["value"]))
+        return f"Fit(status={self.status!r}, {vals})"
+
+
+def fit(
+    scene_or_path: SceneOrPath,
+    data: Union[PathLike, pd.DataFrame],
+    params: Sequence[str],
+    *,
+    starts: int = 1,
+    overrides: Optional[Mapping[str, Any]] = None,
+) -> Fit:
+    """Fits scene keys to measured R(t) (and a_k(t)) (``magbubble fit``). ``data``: a CSV path or a
+    DataFrame with columns ``t, R[, a2, …][, sigma_R, …]``; ``params``: ``"KEY"`` or
+    ``"KEY=LOW:HIGH"`` (a numeric scene key or ``"time_offset"``). Bad input raises ValueError
+    naming the key, column or value; a fit that fails is ``status == "failed"``."""
+    scene = _scene(scene_or_path, overrides)
+    if isinstance(params, str):
+        params = [params]
+    if isinstance(data, pd.DataFrame):
+        cols = [(str(c), [float(x) for x in data[c].to_numpy(dtype=float)]) for c in data.columns]
+        report, names, columns = _ext.fit(scene._inner, list(params), columns=cols, starts=starts)
+    elif isinstance(data, (str, os.PathLike)):
+        report, names, columns = _ext.fit(scene._inner, list(params), path=os.fspath(data), starts=starts)
+    else:
+        raise TypeError(f"data: expected a path or a DataFrame, got {type(data).__name__}")
+    return Fit(report, names, columns)

@@ -88,3 +88,11 @@ def attenuation(
     scene: Scene, freq: Union[str, List[float]], out: str, shard: Optional[str] = None, progress: _Progress = None
 ) -> Tuple[str, int, int, Optional[_Triple], Optional[str]]: ...
 def merge(inputs: List[str], out: str) -> int: ...
+# issue 32
+def fit(
+    scene: Scene,
+    params: List[str],
+    path: Optional[str] = None,
+    columns: Optional[List[Tuple[str, List[float]]]] = None,
+    starts: int = 1,
+) -> Tuple[Dict[str, Any], List[str], List[List[float]]]: ...

@@ -11,6 +11,7 @@ mod calls;
 mod convert;
 mod studies;
 mod population; // issue 33
+mod fit;
 mod worker;
 
 use magbubble::api;
@@ -106,6 +107,7 @@ fn _magbubble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     calls::register(m)?;
     studies::register(m)?;
     population::register(m)?; // issue 33
+    fit::register(m)?;
     m.add("KMAX", magbubble::coefficients::KMAX)?;
     Ok(())
 }

@@ -16,6 +16,7 @@
 //! | coefficients   | [`coefficients`]  | [`coefficients::coefficients`]                | [`coefficients::Coefficients`] |
 //! | population     | [`population`]    | [`population::population`]                   | [`population::PopulationOutput`] |
 //! | attenuation    | [`attenuation`]   | [`attenuation::attenuation`]                  | [`attenuation::AttenuationOutput`] |
+//! | fit            | [`fit`]           | [`fit::fit`]                                  | [`fit::FitReport`] |
 //!
 //! A table of results (a sweep's rows, a stability diagram's) is also available as typed
 //! columns ([`table::Table`], [`sweep::SweepTable`]), what Python turns into a DataFrame.
@@ -44,6 +45,7 @@ pub mod attenuation;
 pub mod population;
 pub mod coefficients;
 pub mod common;
+pub mod fit;
 pub mod floquet;
 pub mod modes;
 pub mod run;

@@ -10,6 +10,7 @@ pub mod coefficients;
 pub mod compare;
 pub mod convergence;
 pub mod figure;
+pub mod fit;
 pub mod floquet;
 pub mod modes;
 pub mod population;
@@ -60,6 +61,8 @@ pub enum Command {
     Population(population::PopulationArgs),
     /// A population's linear attenuation [dB/cm] and backscatter coefficient (attenuation.csv).
     Attenuation(population::AttenuationArgs),
+    /// Fit scene parameters to measured R(t) (and a_k(t)): values, standard errors, correlations.
+    Fit(fit::FitArgs),
 }
 
 /// Parses the arguments, runs the subcommand, prints the whole error chain on failure.
@@ -117,5 +120,6 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Response(a) => response::run(&a),
         Command::Population(a) => population::run_population(&a),
         Command::Attenuation(a) => population::run_attenuation(&a),
+        Command::Fit(a) => fit::run(&a),
     }
 }

@@ -54,6 +54,7 @@ pub mod run_loop;
 mod split_lu;
 pub mod tableau;
 mod variational;
+pub mod sensitivity;
 
 pub use driver::{drive, solve, stepper, Stepper};
 pub use explicit::{rk4_step, ExplicitRk, Rk4, Rk4Workspace};

@@ -129,12 +129,16 @@ pub struct Schedule<'a> {
     pub events: &'a [&'a dyn Event],
     /// The state components the observer and the events see (`None`: all, in order).
     pub observed: Option<&'a [usize]>,
+    /// Explicit sample times, sorted ascending, strictly inside (t0, t_end), replacing the
+    /// uniform grid of `Output::Every` (dense output, not a step constraint; the fit samples the
+    /// model at the data's times). The observer still sees t0 and t_end. `None`: the grid.
+    pub sample_times: Option<&'a [f64]>,
 }
 
 impl<'a> Schedule<'a> {
     /// Sampling and budget only: no stop times, no events, the whole state observed.
     pub fn new(t_end: f64, output: Output, max_steps: u64) -> Self {
-        Schedule { t_end, output, max_steps, stop_times: &[], on_stop_time: None, events: &[], observed: None }
+        Schedule { t_end, output, max_steps, stop_times: &[], on_stop_time: None, events: &[], observed: None, sample_times: None }
     }
 }
 
@@ -223,6 +227,21 @@ pub fn run(
         Output::Every(d) | Output::Landing(d) => d,
         Output::Steps => f64::INFINITY,
     };
+    if let Some(times) = schedule.sample_times {
+        if let Some(w) = times.windows(2).find(|w| !(w[1] > w[0])) {
+            return Err(IntegrateError::InvalidSetting { what: "sample time", value: w[1], reason: "sample times must be increasing" });
+        }
+        if let Some(&s) = times.iter().find(|&&s| !(s > t0 && s < t_end)) {
+            return Err(IntegrateError::InvalidSetting { what: "sample time", value: s, reason: "must lie strictly inside (t0, t_end)" });
+        }
+    }
+    // the i-th sample (i ≥ 1) and the margin before t_end inside which no sample is taken
+    let times = schedule.sample_times;
+    let sample_at = |i: u64| match times {
+        Some(v) => v.get(i as usize - 1).copied().unwrap_or(f64::INFINITY),
+        None => t0 + i as f64 * d,
+    };
+    let margin = if times.is_some() { 0.0 } else { 1e-9 * d };
     while st.t() < t_end {
         if st.stats().steps >= schedule.max_steps {
             return Err(IntegrateError::MaxSteps { t: st.t(), steps: st.stats().steps });
@@ -240,16 +259,16 @@ pub fn run(
             t_stop = s;
         }
         st.step(sys, t_stop)?;
-        let first_sample = t0 + sample as f64 * d;
-        if first_sample < st.t() && first_sample < t_end - 1e-9 * d {
+        let first_sample = sample_at(sample);
+        if first_sample < st.t() && first_sample < t_end - margin {
             st.prepare_dense(sys);
         }
         // The points of this step in time order: the samples (emitted once the events are
         // checked there), then the step end.
         let mut t_left = st.t_prev();
         loop {
-            let ts_i = t0 + sample as f64 * d;
-            let is_sample = ts_i <= st.t() && ts_i < t_end - 1e-9 * d;
+            let ts_i = sample_at(sample);
+            let is_sample = ts_i <= st.t() && ts_i < t_end - margin;
             let t_pt = if is_sample { ts_i } else { st.t() };
             view.at(st, t_pt, &mut z);
             for (g, e) in g_now.iter_mut().zip(events) {

@@ -102,6 +102,7 @@ pub(crate) fn execute(
         on_stop_time: None,
         events: &events,
         observed: Some(plan.layout),
+        sample_times: None,
     };
     let result = run(&mut *st, plan.sys, schedule, &mut |t, z| {
         rows.emit(t, z);

@@ -178,6 +178,8 @@ fn every_guide_example_runs() {
     // The outputs the guide describes.
     for f in [
         "out/coil/series.csv",
+        "out/fit/fit.json",
+        "out/fit/fit.csv",
         "out/coil/summary.json",
         "out/coil_h4/summary.json",
         "out/stab/stability.csv",

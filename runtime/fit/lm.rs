@@ -1,0 +1,165 @@
+//! Levenberg–Marquardt with box bounds (Madsen, Nielsen & Tingleff, *Methods for non-linear
+//! least squares problems*, 2004, sec. 3.2: the damping update of Nielsen 1999; Marquardt's
+//! diagonal scaling; steps projected onto the bounds).
+//!
+//! Own code rather than the `levenberg-marquardt` crate (a MINPACK port) or `argmin`: the
+//! residuals and the Jacobian here come from different solves (a plain solve for a trial point,
+//! one sensitivity solve for the Jacobian only once a step is accepted), a trial point may be
+//! infeasible (the model blows up before the data end, or the scene refuses the value) and must
+//! count as a rejected step, and the bounds are part of the problem; the MINPACK port has no
+//! bounds and asks residuals and Jacobian at the same point through one trait, and argmin's
+//! Gauss–Newton/trust-region solvers bring a framework of their own for 100 lines of algebra.
+
+use nalgebra::{DMatrix, DVector};
+
+/// What the optimiser needs of the problem (weighted residuals r_i = (model − data)/σ_i).
+pub trait Problem {
+    /// The residuals at u; `None`: an infeasible point (a rejected step).
+    fn residuals(&mut self, u: &[f64]) -> Option<Vec<f64>>;
+    /// The Jacobian ∂r/∂u (rows: residuals) at an accepted u; `None`: could not be formed.
+    fn jacobian(&mut self, u: &[f64]) -> Option<DMatrix<f64>>;
+    /// Checked between iterations: `true` stops (cancelled).
+    fn cancelled(&self) -> bool {
+        false
+    }
+}
+
+/// How the optimisation ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Status {
+    Converged,
+    MaxIterations,
+    Failed(String),
+}
+
+/// The end point.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub u: Vec<f64>,
+    /// Residuals and Jacobian at `u` (the Jacobian `None` when it failed there).
+    pub r: Vec<f64>,
+    pub jac: Option<DMatrix<f64>>,
+    pub cost: f64,
+    pub iterations: usize,
+    pub status: Status,
+}
+
+/// Settings.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub max_iterations: usize,
+    /// Bounds of u (±∞ when open).
+    pub low: Vec<f64>,
+    pub high: Vec<f64>,
+    /// Converged when a step changes every u_i by less than this (relative to 1 + |u_i|) or
+    /// the cost by less than this relative.
+    pub tolerance: f64,
+    /// Converged when the predicted decrease of the cost is below this many noise variances
+    /// s² = 2 cost/(m − p): a step of less than √(2·this) standard errors (5e-7: 1e-3 standard
+    /// errors; the solver's own noise makes smaller steps meaningless).
+    pub noise_fraction: f64,
+}
+
+fn cost(r: &[f64]) -> f64 {
+    0.5 * r.iter().map(|v| v * v).sum::<f64>()
+}
+
+/// Minimises ½‖r(u)‖² from `u0` (inside the bounds).
+pub fn minimise(problem: &mut dyn Problem, u0: &[f64], opt: &Options) -> Outcome {
+    let p = u0.len();
+    let mut u: Vec<f64> = u0.iter().zip(opt.low.iter().zip(&opt.high)).map(|(&v, (&l, &h))| v.clamp(l, h)).collect();
+    let fail = |u: Vec<f64>, why: &str, it: usize| Outcome { u, r: Vec::new(), jac: None, cost: f64::INFINITY, iterations: it, status: Status::Failed(why.into()) };
+    let Some(mut r) = problem.residuals(&u) else { return fail(u, "the model cannot be evaluated at the start values", 0) };
+    let Some(mut jac) = problem.jacobian(&u) else { return fail(u, "the sensitivities cannot be formed at the start values", 0) };
+    let mut c = cost(&r);
+    // Marquardt: the damping multiplies diag(JᵀJ), so λ is dimensionless
+    let mut lambda = 1e-3;
+    let mut nu = 2.0;
+    for it in 1..=opt.max_iterations {
+        if problem.cancelled() {
+            return Outcome { u, r, jac: Some(jac), cost: c, iterations: it - 1, status: Status::Failed("cancelled".into()) };
+        }
+        let a = jac.transpose() * &jac;
+        let g = jac.transpose() * DVector::from_column_slice(&r);
+        let dmax = (0..p).map(|i| a[(i, i)]).fold(0.0, f64::max);
+        let mut accepted = false;
+        for _ in 0..40 {
+            let mut m = a.clone();
+            for i in 0..p {
+                m[(i, i)] += lambda * a[(i, i)].max(1e-12 * dmax).max(1e-300);
+            }
+            let Some(step) = m.cholesky().map(|ch| ch.solve(&(-&g))) else {
+                lambda *= nu;
+                nu *= 2.0;
+                continue;
+            };
+            let trial: Vec<f64> = (0..p).map(|i| (u[i] + step[i]).clamp(opt.low[i], opt.high[i])).collect();
+            let delta = DVector::from_iterator(p, (0..p).map(|i| trial[i] - u[i]));
+            if (0..p).all(|i| delta[i].abs() <= opt.tolerance * (1.0 + u[i].abs())) {
+                return Outcome { u, r, jac: Some(jac), cost: c, iterations: it, status: Status::Converged };
+            }
+            let predicted = -(g.dot(&delta)) - 0.5 * delta.dot(&(&a * &delta));
+            let s2 = 2.0 * c / (r.len().saturating_sub(p).max(1)) as f64;
+            if predicted >= 0.0 && predicted <= opt.noise_fraction * s2 && lambda <= 1.0 {
+                return Outcome { u, r, jac: Some(jac), cost: c, iterations: it, status: Status::Converged };
+            }
+            let Some(r_new) = problem.residuals(&trial) else {
+                lambda *= nu;
+                nu *= 2.0;
+                continue;
+            };
+            let c_new = cost(&r_new);
+            let actual = c - c_new;
+            if actual > 0.0 && predicted > 0.0 {
+                let rho = actual / predicted;
+                let Some(j_new) = problem.jacobian(&trial) else {
+                    lambda *= nu;
+                    nu *= 2.0;
+                    continue;
+                };
+                u = trial;
+                r = r_new;
+                jac = j_new;
+                lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
+                nu = 2.0;
+                let small = actual <= opt.tolerance * c;
+                c = c_new;
+                if small {
+                    return Outcome { u, r, jac: Some(jac), cost: c, iterations: it, status: Status::Converged };
+                }
+                accepted = true;
+                break;
+            }
+            // no decrease: a step at the level of the solver's noise is convergence
+            if predicted >= 0.0 && predicted <= opt.tolerance * c {
+                return Outcome { u, r, jac: Some(jac), cost: c, iterations: it, status: Status::Converged };
+            }
+            lambda *= nu;
+            nu *= 2.0;
+        }
+        if !accepted {
+            return Outcome {
+                u,
+                r,
+                jac: Some(jac),
+                cost: c,
+                iterations: it,
+                status: Status::Failed(format!("no step reduces the misfit (damping λ = {lambda:e}): a bound, a blow-up or solver noise blocks every direction")),
+            };
+        }
+    }
+    Outcome { u, r, jac: Some(jac), cost: c, iterations: opt.max_iterations, status: Status::MaxIterations }
+}
+
+/// (JᵀJ)⁻¹, `None` when singular.
+pub fn covariance(jac: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let a = jac.transpose() * jac;
+    // scaled for the conditioning: D⁻¹ (D⁻¹ A D⁻¹)⁻¹ D⁻¹ with D = √diag(A)
+    let d: Vec<f64> = (0..a.nrows()).map(|i| a[(i, i)].sqrt()).collect();
+    if d.iter().any(|&v| !(v > 0.0 && v.is_finite())) {
+        return None;
+    }
+    let s = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] / (d[i] * d[j]));
+    let inv = s.try_inverse()?;
+    Some(DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| inv[(i, j)] / (d[i] * d[j])))
+}
