@@ -34,7 +34,7 @@ pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};
 pub use radial::{RadialForm, RadialSystem};
-pub use simulate::{method_of, simulate, Failure, RunReport, RunStatus};
+pub use simulate::{method_of, simulate, Failure, Row, RunReport, RunStatus};
 
 use crate::coefficients::KMAX;
 use crate::field::{loads::MagneticLoads, FieldError, FieldSource};
@@ -82,6 +82,8 @@ pub struct Model {
     wave: Option<crate::drive::Waveform>,
     /// `run.duration` (model units).
     t_end: f64,
+    /// The drive's piece being integrated, shared with the drive term ([`Model::enter_piece`]).
+    piece: crate::drive::Piece,
     /// The last full state handed to [`Model::to_si_into`], when tapped ([`Model::with_state_tap`]).
     state_tap: Option<std::sync::Mutex<Vec<f64>>>,
 }
@@ -128,7 +130,8 @@ impl Model {
             .as_ref()
             .and_then(|d| crate::drive::Waveform::from_scene(d, scene.liquid.ambient_pressure))
             .map(|w| w.scaled(scales.time, scales.pressure));
-        terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone() }));
+        let piece = crate::drive::Piece::default();
+        terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone(), piece: piece.clone() }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
         // the material-frame terms, marked for the quadratic frame mapping (model/material.rs)
         let mut material = Vec::new();
@@ -262,7 +265,7 @@ impl Model {
         };
         let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
         let t_end = scene.run.duration / scales.time;
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, state_tap: None })
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, piece, state_tap: None })
     }
 
     /// The equations, as the integrators see them.
@@ -344,6 +347,18 @@ impl Model {
     /// continuous drive.
     pub fn stop_times(&self) -> Vec<f64> {
         self.wave.as_ref().map_or_else(Vec::new, |w| w.stop_times(0.0, self.t_end))
+    }
+
+    /// A run now integrates the drive's piece [from, to] (model units): the run's start or a
+    /// stop time ([`Model::stop_times`]) to the next stop time or the run's end; the drive term
+    /// evaluates p_a on that piece, its ends included (docs/model.md, "Drives"). `None`: no
+    /// run, p_a decided from t. The run executor calls it; a caller driving the run loop itself
+    /// must too.
+    pub fn enter_piece(&self, piece: Option<(f64, f64)>) {
+        match piece {
+            Some((from, to)) => self.piece.enter(from, to),
+            None => self.piece.clear(),
+        }
     }
 
     /// The simulated shape orders k = 2, 4, …, N.

@@ -12,6 +12,7 @@ mod cli_output_safety;
 mod api;
 mod cli_run;
 mod drives;
+mod drive_edges;
 mod drives_hard;
 mod echo;
 mod response;
