@@ -84,8 +84,6 @@ pub struct Model {
     t_end: f64,
     /// The drive's piece being integrated, shared with the drive term ([`Model::enter_piece`]).
     piece: crate::drive::Piece,
-    /// The last full state handed to [`Model::to_si_into`], when tapped ([`Model::with_state_tap`]).
-    state_tap: Option<std::sync::Mutex<Vec<f64>>>,
 }
 
 impl Model {
@@ -265,7 +263,7 @@ impl Model {
         };
         let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
         let t_end = scene.run.duration / scales.time;
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, piece, state_tap: None })
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, piece })
     }
 
     /// The equations, as the integrators see them.
@@ -314,25 +312,6 @@ impl Model {
 
     pub fn scales(&self) -> &Scales {
         &self.scales
-    }
-
-    /// This model, keeping the full state of every output row (R, Ṙ, a_k, ȧ_k, b_k in model
-    /// units) for [`Model::tapped_state`]: the echo (runtime/echo/) needs the velocities, which
-    /// the output row does not hold. Interim hook until the run executor hands the full state
-    /// to its observer.
-    pub fn with_state_tap(mut self) -> Model {
-        self.state_tap = Some(std::sync::Mutex::new(Vec::new()));
-        self
-    }
-
-    /// Copies the full state of the last output row into `z` (empty unless
-    /// [`Model::with_state_tap`]); `z` keeps its capacity, so a caller reusing it does not
-    /// allocate per row.
-    pub fn tapped_state_into(&self, z: &mut Vec<f64>) {
-        z.clear();
-        if let Some(s) = self.state_tap.as_ref().and_then(|t| t.lock().ok()) {
-            z.extend_from_slice(&s);
-        }
     }
 
     /// The drive p_a(t) in model units (p̄, t/t*), when the scene has one (docs/model.md, "Drives").
@@ -396,12 +375,6 @@ impl Model {
 
     /// [`to_si`](Self::to_si) into a buffer of length 1 + 2M.
     pub fn to_si_into(&self, y: &[f64], row: &mut [f64]) {
-        if let Some(tap) = &self.state_tap {
-            if let Ok(mut s) = tap.lock() {
-                s.clear();
-                s.extend_from_slice(y);
-            }
-        }
         let (l, lay) = (self.scales.length, layout::StateLayout::reduced(self.orders.len()));
         row[0] = y[lay.r()] * l;
         for m in 0..self.orders.len() {
