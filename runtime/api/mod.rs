@@ -14,6 +14,8 @@
 //! | sweep          | [`sweep`]         | [`sweep::sweep`] (rows streamed to a sink)    | [`sweep::SweepSummary`] |
 //! | accuracy       | [`accuracy`]      | [`accuracy::study`], [`accuracy::critical`]   | the analysis reports |
 //! | coefficients   | [`coefficients`]  | [`coefficients::coefficients`]                | [`coefficients::Coefficients`] |
+//! | response       | [`response`]      | [`response::response`], [`response::table`]   | [`response::Response`] |
+//! | (run's echo)   | [`echo`]          | [`RunOutcome::echo`](run::RunOutcome)         | [`echo::Echo`] |
 //!
 //! A table of results (a sweep's rows, a stability diagram's) is also available as typed
 //! columns ([`table::Table`], [`sweep::SweepTable`]), what Python turns into a DataFrame.
@@ -39,8 +41,10 @@
 pub mod accuracy;
 pub mod coefficients;
 pub mod common;
+pub mod echo;
 pub mod floquet;
 pub mod modes;
+pub mod response;
 pub mod run;
 pub mod scene;
 pub mod stability;

@@ -86,7 +86,7 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         line.extend_from_slice(row);
         csv.row(&line);
     });
-    let mut outcome = match result {
+    let outcome = match result {
         Ok(outcome) => outcome,
         Err(e) => {
             drop(csv);
@@ -94,14 +94,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
             return Err(e);
         }
     };
-    // echo.csv, spectrum.csv and the summary's `echo` levels (scenes with [echo])
-    match outcome.echo.as_ref().map(|e| echo::write(&dir, e, scene.scene())).transpose() {
-        Ok(levels) => outcome.summary.echo = levels,
-        Err(e) => {
-            drop(csv);
-            dir.discard();
-            return Err(e);
-        }
+    // echo.csv and spectrum.csv (scenes with [echo]; the summary has their levels)
+    if let Err(e) = outcome.echo.as_ref().map_or(Ok(()), |e| echo::write(&dir, e)) {
+        drop(csv);
+        dir.discard();
+        return Err(e);
     }
     let rows = csv.rows();
     let summary_path = dir.join("summary.json");
