@@ -3,7 +3,7 @@
 //! [`crate::api::echo::Echo`] (runtime/echo/; docs/model.md, "Echo").
 
 use crate::api::echo::{float_row, Echo};
-use crate::api::table::Table;
+use crate::api::table::{Column, Table};
 use crate::output::{CsvWriter, OutputDir};
 
 /// Writes echo.csv and spectrum.csv into `dir`.
@@ -20,5 +20,38 @@ fn write_table(dir: &OutputDir, name: &str, table: &Table) -> anyhow::Result<()>
         csv.row(&line);
     }
     csv.commit()?;
+    Ok(())
+}
+
+/// `--plot`: echo.svg / echo.png, the pressure at each point against time above its spectrum,
+/// the spectrum up to 4.5 times the drive's main frequency (f, 2f, 3f, 4f and the sub- and
+/// ultraharmonics between), or for a file drive up to the last bin within 80 dB of the peak.
+pub(super) fn plot(echo: &Echo, f0: Option<f64>, out: &std::path::Path) -> anyhow::Result<()> {
+    let floats = |t: &Table| -> Vec<(String, Vec<f64>)> {
+        t.names
+            .iter()
+            .zip(&t.columns)
+            .filter_map(|(n, c)| match c {
+                Column::Float(v) => Some((n.clone(), v.clone())),
+                _ => None,
+            })
+            .collect()
+    };
+    let (e, s) = (floats(&echo.echo), floats(&echo.spectrum));
+    let named = |cols: &[(String, Vec<f64>)]| -> Vec<(String, Vec<f64>)> { cols.iter().skip(1).cloned().collect() };
+    let (pe, ps) = (named(&e), named(&s));
+    let f = &s[0].1;
+    let shown = match f0 {
+        Some(f0) => f.partition_point(|&x| x <= 4.5 * f0),
+        None => {
+            let peak = ps.iter().flat_map(|(_, v)| v.iter().copied()).fold(f64::NEG_INFINITY, f64::max);
+            1 + (0..f.len()).rev().find(|&j| ps.iter().any(|(_, v)| v[j] >= peak - 80.0)).unwrap_or(f.len().saturating_sub(1))
+        }
+    }
+    .clamp(f.len().min(2), f.len());
+    let pressure: Vec<(&str, &[f64])> = pe.iter().map(|(n, v)| (n.as_str(), v.as_slice())).collect();
+    let levels: Vec<(&str, &[f64])> = ps.iter().map(|(n, v)| (n.as_str(), &v[..shown])).collect();
+    let title = format!("echo ({} field): pressure at the receiver, spectrum", echo.series.form);
+    crate::plot::echo_plot(&title, &e[0].1, &pressure, &f[..shown], &levels, out)?;
     Ok(())
 }
