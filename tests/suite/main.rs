@@ -15,6 +15,7 @@ mod drives;
 mod drive_edges;
 mod drives_hard;
 mod echo;
+mod echo_checks;
 mod response;
 mod equations_jacobian;
 mod marmottant;
