@@ -83,6 +83,10 @@ fn every_guide_example_runs() {
         "my_scene.toml",
         "out/skalak/series.png",
         "out/skalak/summary.json",
+        "out/burst/echo.csv",
+        "out/burst/spectrum.csv",
+        "out/burst/echo.png",
+        "out/burst-response/response.csv",
     ] {
         assert!(dir.path().join(f).is_file(), "{f} missing after the guide's examples");
     }
