@@ -23,7 +23,7 @@ import pandas as pd
 from . import _magbubble as _ext
 from ._util import family_arg, frame, freq_arg, override_list, progress_bar, toml_text
 
-__all__ = ["Scene", "Run", "Accuracy", "run", "modes", "floquet", "stability", "sweep", "accuracy", "coefficients", "KMAX", "population", "attenuation"]
+__all__ = ["Scene", "Run", "Accuracy", "run", "modes", "floquet", "stability", "sweep", "accuracy", "coefficients", "response", "KMAX", "population", "attenuation"]
 __all__ += ["Fit", "fit"]  # issue 32
 __version__ = "0.1.0"
 
@@ -102,15 +102,28 @@ class Run:
     - ``series``: DataFrame with the columns of ``series.csv`` (``t, R, a2, b2, …``, SI units),
       the values bit for bit those the CLI writes;
     - ``summary``: the dict of ``summary.json``;
-    - ``status``: ``"completed"``, ``"blow_up"`` or ``"failed"`` (details in ``summary["status"]``).
+    - ``status``: ``"completed"``, ``"blow_up"`` or ``"failed"`` (details in ``summary["status"]``);
+    - ``echo`` (scenes with ``[echo]``, else None): DataFrame with the columns of ``echo.csv``
+      (``t``, then the scattered pressure ``p_<distance>m_<angle>deg`` [Pa] per point);
+    - ``spectrum`` (with ``[echo]``, else None): DataFrame with the columns of ``spectrum.csv``
+      (``frequency_hz``, then ``<point>_db`` [dB re 1 Pa]); the levels are ``summary["echo"]``.
     """
 
-    __slots__ = ("series", "summary", "scene")
+    __slots__ = ("series", "summary", "scene", "echo", "spectrum")
 
-    def __init__(self, series: pd.DataFrame, summary: Dict[str, Any], scene: Scene) -> None:
+    def __init__(
+        self,
+        series: pd.DataFrame,
+        summary: Dict[str, Any],
+        scene: Scene,
+        echo: Optional[pd.DataFrame] = None,
+        spectrum: Optional[pd.DataFrame] = None,
+    ) -> None:
         self.series = series
         self.summary = summary
         self.scene = scene
+        self.echo = echo
+        self.spectrum = spectrum
 
     @property
     def status(self) -> str:
@@ -139,10 +152,34 @@ def run(scene_or_path: SceneOrPath, overrides: Optional[Mapping[str, Any]] = Non
     scene = _scene(scene_or_path, overrides)
     update, close = progress_bar(progress, "run", "µs", 1e6)
     try:
-        header, data, summary = _ext.run(scene._inner, update)
+        header, data, summary, echo = _ext.run(scene._inner, update)
     finally:
         close()
-    return Run(pd.DataFrame(data, columns=header, copy=False), summary, scene)
+    series = pd.DataFrame(data, columns=header, copy=False)
+    if echo is None:
+        return Run(series, summary, scene)
+    return Run(series, summary, scene, frame(echo[0]), frame(echo[1]))
+
+
+def response(
+    scene_or_path: SceneOrPath,
+    freq: Union[str, Sequence[float]],
+    overrides: Optional[Mapping[str, Any]] = None,
+) -> pd.DataFrame:
+    """The linear radial response (``magbubble response``): one row per frequency with the
+    columns of ``response.csv`` (``frequency_hz, amplitude_m_per_pa, phase_rad, delta_total,
+    delta_liquid_viscosity, delta_radiation, delta_shell_viscosity, delta_other, sigma_s_m2,
+    sigma_e_m2``; ``sigma_e_m2`` NaN without ``liquid.sound_speed``). ``freq``: ``"A:B:N"`` or
+    ``"A:B:N:log"`` (as ``--freq``) or a sequence of frequencies [Hz]. ``attrs`` holds
+    ``natural_frequency_hz``, ``resonance_frequency_hz`` (the largest amplitude on the grid)
+    and ``damping_rates_per_s`` (by source, as in ``response.json``)."""
+    scene = _scene(scene_or_path, overrides)
+    if not isinstance(freq, str):
+        freq = [float(f) for f in freq]
+    columns, natural, resonance, rates = _ext.response(scene._inner, freq)
+    df = frame(columns)
+    df.attrs.update(natural_frequency_hz=natural, resonance_frequency_hz=resonance, damping_rates_per_s=rates)
+    return df
 
 
 def modes(

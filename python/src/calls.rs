@@ -23,6 +23,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(coefficients, m)?)?;
     m.add_function(wrap_pyfunction!(stability, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(response, m)?)?;
     Ok(())
 }
 
@@ -35,23 +36,44 @@ pub(crate) fn with_monitor<T>(ctl: &worker::Control, work: impl FnOnce(&Monitor)
     work(&Monitor { report: Some(&report), cancel: Some(ctl.flag()), bar: false })
 }
 
-/// Simulates `scene` (as `magbubble run`): (columns, rows × columns array, summary dict).
+/// Simulates `scene` (as `magbubble run`): (columns, rows × columns array, summary dict, echo),
+/// echo = (echo.csv's columns, spectrum.csv's columns) with `[echo]`, else None.
 /// `progress(t, duration)` is called every ~50 ms. A model that cannot be assembled raises
 /// ValueError ("cannot simulate …", as the CLI); a blow-up or a failed integration is a status
 /// in the summary, not an exception.
 #[pyfunction]
 #[pyo3(signature = (scene, progress = None))]
+#[allow(clippy::type_complexity)]
 fn run<'py>(
     py: Python<'py>,
     scene: &PyScene,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<(Vec<String>, Bound<'py, PyArray2<f64>>, Bound<'py, PyAny>)> {
+) -> PyResult<(Vec<String>, Bound<'py, PyArray2<f64>>, Bound<'py, PyAny>, Option<(Columns<'py>, Columns<'py>)>)> {
     let sc = &scene.inner;
     let result = worker::run(py, progress.as_ref(), |ctl| with_monitor(ctl, |m| api::run::run(sc, m)))?;
-    let r = result.map_err(|e| chain_error(&e))?;
+    let mut r = result.map_err(|e| chain_error(&e))?;
     let summary = to_python(py, &r.outcome.summary)?;
+    let echo = match r.outcome.echo.take() {
+        Some(e) => Some((table_columns(py, e.echo)?, table_columns(py, e.spectrum)?)),
+        None => None,
+    };
     let array = series_array(py, r.values, r.outcome.rows as usize, r.outcome.columns.len())?;
-    Ok((r.outcome.columns, array, summary))
+    Ok((r.outcome.columns, array, summary, echo))
+}
+
+/// The linear response (as `magbubble response`): (response.csv's columns, natural frequency
+/// [Hz], resonance frequency on the grid [Hz], damping rates by source [1/s] as a dict).
+/// `freq`: "A:B:N[:log]" (as --freq) or a sequence of frequencies [Hz].
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn response<'py>(py: Python<'py>, scene: &PyScene, freq: Bound<'py, PyAny>) -> PyResult<(Columns<'py>, f64, f64, Bound<'py, PyAny>)> {
+    let freqs = match freq.extract::<String>() {
+        Ok(spec) => api::response::grid(&spec).map_err(|e| chain_error(&e))?,
+        Err(_) => freq.extract::<Vec<f64>>().map_err(|_| value_error("freq: expected \"A:B:N[:log]\" or a sequence of frequencies [Hz]"))?,
+    };
+    let r = api::response::response(&scene.inner, &freqs).map_err(|e| chain_error(&e))?;
+    let rates = to_python(py, &r.damping_rates_per_s)?;
+    Ok((table_columns(py, api::response::table(&r))?, r.natural_frequency_hz, r.resonance_frequency_hz, rates))
 }
 
 /// Natural frequencies (`damped`: the damped spectrum) as a dict: what `modes` prints as JSON.

@@ -17,6 +17,8 @@
 //! | population     | [`population`]    | [`population::population`]                   | [`population::PopulationOutput`] |
 //! | attenuation    | [`attenuation`]   | [`attenuation::attenuation`]                  | [`attenuation::AttenuationOutput`] |
 //! | fit            | [`fit`]           | [`fit::fit`]                                  | [`fit::FitReport`] |
+//! | response       | [`response`]      | [`response::response`], [`response::table`]   | [`response::Response`] |
+//! | (run's echo)   | [`echo`]          | [`RunOutcome::echo`](run::RunOutcome)         | [`echo::Echo`] |
 //!
 //! A table of results (a sweep's rows, a stability diagram's) is also available as typed
 //! columns ([`table::Table`], [`sweep::SweepTable`]), what Python turns into a DataFrame.
@@ -46,8 +48,10 @@ pub mod population;
 pub mod coefficients;
 pub mod common;
 pub mod fit;
+pub mod echo;
 pub mod floquet;
 pub mod modes;
+pub mod response;
 pub mod run;
 pub mod scene;
 pub mod stability;

@@ -25,9 +25,9 @@ pub struct RunOutcome {
     pub report: RunReport,
     /// The typed `summary.json`.
     pub summary: Summary,
-    /// The recorded echo (scenes with `[echo]`; docs/model.md, "Echo"): the CLI writes it as
-    /// echo.csv and spectrum.csv and puts its levels in `summary.echo`.
-    pub echo: Option<crate::echo::EchoSeries>,
+    /// The recorded echo (scenes with `[echo]`; docs/model.md, "Echo"): its series and
+    /// spectrum tables (echo.csv, spectrum.csv) and its levels (also in `summary.echo`).
+    pub echo: Option<super::echo::Echo>,
 }
 
 /// A run with its series in memory.
@@ -172,7 +172,11 @@ pub fn stream_with(
     if let Some((t, len)) = width_error {
         anyhow::bail!("internal error: the model gave a row of {len} values at t = {t:e} s, expected {width}");
     }
-    let summary = Summary::new(&report, scene, rows);
+    let mut summary = Summary::new(&report, scene, rows);
+    let echo = echo.map(|e| super::echo::Echo::of(e, sc));
+    if let Some(e) = &echo {
+        summary.echo = Some(serde_json::to_value(&e.levels)?);
+    }
     Ok(RunOutcome { columns, rows, report, summary, echo })
 }
 

@@ -1,11 +1,11 @@
 //! `magbubble response SCENE --freq A:B:N[:log]`: the linear radial response
-//! ([`crate::analysis::response`]): response.csv (per frequency), response.json (the whole
+//! ([`crate::api::response`]; formatting only here): response.csv (per frequency), response.json (the whole
 //! result) and response.svg/png (|X/P_a| and σ_s against frequency) in the output directory.
 
-use crate::analysis::response::{parse_grid, response};
+use crate::api::echo::float_row;
+use crate::api::{self, response};
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::{Axis, Figure, Panel, Series};
-use anyhow::Context as _;
 use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
@@ -24,19 +24,17 @@ pub struct ResponseArgs {
 }
 
 pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
-    let freqs = parse_grid(&args.freq).map_err(anyhow::Error::msg)?;
-    let scene = crate::scene::load(&args.scene, &args.set)?;
-    let r = response(&scene, &freqs).with_context(|| format!("linear response of {}", args.scene.display()))?;
+    let freqs = response::grid(&args.freq)?;
+    let scene = api::Scene::load(&args.scene, &args.set)?;
+    let r = response::response(&scene, &freqs)?;
     let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "response"));
     let dir = OutputDir::create(&out)?;
-    let header = [
-        "frequency_hz", "amplitude_m_per_pa", "phase_rad", "delta_total", "delta_liquid_viscosity", "delta_radiation",
-        "delta_shell_viscosity", "delta_other", "sigma_s_m2", "sigma_e_m2",
-    ];
-    let mut csv = CsvWriter::create(&dir.join("response.csv"), &header)?;
-    for p in &r.points {
-        let d = &p.delta;
-        csv.row(&[p.frequency_hz, p.amplitude_m_per_pa, p.phase_rad, d.total, d.liquid_viscosity, d.radiation, d.shell_viscosity, d.other, p.sigma_s_m2, p.sigma_e_m2.unwrap_or(f64::NAN)]);
+    let table = response::table(&r);
+    let mut csv = CsvWriter::create(&dir.join("response.csv"), &table.names)?;
+    let mut line = Vec::with_capacity(table.names.len());
+    for i in 0..table.rows() {
+        float_row(&table, i, &mut line);
+        csv.row(&line);
     }
     csv.commit()?;
     write_json(&dir.join("response.json"), &r)?;

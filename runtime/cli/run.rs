@@ -86,7 +86,7 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         line.extend_from_slice(row);
         csv.row(&line);
     });
-    let mut outcome = match result {
+    let outcome = match result {
         Ok(outcome) => outcome,
         Err(e) => {
             drop(csv);
@@ -94,14 +94,11 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
             return Err(e);
         }
     };
-    // echo.csv, spectrum.csv and the summary's `echo` levels (scenes with [echo])
-    match outcome.echo.as_ref().map(|e| echo::write(&dir, e, scene.scene())).transpose() {
-        Ok(levels) => outcome.summary.echo = levels,
-        Err(e) => {
-            drop(csv);
-            dir.discard();
-            return Err(e);
-        }
+    // echo.csv and spectrum.csv (scenes with [echo]; the summary has their levels)
+    if let Err(e) = outcome.echo.as_ref().map_or(Ok(()), |e| echo::write(&dir, e)) {
+        drop(csv);
+        dir.discard();
+        return Err(e);
     }
     let rows = csv.rows();
     let summary_path = dir.join("summary.json");
@@ -118,9 +115,15 @@ pub(crate) fn execute(args: &RunArgs, simulate: SimulateFn) -> anyhow::Result<()
         crate::plot::series_plot(&series_path, &out)
             .with_context(|| format!("plotting {}", series_path.display()))?;
         outln!("plotted:    {}", out.join("series.svg").display());
+        if let Some(e) = &outcome.echo {
+            echo::plot(e, scene.scene().drive.as_ref().filter(|d| d.file.is_none()).map(|d| d.frequency_hz), &out).with_context(|| format!("plotting the echo of {}", scene.origin()))?;
+            outln!("plotted:    {}", out.join("echo.svg").display());
+        }
     } else {
         // a plot of an earlier run would sit beside the new data (issue 29 item 9)
-        for stale in crate::plot::remove_stale_series_plot(&out) {
+        let mut stale = crate::plot::remove_stale_series_plot(&out);
+        stale.extend(crate::plot::remove_stale_echo_plot(&out));
+        for stale in stale {
             noteln!("removed {} (an earlier run's plot; --plot draws a new one)", stale.display());
         }
     }

@@ -10,13 +10,17 @@
 //! model always has (bit-for-bit: `amp * (w * t).cos()` with φ = 0).
 //!
 //! The burst edges and the file's knots are where p_a or dp_a/dt jumps: [`Waveform::stop_times`]
-//! lists them for the integration loop. A [`Waveform`] is unit-agnostic: built in SI from a scene
+//! lists them for the integration loop. Between two of them p_a is smooth; a run evaluates it
+//! on the piece it is integrating ([`Waveform::pressure_and_rate_on`], the piece held by a
+//! [`Piece`]), so a step that lands on an edge sees the left side's formula there. A [`Waveform`] is unit-agnostic: built in SI from a scene
 //! ([`Waveform::from_scene`]) and rescaled ([`Waveform::scaled`]) to the model's units.
 
 mod envelope;
+mod piece;
 mod samples;
 
 pub use envelope::Shape;
+pub use piece::Piece;
 pub use samples::Samples;
 
 /// One sinusoid ε p_ref cos(ω τ + φ).
@@ -128,30 +132,37 @@ impl Waveform {
         }
     }
 
-    /// (p_a(t), dp_a/dt).
+    /// (p_a(t), dp_a/dt), the piece holding t decided from t itself (right-continuous at an
+    /// edge: a burst is closed at its start and open at its end).
     pub fn pressure_and_rate(&self, t: f64) -> (f64, f64) {
         match self {
             Waveform::File(s) => s.at(t),
-            Waveform::Tones { p_ref, tones, burst } => {
-                let (tau, w, dw) = match burst {
-                    None => (t, 1.0, 0.0),
-                    Some(b) => match b.local(t) {
-                        None => return (0.0, 0.0),
-                        Some(tau) => {
-                            let (w, dwdu) = b.shape.at(tau / b.length);
-                            (tau, w, dwdu / b.length)
-                        }
-                    },
-                };
-                let (mut s, mut ds) = (0.0, 0.0);
-                for tone in tones {
-                    let a = tone.amplitude * p_ref;
-                    let x = tone.omega * tau + tone.phase;
-                    s += a * x.cos();
-                    ds -= a * tone.omega * x.sin();
-                }
-                (w * s, dw * s + w * ds)
-            }
+            Waveform::Tones { p_ref, tones, burst } => match burst {
+                None => tones_at(*p_ref, tones, t, 1.0, 0.0),
+                Some(b) => match b.index(t) {
+                    None => (0.0, 0.0),
+                    Some(n) => b.evaluate(*p_ref, tones, t, n),
+                },
+            },
+        }
+    }
+
+    /// (p_a(t), dp_a/dt) on the smooth piece holding the time `inside` (a time strictly
+    /// between two stop times, e.g. their midpoint: never an edge, where rounding could pick
+    /// either side): the same formula for every t of that piece, its ends included. A step
+    /// landing on an edge therefore evaluates its last stage on the side it integrates (Hairer,
+    /// Nørsett & Wanner I, II.6), where [`pressure_and_rate`](Self::pressure_and_rate) would
+    /// give the next piece's value.
+    pub fn pressure_and_rate_on(&self, t: f64, inside: f64) -> (f64, f64) {
+        match self {
+            Waveform::File(s) => s.at_on(t, inside),
+            Waveform::Tones { p_ref, tones, burst } => match burst {
+                None => tones_at(*p_ref, tones, t, 1.0, 0.0),
+                Some(b) => match b.index(inside) {
+                    None => (0.0, 0.0),
+                    Some(n) => b.evaluate(*p_ref, tones, t, n),
+                },
+            },
         }
     }
 
@@ -218,19 +229,48 @@ impl Waveform {
     }
 }
 
+/// Σ_i ε_i p_ref cos(ω_i τ + φ_i) under the envelope value w (and dw/dτ = `dw`), with its
+/// τ-derivative.
+#[inline]
+fn tones_at(p_ref: f64, tones: &[Tone], tau: f64, w: f64, dw: f64) -> (f64, f64) {
+    let (mut s, mut ds) = (0.0, 0.0);
+    for tone in tones {
+        let a = tone.amplitude * p_ref;
+        let x = tone.omega * tau + tone.phase;
+        s += a * x.cos();
+        ds -= a * tone.omega * x.sin();
+    }
+    (w * s, dw * s + w * ds)
+}
+
 impl Burst {
-    /// τ, the time since the start of the burst holding t; `None` outside every burst.
-    /// Bursts are closed at the start and open at the end: [start + nP, start + nP + L).
-    fn local(&self, t: f64) -> Option<f64> {
+    /// τ = t − start − nP, the time since the start of burst n.
+    #[inline]
+    fn tau(&self, t: f64, n: f64) -> f64 {
+        let since = t - self.start;
+        match self.period {
+            None => since,
+            Some(p) => since - n * p,
+        }
+    }
+
+    /// The index n (as f64) of the burst holding t; `None` outside every burst. Bursts are
+    /// closed at the start and open at the end: [start + nP, start + nP + L).
+    fn index(&self, t: f64) -> Option<f64> {
         let since = t - self.start;
         if !(since >= 0.0) {
             return None;
         }
-        let tau = match self.period {
-            None => since,
-            Some(p) => since - (since / p).floor() * p,
-        };
-        (tau < self.length).then_some(tau)
+        let n = self.period.map_or(0.0, |p| (since / p).floor());
+        (self.tau(t, n) < self.length).then_some(n)
+    }
+
+    /// The tones under burst n's envelope at t (t may lie at or just past the burst's end:
+    /// the envelope's formula continued).
+    fn evaluate(&self, p_ref: f64, tones: &[Tone], t: f64, n: f64) -> (f64, f64) {
+        let tau = self.tau(t, n);
+        let (w, dwdu) = self.shape.at(tau / self.length);
+        tones_at(p_ref, tones, tau, w, dwdu / self.length)
     }
 }
 

@@ -90,6 +90,19 @@ impl Samples {
         let slope = (p1 - p0) / (t1 - t0);
         (p0 + slope * (t - t0), slope)
     }
+
+    /// (p(t), dp/dt) on the piece holding the time `inside` (strictly between two knots, or
+    /// outside the file: zero), its linear formula at any t of that piece, its knots included.
+    pub fn at_on(&self, t: f64, inside: f64) -> (f64, f64) {
+        let n = self.t.len();
+        if !(inside >= self.t[0] && inside < self.t[n - 1]) {
+            return (0.0, 0.0);
+        }
+        let i = self.t.partition_point(|&x| x <= inside) - 1;
+        let (t0, t1, p0, p1) = (self.t[i], self.t[i + 1], self.p[i], self.p[i + 1]);
+        let slope = (p1 - p0) / (t1 - t0);
+        (p0 + slope * (t - t0), slope)
+    }
 }
 
 #[cfg(test)]

@@ -96,3 +96,29 @@ fn periodicity() {
     let e = tones(burst(Shape::Hann, None), &[]).periodic_omegas().unwrap_err().to_string();
     assert!(e.contains("hann") && e.contains("stability --method series"), "{e}");
 }
+
+/// On its piece, p_a at an edge is the piece's own limit: the burst's value at its end from
+/// inside, zero at its start from before; a file's segment slope at its end knot. Decided from
+/// t, the edge belongs to the next piece.
+#[test]
+fn a_piece_keeps_its_side_at_the_edges() {
+    for (shape, period) in [(Shape::Rectangular, None), (Shape::Tukey(0.3), Some(5e-6)), (Shape::Gaussian, None)] {
+        let d = tones(burst(shape, period), &[]);
+        let (start, end) = (1e-6, 4e-6);
+        let inside = 0.5 * (start + end);
+        let left_limit = d.pressure_and_rate(end - 1e-15);
+        let on = d.pressure_and_rate_on(end, inside);
+        assert!((on.0 - left_limit.0).abs() < 1e-3 && (on.1 - left_limit.1).abs() < 1e-6 * 1e7 * 101325.0, "{shape:?}: {on:?} vs {left_limit:?}");
+        assert_eq!(d.pressure_and_rate(end), if period.is_some() { d.pressure_and_rate(end) } else { (0.0, 0.0) });
+        assert_eq!(d.pressure_and_rate_on(start, 0.5 * start), (0.0, 0.0));
+        assert_eq!(d.pressure_and_rate_on(start, inside), d.pressure_and_rate(start));
+        if shape == Shape::Rectangular {
+            assert!(on.0.abs() > 1e3, "the rectangular burst is on at its end from inside");
+        }
+    }
+    let s = Samples::new(vec![0.0, 1.0, 3.0], vec![0.0, 2.0, -2.0]).unwrap();
+    assert_eq!(s.at_on(1.0, 0.5), (2.0, 2.0));
+    assert_eq!(s.at_on(1.0, 2.0), (2.0, -2.0));
+    assert_eq!(s.at_on(3.0, 2.0), (-2.0, -2.0));
+    assert_eq!(s.at_on(3.0, 3.5), (0.0, 0.0));
+}

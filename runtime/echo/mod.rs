@@ -131,13 +131,12 @@ pub fn simulate(
             reason: "the echo is recorded from the boundary-layer model's state; with modes.viscous = \"vorticity\" remove [echo]",
         });
     }
-    let model = Model::from_scene(scene)?.with_state_tap();
+    let model = Model::from_scene(scene)?;
     let mut rec = Recorder::for_scene(scene, &model).expect("[echo] present");
-    let mut z = Vec::with_capacity(model.initial_state().len());
-    let report = model.run(&scene.run, &mut |t, row| {
-        model.tapped_state_into(&mut z);
-        rec.record(&model, t, &z);
-        observer(t, row);
+    // each row carries the full state (R, Ṙ, a, ȧ, b): recorded as it is, no copy
+    let report = model.run_rows(&scene.run, &mut |row| {
+        rec.record(&model, row.t, row.z);
+        observer(row.t, row.si);
     });
     Ok((report, Some(rec.finish())))
 }

@@ -26,7 +26,8 @@
 //! time, and the first stage of the next step too. A term that switches there must therefore
 //! take its branch from the state of the run (set by `on_stop_time` / [`Event::update`]), not
 //! by comparing t with the edge — otherwise one of the two steps sees the wrong branch in one
-//! stage and the order collapses to 1 (tests/suite/run_loop.rs shows it).
+//! stage and the order collapses to 1 (tests/suite/run_loop.rs shows it). The scene executor
+//! does this for the drive (`Model::enter_piece` from `on_stop_time`; tests/suite/drive_edges.rs).
 //!
 //! **Variational equations** ([`super::Variational`]) are part of the state: a stop time or a
 //! Restart event without a state jump leaves the fundamental matrix continuous (for a stop time

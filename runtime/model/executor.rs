@@ -3,6 +3,10 @@
 //! units, their running maxima, typed statuses and the statistics of the stepper, on success
 //! and on failure.
 //!
+//! Stop times: the drive's pieces ([`Model::enter_piece`]): p_a is evaluated on the piece being
+//! integrated ([t0, first stop], then from each stop time to the next or t_end), so a step
+//! landing on an edge keeps its side.
+//!
 //! Sampling: rows at t0 + i·Δ (dense output, not a step constraint, unless the stepper asks to
 //! land on them) and at t_end. Stop times and events are the model's ([`Model::stop_times`],
 //! [`Model::events`]): by default the blow-up threshold alone, located on the dense output to
@@ -43,9 +47,17 @@ pub(crate) struct Outcome {
     pub branches: Option<super::events::BranchFractions>,
 }
 
+/// One output row of a run: the time [s], the row in SI units (R, a2, b2, … [m]) and the full
+/// state in the boundary-layer layout z = [R, Ṙ, (a, ȧ, b)_k] (model units).
+pub struct Row<'a> {
+    pub t: f64,
+    pub si: &'a [f64],
+    pub z: &'a [f64],
+}
+
 struct Rows<'a> {
     model: &'a Model,
-    observer: &'a mut dyn FnMut(f64, &[f64]),
+    observer: &'a mut dyn FnMut(&Row<'_>),
     row: Vec<f64>,
     max_abs: Vec<f64>,
     t_last: f64,
@@ -62,7 +74,7 @@ impl Rows<'_> {
             }
         }
         self.t_last = t * ts;
-        (self.observer)(t * ts, &self.row);
+        (self.observer)(&Row { t: t * ts, si: &self.row, z });
     }
 
     fn outcome(self, status: RunStatus, stats: Stats) -> Outcome {
@@ -70,12 +82,12 @@ impl Rows<'_> {
     }
 }
 
-/// Runs `stepper` (already at t0 with y0) under `plan`; `observer(t [s], row [m])` gets every row.
+/// Runs `stepper` (already at t0 with y0) under `plan`; `observer` gets every [`Row`].
 pub(crate) fn execute(
     model: &Model,
     plan: &Plan<'_>,
     stepper: Result<Box<dyn Stepper + '_>, IntegrateError>,
-    observer: &mut dyn FnMut(f64, &[f64]),
+    observer: &mut dyn FnMut(&Row<'_>),
 ) -> Outcome {
     let ts = model.time_scale();
     let width = model.state_names().len();
@@ -92,6 +104,11 @@ pub(crate) fn execute(
     let z0: Vec<f64> = plan.layout.iter().map(|&i| st.y()[i]).collect();
     model.start_branches(t0, &z0);
     let stop_times = model.stop_times();
+    // a piecewise drive is evaluated on the piece being integrated: from t0, then from each
+    // stop time on (cleared when the run ends, however it ends)
+    let piece_to = |t: f64| stop_times.iter().copied().find(|&s| s > t).unwrap_or(plan.t_end);
+    let _piece = (!stop_times.is_empty()).then(|| PieceGuard::enter(model, (t0, piece_to(t0))));
+    let mut next_piece = |t: f64, _y: &mut [f64]| model.enter_piece(Some((t, piece_to(t))));
     let events = model.events();
     let events: Vec<&dyn Event> = events.iter().map(|e| &**e).collect();
     let schedule = Schedule {
@@ -99,7 +116,7 @@ pub(crate) fn execute(
         output: if plan.land_on_samples { Output::Landing(plan.sample) } else { Output::Every(plan.sample) },
         max_steps: plan.max_steps,
         stop_times: &stop_times,
-        on_stop_time: None,
+        on_stop_time: Some(&mut next_piece),
         events: &events,
         observed: Some(plan.layout),
         sample_times: None,
@@ -124,6 +141,22 @@ pub(crate) fn execute(
         Err(e) => failure_status(&e, ts, plan),
     };
     Outcome { branches, ..rows.outcome(status, st.stats()) }
+}
+
+/// The drive's piece set for a run and cleared when it ends (also by an unwind: a cancel).
+struct PieceGuard<'a>(&'a Model);
+
+impl<'a> PieceGuard<'a> {
+    fn enter(model: &'a Model, piece: (f64, f64)) -> Self {
+        model.enter_piece(Some(piece));
+        PieceGuard(model)
+    }
+}
+
+impl Drop for PieceGuard<'_> {
+    fn drop(&mut self) {
+        self.0.enter_piece(None);
+    }
 }
 
 /// A failed step: a non-finite state is a blow-up (a result, FORMULATION §5), the rest are

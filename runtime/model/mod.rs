@@ -34,7 +34,7 @@ pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};
 pub use radial::{RadialForm, RadialSystem};
-pub use simulate::{method_of, simulate, Failure, RunReport, RunStatus};
+pub use simulate::{method_of, simulate, Failure, Row, RunReport, RunStatus};
 
 use crate::coefficients::KMAX;
 use crate::field::{loads::MagneticLoads, FieldError, FieldSource};
@@ -82,11 +82,11 @@ pub struct Model {
     wave: Option<crate::drive::Waveform>,
     /// `run.duration` (model units).
     t_end: f64,
-    /// The last full state handed to [`Model::to_si_into`], when tapped ([`Model::with_state_tap`]).
-    state_tap: Option<std::sync::Mutex<Vec<f64>>>,
     /// The kinked Marmottant law (issue 31), whose branch switches are events of a run, and the
     /// time a run spends on each branch (model/events.rs).
     kinked: Option<(effects::lipid::LipidLaw, std::sync::Mutex<events::BranchClock>)>,
+    /// The drive's piece being integrated, shared with the drive term ([`Model::enter_piece`]).
+    piece: crate::drive::Piece,
 }
 
 impl Model {
@@ -131,7 +131,8 @@ impl Model {
             .as_ref()
             .and_then(|d| crate::drive::Waveform::from_scene(d, scene.liquid.ambient_pressure))
             .map(|w| w.scaled(scales.time, scales.pressure));
-        terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone() }));
+        let piece = crate::drive::Piece::default();
+        terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone(), piece: piece.clone() }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
         // issue 31 part 2: Prosperetti's thermal damping (its μ_th once the stiffness is known)
         let thermal_at = (!scene.gas.thermal.is_polytropic()).then(|| {
@@ -287,7 +288,7 @@ impl Model {
         let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
         let t_end = scene.run.duration / scales.time;
         let kinked = lipid.filter(|l| l.is_kinked()).map(|l| (l, Default::default()));
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, state_tap: None, kinked })
+        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, kinked, piece })
     }
 
     /// The equations, as the integrators see them.
@@ -338,25 +339,6 @@ impl Model {
         &self.scales
     }
 
-    /// This model, keeping the full state of every output row (R, Ṙ, a_k, ȧ_k, b_k in model
-    /// units) for [`Model::tapped_state`]: the echo (runtime/echo/) needs the velocities, which
-    /// the output row does not hold. Interim hook until the run executor hands the full state
-    /// to its observer.
-    pub fn with_state_tap(mut self) -> Model {
-        self.state_tap = Some(std::sync::Mutex::new(Vec::new()));
-        self
-    }
-
-    /// Copies the full state of the last output row into `z` (empty unless
-    /// [`Model::with_state_tap`]); `z` keeps its capacity, so a caller reusing it does not
-    /// allocate per row.
-    pub fn tapped_state_into(&self, z: &mut Vec<f64>) {
-        z.clear();
-        if let Some(s) = self.state_tap.as_ref().and_then(|t| t.lock().ok()) {
-            z.extend_from_slice(&s);
-        }
-    }
-
     /// The drive p_a(t) in model units (p̄, t/t*), when the scene has one (docs/model.md, "Drives").
     pub fn drive(&self) -> Option<&crate::drive::Waveform> {
         self.wave.as_ref()
@@ -369,6 +351,18 @@ impl Model {
     /// continuous drive.
     pub fn stop_times(&self) -> Vec<f64> {
         self.wave.as_ref().map_or_else(Vec::new, |w| w.stop_times(0.0, self.t_end))
+    }
+
+    /// A run now integrates the drive's piece [from, to] (model units): the run's start or a
+    /// stop time ([`Model::stop_times`]) to the next stop time or the run's end; the drive term
+    /// evaluates p_a on that piece, its ends included (docs/model.md, "Drives"). `None`: no
+    /// run, p_a decided from t. The run executor calls it; a caller driving the run loop itself
+    /// must too.
+    pub fn enter_piece(&self, piece: Option<(f64, f64)>) {
+        match piece {
+            Some((from, to)) => self.piece.enter(from, to),
+            None => self.piece.clear(),
+        }
     }
 
     /// The simulated shape orders k = 2, 4, …, N.
@@ -406,12 +400,6 @@ impl Model {
 
     /// [`to_si`](Self::to_si) into a buffer of length 1 + 2M.
     pub fn to_si_into(&self, y: &[f64], row: &mut [f64]) {
-        if let Some(tap) = &self.state_tap {
-            if let Ok(mut s) = tap.lock() {
-                s.clear();
-                s.extend_from_slice(y);
-            }
-        }
         let (l, lay) = (self.scales.length, layout::StateLayout::reduced(self.orders.len()));
         row[0] = y[lay.r()] * l;
         for m in 0..self.orders.len() {

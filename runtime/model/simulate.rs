@@ -5,8 +5,9 @@ use serde::Serialize;
 use std::time::Instant;
 
 use super::executor::{execute, Plan};
+pub use super::executor::Row;
 use super::{Groups, Model, ModelError};
-use crate::integrate::{stepper, IntegrateError, Method, Stats};
+use crate::integrate::{stepper, IntegrateError, Method, Stats, Stepper};
 use crate::scene::{IntegratorSettings, Run, Scene};
 
 /// How a run ended.
@@ -147,22 +148,39 @@ impl Model {
 
     /// Runs this model with the run settings `run` (see [`simulate`]).
     pub fn run(&self, run: &Run, observer: &mut dyn FnMut(f64, &[f64])) -> RunReport {
+        self.run_rows(run, &mut |row| observer(row.t, row.si))
+    }
+
+    /// [`run`](Self::run) handing each output [`Row`] with the full state too (the echo needs
+    /// the velocities, which the output row does not hold).
+    pub fn run_rows(&self, run: &Run, observer: &mut dyn FnMut(&Row<'_>)) -> RunReport {
+        let t_end = run.duration / self.time_scale();
+        let method = method_of(&run.integrator, self.time_scale());
+        let st = stepper(self.system(), &method, 0.0, self.initial_state(), t_end);
+        self.execute_run(run, st, observer)
+    }
+
+    /// [`run_rows`](Self::run_rows) on a given stepper, already at (0, the initial state), in
+    /// place of the scene's integrator (an order study with fixed steps): the same run
+    /// executor, stop times, events and rows; `run.integrator` only gives `max_steps`.
+    pub fn run_stepper(&self, run: &Run, st: Box<dyn Stepper + '_>, observer: &mut dyn FnMut(&Row<'_>)) -> RunReport {
+        self.execute_run(run, Ok(st), observer)
+    }
+
+    fn execute_run(&self, run: &Run, st: Result<Box<dyn Stepper + '_>, IntegrateError>, observer: &mut dyn FnMut(&Row<'_>)) -> RunReport {
         let start = Instant::now();
         let ts = self.time_scale();
-        let method = method_of(&run.integrator, ts);
-        let t_end = run.duration / ts;
         let sys = self.system();
         let layout: Vec<usize> = (0..sys.dim()).collect();
         let plan = Plan {
             sys,
-            t_end,
+            t_end: run.duration / ts,
             sample: run.sample_interval / ts,
             max_steps: run.integrator.max_steps,
             land_on_samples: false,
             layout: &layout,
             component_mode: &|c| self.component_mode(c),
         };
-        let st = stepper(sys, &method, 0.0, self.initial_state(), t_end);
         let out = execute(self, &plan, st, observer);
         self.report(out, start, self.active_effects(), sys.dim())
     }

@@ -8,12 +8,14 @@
 //!   work–precision, convergence), taking plain vectors so every command can call them.
 //! - [`series_plot`]: reads a `series.csv` written by `magbubble run` and plots R(t) above the
 //!   shape amplitudes; [`stability_plot`]: the diagram from `magbubble stability` CSVs.
+//! - [`echo_plot`]: a run's echo (pressure at the receivers against time) above its spectrum.
 //! - [`paper`]: the registry and recipes of the paper's figures 3–16 (`magbubble figure`).
 //!
 //! Non-finite values are skipped (they break a line, they never panic); a panel with no
 //! drawable point is a [`PlotError::Empty`]. Text uses an embedded font ([`fonts`]), so PNGs
 //! render on a machine without system fonts.
 
+mod echo;
 mod figure;
 pub mod fonts;
 mod from_csv;
@@ -26,6 +28,7 @@ mod render;
 mod series_csv;
 pub mod study;
 
+pub use echo::{echo_plot, remove_stale_echo_plot};
 pub use figure::{Axis, Figure, Legend, Mark, Panel, Scale, Series, VLine};
 pub use logshape::{log_magnitudes, wants_log, LOG_SPAN};
 pub use from_csv::{stability_plot, CsvTable};

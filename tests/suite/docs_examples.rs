@@ -194,6 +194,10 @@ fn every_guide_example_runs() {
         "out/pop/population.csv",
         "out/pop/population_bins.csv",
         "out/att/attenuation.csv",
+        "out/burst/echo.csv",
+        "out/burst/spectrum.csv",
+        "out/burst/echo.png",
+        "out/burst-response/response.csv",
     ] {
         assert!(dir.path().join(f).is_file(), "{f} missing after the guide's examples");
     }

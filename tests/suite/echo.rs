@@ -171,3 +171,33 @@ fn echo_point_inside_the_bubble() {
     let (o, _) = run_scene(dir.path(), &radial("[echo]\nwindow = [2e-6, 1e-6]\n"));
     assert!(String::from_utf8_lossy(&o.stderr).contains("`echo.window`"));
 }
+
+/// `run --plot` with [echo] draws echo.svg/png (the pressure at the receiver above the
+/// spectrum); a later run without --plot removes them; a scene without [echo] draws none.
+#[test]
+fn run_plot_draws_the_echo_panels() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let bin = env!("CARGO_BIN_EXE_magbubble");
+    let run = |scene: &str, plot: bool| {
+        let mut c = std::process::Command::new(bin);
+        c.args(["run", scene, "--set", "run.duration=1e-6", "--out"]).arg(&out);
+        if plot {
+            c.arg("--plot");
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let text = run("scenes/hann_burst.toml", true);
+    assert!(text.contains("echo.svg"), "{text}");
+    for f in ["echo.svg", "echo.png", "series.svg"] {
+        assert!(std::fs::metadata(out.join(f)).unwrap().len() > 1000, "{f}");
+    }
+    let svg = std::fs::read_to_string(out.join("echo.svg")).unwrap();
+    assert!(svg.contains("p_s [Pa]") && svg.contains("dB re 1 Pa") && svg.contains("p_0.05m_0deg"), "the two panels");
+    run("scenes/hann_burst.toml", false);
+    assert!(!out.join("echo.svg").exists() && !out.join("echo.png").exists());
+    run("scenes/radial_only.toml", true);
+    assert!(!out.join("echo.svg").exists());
+}

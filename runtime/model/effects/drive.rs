@@ -1,10 +1,12 @@
 //! The far-field pressure p∞(t) = p0 + p_a(t) (FORMULATION §4.1; the drive p_a of docs/model.md,
-//! "Drives", evaluated by [`Waveform`]), entering the radial balance as −p∞. Without a drive
+//! "Drives", evaluated by [`Waveform`]), entering the radial balance as −p∞. During a run p_a is
+//! evaluated on the piece being integrated ([`Piece`], set by the run executor at the drive's
+//! stop times), so a step landing on a burst edge sees its own side there. Without a drive
 //! (absent or ε_p = 0) it is the constant p0 and the term is not listed as an effect ("no drive
 //! term").
 
 use super::{At, LoadJacobian, Loads, PressureRate, Term};
-use crate::drive::Waveform;
+use crate::drive::{Piece, Waveform};
 
 #[derive(Debug, Clone)]
 pub struct FarField {
@@ -12,6 +14,8 @@ pub struct FarField {
     pub p0: f64,
     /// p_a in the model's units, when driven.
     pub wave: Option<Waveform>,
+    /// The piece of a piecewise drive a run is integrating (unset: decided from t).
+    pub piece: Piece,
 }
 
 impl FarField {
@@ -20,12 +24,12 @@ impl FarField {
     pub fn p_inf(&self, t: f64) -> f64 {
         match &self.wave {
             None => self.p0,
-            Some(w) => self.p0 + w.pressure(t),
+            Some(w) => self.p0 + self.piece.inside().map_or_else(|| w.pressure(t), |s| w.pressure_and_rate_on(t, s).0),
         }
     }
     /// dp∞/dt (for a radial form that needs the pressure's time derivative, e.g. Keller–Miksis).
     pub fn p_inf_dt(&self, t: f64) -> f64 {
-        self.wave.as_ref().map_or(0.0, |w| w.rate(t))
+        self.wave.as_ref().map_or(0.0, |w| self.piece.inside().map_or_else(|| w.rate(t), |s| w.pressure_and_rate_on(t, s).1))
     }
 }
 

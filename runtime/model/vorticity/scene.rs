@@ -313,7 +313,7 @@ impl FullModel {
             layout: &layout,
             component_mode: &component_mode,
         };
-        let out = execute(&self.model, &plan, st, observer);
+        let out = execute(&self.model, &plan, st, &mut |row| observer(row.t, row.si));
         let mut effects = self.model.active_effects();
         for e in effects.iter_mut() {
             *e = e.replace("(boundary layer)", "(vorticity)");
