@@ -66,7 +66,11 @@ pub fn solve(model: &Model, run: &crate::scene::Run, times: &[f64], rates: Optio
     let p = rates.map_or(0, |r| r.s0.len());
     let mut interior: Vec<f64> = times.iter().copied().filter(|&s| s > 0.0 && s < t_end).collect();
     interior.dedup();
-    let stop_times = model.stop_times();
+    // the executor's session: the drive's pieces and the kinked law's branches, so the fit
+    // integrates what `run` integrates
+    let session = crate::model::RunSession::begin(model, 0.0, &y0[..n], t_end);
+    let stop_times = session.stop_times().to_vec();
+    let mut next_piece = |t: f64, _y: &mut [f64]| session.on_stop_time(t);
     let events = model.events();
     let events: Vec<&dyn Event> = events.iter().map(|e| &**e).collect();
     let width = model.state_names().len();
@@ -84,7 +88,7 @@ pub fn solve(model: &Model, run: &crate::scene::Run, times: &[f64], rates: Optio
         output: Output::Every(run.sample_interval / ts),
         max_steps: run.integrator.max_steps,
         stop_times: &stop_times,
-        on_stop_time: None,
+        on_stop_time: Some(&mut next_piece),
         events: &events,
         observed: None,
         sample_times: Some(&interior),
@@ -126,6 +130,7 @@ pub fn solve(model: &Model, run: &crate::scene::Run, times: &[f64], rates: Optio
         },
         Err(e) => status_of(&e, ts),
     };
+    session.finish(st.t());
     curve.stats = st.stats();
     curve
 }

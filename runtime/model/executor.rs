@@ -102,13 +102,9 @@ pub(crate) fn execute(
     debug_assert_eq!(plan.layout.len(), StateLayout::reduced(model.orders().len()).dim(), "layout of z");
     let t0 = st.t();
     let z0: Vec<f64> = plan.layout.iter().map(|&i| st.y()[i]).collect();
-    model.start_branches(t0, &z0);
-    let stop_times = model.stop_times();
-    // a piecewise drive is evaluated on the piece being integrated: from t0, then from each
-    // stop time on (cleared when the run ends, however it ends)
-    let piece_to = |t: f64| stop_times.iter().copied().find(|&s| s > t).unwrap_or(plan.t_end);
-    let _piece = (!stop_times.is_empty()).then(|| PieceGuard::enter(model, (t0, piece_to(t0))));
-    let mut next_piece = |t: f64, _y: &mut [f64]| model.enter_piece(Some((t, piece_to(t))));
+    let session = RunSession::begin(model, t0, &z0, plan.t_end);
+    let stop_times = session.stop_times().to_vec();
+    let mut next_piece = |t: f64, _y: &mut [f64]| session.on_stop_time(t);
     let events = model.events();
     let events: Vec<&dyn Event> = events.iter().map(|e| &**e).collect();
     let schedule = Schedule {
@@ -126,7 +122,7 @@ pub(crate) fn execute(
         Control::Continue
     });
     let t_fin = result.as_ref().map_or(st.t(), |f| f.t);
-    let branches = model.finish_branches(t_fin);
+    let branches = session.finish(t_fin);
     let status = match result {
         Ok(fin) => match fin.reason {
             StopReason::End | StopReason::Observer => RunStatus::Completed,
@@ -143,19 +139,53 @@ pub(crate) fn execute(
     Outcome { branches, ..rows.outcome(status, st.stats()) }
 }
 
-/// The drive's piece set for a run and cleared when it ends (also by an unwind: a cancel).
-struct PieceGuard<'a>(&'a Model);
+/// What a run of the model on the run loop sets up and tears down — the scene executor's and the
+/// fit's solves alike, so both integrate the same equations: the drive's piece (p_a evaluated on
+/// the piece being integrated, from t0 and then from each stop time on, cleared when the run
+/// ends however it ends, also by an unwind) and the kinked law's branch state and clock
+/// ([`Model::start_branches`]).
+pub(crate) struct RunSession<'m> {
+    model: &'m Model,
+    stop_times: Vec<f64>,
+    t_end: f64,
+}
 
-impl<'a> PieceGuard<'a> {
-    fn enter(model: &'a Model, piece: (f64, f64)) -> Self {
-        model.enter_piece(Some(piece));
-        PieceGuard(model)
+impl<'m> RunSession<'m> {
+    /// Starts a run at t0 from z0 (nondimensional, R first) that ends at t_end.
+    pub(crate) fn begin(model: &'m Model, t0: f64, z0: &[f64], t_end: f64) -> Self {
+        model.start_branches(t0, z0);
+        let session = RunSession { model, stop_times: model.stop_times(), t_end };
+        if !session.stop_times.is_empty() {
+            model.enter_piece(Some((t0, session.piece_to(t0))));
+        }
+        session
+    }
+
+    /// The drive's stop times (the run loop's `Schedule::stop_times`).
+    pub(crate) fn stop_times(&self) -> &[f64] {
+        &self.stop_times
+    }
+
+    /// The run loop's `on_stop_time`: the piece from t on.
+    pub(crate) fn on_stop_time(&self, t: f64) {
+        self.model.enter_piece(Some((t, self.piece_to(t))));
+    }
+
+    fn piece_to(&self, t: f64) -> f64 {
+        self.stop_times.iter().copied().find(|&s| s > t).unwrap_or(self.t_end)
+    }
+
+    /// Ends the run at t: the fractions of time on each branch of a kinked law.
+    pub(crate) fn finish(&self, t: f64) -> Option<super::events::BranchFractions> {
+        self.model.finish_branches(t)
     }
 }
 
-impl Drop for PieceGuard<'_> {
+impl Drop for RunSession<'_> {
     fn drop(&mut self) {
-        self.0.enter_piece(None);
+        if !self.stop_times.is_empty() {
+            self.model.enter_piece(None);
+        }
     }
 }
 

@@ -25,6 +25,7 @@ pub mod radial;
 mod events;
 pub mod thermal;
 mod executor;
+pub(crate) use executor::RunSession;
 mod simulate;
 pub mod vorticity;
 

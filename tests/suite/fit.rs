@@ -126,7 +126,32 @@ fn susceptibility_from_a_coil_scenes_a2() {
 
 #[test]
 fn model_curve_is_run_bit_for_bit() {
-    let truth = Scene::from_toml(&scene_text(""), "truth", &[] as &[&str]).unwrap();
+    model_curve_is_run_bit_for_bit_default();
+}
+
+/// The same for a rectangular burst (the drive's pieces): the fit's solve sets up what the run
+/// executor does (model::RunSession).
+#[test]
+fn model_curve_is_run_bit_for_bit_with_burst_edges() {
+    model_curve_is_run(&["drive.envelope=\"rectangular\"", "drive.cycles=2", "drive.delay=0.5e-6"], 0.0);
+}
+
+/// The kinked Marmottant law (its branch switches are events of both solves): **not** bit for
+/// bit — from the first sample after a branch switch (t = 0.75 µs) R differs by 2 ulp and a2
+/// by 1.2e-12 of its largest value: the two solves take different steps after a switch (the
+/// fit's loop also lands on its sample times); not found yet. Asserted to 1e-9 of each
+/// column's largest value, far inside the integrator's rtol 1e-6.
+#[test]
+fn model_curve_is_run_with_branch_switches() {
+    model_curve_is_run(&["shell.law=\"marmottant\"", "shell.elasticity=1.31", "shell.initial_tension=0.02"], 1e-9);
+}
+
+fn model_curve_is_run_bit_for_bit_default() {
+    model_curve_is_run(&[], 0.0);
+}
+
+fn model_curve_is_run(extra: &[&str], rel: f64) {
+    let truth = Scene::from_toml(&scene_text(""), "truth", &[] as &[&str]).unwrap().with_overrides(extra).unwrap();
     let start = truth.with_overrides(&["shell.c1=0.12"]).unwrap();
     // every third row of the run: data on run's sample grid
     let full = noisy(&truth, &["R", "a2"], 1e-8, 1);
@@ -145,7 +170,12 @@ fn model_curve_is_run_bit_for_bit() {
             let row = &rows[3 * i];
             // the same sample of the run (its time in seconds is k·Δ/t*·t*: t* moved with c1)
             assert!((t[3 * i] - ti).abs() <= 1e-15 * ti, "{} vs {ti}", t[3 * i]);
-            assert_eq!(row[col].to_bits(), c.model[i].to_bits(), "{} at t = {ti:e}: fit {} vs run {}", c.name, c.model[i], row[col]);
+            if rel == 0.0 {
+                assert_eq!(row[col].to_bits(), c.model[i].to_bits(), "{} at t = {ti:e}: fit {} vs run {}", c.name, c.model[i], row[col]);
+            } else {
+                let scale = c.model.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                assert!((row[col] - c.model[i]).abs() <= rel * scale, "{} at t = {ti:e}: fit {} vs run {}", c.name, c.model[i], row[col]);
+            }
         }
     }
 }
