@@ -90,6 +90,13 @@ pub struct ThermalDamping {
     pub label: String,
 }
 
+impl ThermalDamping {
+    /// The same −4μṘ/R form as the liquid's viscous stress, with μ_th for η: one implementation.
+    fn as_viscous(&self) -> super::viscosity::LiquidViscosity {
+        super::viscosity::LiquidViscosity { eta: self.mu }
+    }
+}
+
 impl Term for ThermalDamping {
     fn name(&self) -> &'static str {
         "thermal damping"
@@ -99,27 +106,17 @@ impl Term for ThermalDamping {
     }
     #[inline]
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
-        loads.pressure -= 4.0 * self.mu * at.rdot() / at.r();
+        self.as_viscous().add(at, loads)
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
-        let (r, rd) = (at.r(), at.rdot());
-        jac.pressure[0] += 4.0 * self.mu * rd / (r * r);
-        jac.pressure[1] -= 4.0 * self.mu / r;
+        self.as_viscous().add_jacobian(at, jac)
     }
     fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
-        let (r, rd) = (at.r(), at.rdot());
-        dp[0] += 4.0 * self.mu * rd / (r * r);
-        dp[1] -= 4.0 * self.mu / r;
+        self.as_viscous().add_pressure_gradient(at, dp)
     }
-    /// P = −4μ_thṘ/R: q = 4μ_thṘ²/R², s = −4μ_th/R.
+    /// P = −4μ_thṘ/R: q = 4μ_thṘ²/R², s = −4μ_th/R (the viscous term's).
     fn add_rate(&self, at: &At<'_>, rate: &mut PressureRate) -> bool {
-        let (r, rd, e) = (at.r(), at.rdot(), 4.0 * self.mu);
-        rate.q += e * rd * rd / (r * r);
-        rate.dq[0] -= 2.0 * e * rd * rd / (r * r * r);
-        rate.dq[1] += 2.0 * e * rd / (r * r);
-        rate.s -= e / r;
-        rate.ds[0] += e / (r * r);
-        true
+        self.as_viscous().add_rate(at, rate)
     }
 }
 
