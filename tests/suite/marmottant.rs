@@ -50,15 +50,6 @@ fn rp(t: f64, y: [f64; 2], eps: f64, w: f64, l: &Lipid) -> [f64; 2] {
     [v, (p / RHO - 1.5 * v * v) / r]
 }
 
-fn rk4(t: f64, y: [f64; 2], h: f64, f: &dyn Fn(f64, [f64; 2]) -> [f64; 2]) -> [f64; 2] {
-    let add = |y: [f64; 2], k: [f64; 2], c: f64| [y[0] + c * k[0], y[1] + c * k[1]];
-    let k1 = f(t, y);
-    let k2 = f(t + h / 2.0, add(y, k1, h / 2.0));
-    let k3 = f(t + h / 2.0, add(y, k2, h / 2.0));
-    let k4 = f(t + h, add(y, k3, h));
-    [y[0] + h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]), y[1] + h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])]
-}
-
 /// R at the times `ts` by classical RK4 with step h, every step that crosses a branch radius
 /// (R_b, R_r) cut at the crossing (secant iteration on the step length), so that no step
 /// straddles a kink of σ: the reference keeps RK4's order through the switches.
@@ -72,7 +63,7 @@ fn reference(eps: f64, f_hz: f64, l: &Lipid, ts: &[f64], h: f64) -> (Vec<f64>, u
     for &target in ts {
         while t < target - 1e-18 {
             let step = h.min(target - t);
-            let y1 = rk4(t, y, step, &f);
+            let y1 = common::rk4_step2(t, y, step, &f);
             if side(y1[0]) == side(y[0]) {
                 t += step;
                 y = y1;
@@ -80,7 +71,7 @@ fn reference(eps: f64, f_hz: f64, l: &Lipid, ts: &[f64], h: f64) -> (Vec<f64>, u
             }
             // the first radius crossed: cut the step where R reaches it
             let x = radii.iter().copied().find(|&x| (y[0] >= x) != (y1[0] >= x)).unwrap();
-            let g = |s: f64| rk4(t, y, s, &f)[0] - x;
+            let g = |s: f64| common::rk4_step2(t, y, s, &f)[0] - x;
             let (mut a, mut b, mut ga, mut gb) = (0.0, step, y[0] - x, y1[0] - x);
             for _ in 0..60 {
                 let c = b - gb * (b - a) / (gb - ga);
@@ -92,12 +83,12 @@ fn reference(eps: f64, f_hz: f64, l: &Lipid, ts: &[f64], h: f64) -> (Vec<f64>, u
             }
             // land just past the crossing, on the new branch (a step that falls short is lengthened)
             let mut s = b.clamp(0.0, step);
-            let mut y2 = rk4(t, y, s, &f);
+            let mut y2 = common::rk4_step2(t, y, s, &f);
             let mut extra = 1e-9 * step;
             while (y2[0] >= x) == (y[0] >= x) && s < step {
                 s = (s + extra).min(step);
                 extra *= 2.0;
-                y2 = rk4(t, y, s, &f);
+                y2 = common::rk4_step2(t, y, s, &f);
             }
             y = y2;
             t += s;

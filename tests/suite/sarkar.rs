@@ -57,21 +57,7 @@ fn reference(eps: f64, f_hz: f64, ts: &[f64], h: f64) -> Vec<f64> {
     let w = 2.0 * std::f64::consts::PI * f_hz;
     let re = law().unstrained_radius;
     let f = |t: f64, y: [f64; 2]| rhs(t, y, eps, w, re);
-    let (mut t, mut y, mut out) = (0.0, [common::R0, 0.0], Vec::new());
-    for &target in ts {
-        while t < target - 1e-18 {
-            let s = h.min(target - t);
-            let add = |y: [f64; 2], k: [f64; 2], c: f64| [y[0] + c * k[0], y[1] + c * k[1]];
-            let k1 = f(t, y);
-            let k2 = f(t + s / 2.0, add(y, k1, s / 2.0));
-            let k3 = f(t + s / 2.0, add(y, k2, s / 2.0));
-            let k4 = f(t + s, add(y, k3, s));
-            y = [y[0] + s / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]), y[1] + s / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])];
-            t += s;
-        }
-        out.push(y[0]);
-    }
-    out
+    common::rk4_at_times(&f, [common::R0, 0.0], ts, h)
 }
 
 #[test]

@@ -80,3 +80,29 @@ pub fn coil(current: f64) -> Field {
 pub fn dipole(moment: f64, distance: f64) -> Field {
     Field::Dipole(Dipole { moment, distance })
 }
+
+/// One classical RK4 step of a 2-state ODE y' = f(t, y) (the tests' independent radial
+/// references: marmottant, sarkar, church_hoff).
+pub fn rk4_step2(t: f64, y: [f64; 2], h: f64, f: &dyn Fn(f64, [f64; 2]) -> [f64; 2]) -> [f64; 2] {
+    let add = |y: [f64; 2], k: [f64; 2], c: f64| [y[0] + c * k[0], y[1] + c * k[1]];
+    let k1 = f(t, y);
+    let k2 = f(t + h / 2.0, add(y, k1, h / 2.0));
+    let k3 = f(t + h / 2.0, add(y, k2, h / 2.0));
+    let k4 = f(t + h, add(y, k3, h));
+    [y[0] + h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]), y[1] + h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])]
+}
+
+/// y[0] at the times `ts` (increasing, from t = 0) by fixed RK4 steps of at most h from y0, each
+/// step shortened to land on the next time.
+pub fn rk4_at_times(f: &dyn Fn(f64, [f64; 2]) -> [f64; 2], y0: [f64; 2], ts: &[f64], h: f64) -> Vec<f64> {
+    let (mut t, mut y, mut out) = (0.0, y0, Vec::with_capacity(ts.len()));
+    for &target in ts {
+        while t < target - 1e-18 {
+            let s = h.min(target - t);
+            y = rk4_step2(t, y, s, f);
+            t += s;
+        }
+        out.push(y[0]);
+    }
+    out
+}
