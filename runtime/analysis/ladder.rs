@@ -11,7 +11,8 @@
 //! it, asks for the next rung, or asks for the n-step computation at once. Two judges:
 //! * [`verdict`]: the critical search's rule (critical.rs `floquet_eval`): the first rung where
 //!   |max|μ| − 1| > 8d (≈ 120 × the estimated error) and d < 1e-3 max|μ|, else the pair n/4,
-//!   n/2. The 6-step rung decides the points far from the threshold (the stable-throughout high
+//!   n/2 if d < 1e-3 max|μ| there, else the n-step value (a pair that far apart is not in the
+//!   O(h⁴) regime: its Richardson value can even be negative). The 6-step rung decides the points far from the threshold (the stable-throughout high
 //!   frequencies, where 6 and 12 steps agree to ~1e-8) at half the cost of the 12/25 pair;
 //! * [`converged`]: the figures' max-multiplier panel: the first Richardson value whose
 //!   estimated error d·r is ≤ [`MULTIPLIER_TOLERANCE`] relative; where the rungs up to n/2
@@ -110,9 +111,14 @@ pub fn climb(prep: &Prepared, n: usize, judge: impl Fn(&Rung) -> Next) -> Result
 pub fn verdict(n: usize) -> impl Fn(&Rung) -> Next {
     move |r: &Rung| {
         let mu = r.spectrum.max_modulus;
-        let decided = (mu - 1.0).abs() > 8.0 * r.difference && r.difference < 1e-3 * mu;
-        if decided || r.steps == n / 2 {
+        let asymptotic = r.difference < 1e-3 * mu;
+        let decided = (mu - 1.0).abs() > 8.0 * r.difference && asymptotic;
+        if decided || (r.steps == n / 2 && asymptotic) {
             Next::Accept
+        } else if r.steps >= n / 2 {
+            // the pair n/4, n/2 still far apart (a fast-growing mode on a violent orbit: 1e38
+            // against 1e33): its Richardson value can have any sign, so the n-step value decides
+            Next::Full
         } else {
             Next::Climb
         }
@@ -142,8 +148,10 @@ pub fn max_multiplier(scene: &Scene, opts: &FloquetOptions) -> Result<f64, Stabi
 }
 
 /// One Floquet evaluation of the critical search: the verdict with the margin ln max|μ|, and
-/// the mode carrying the largest multiplier ("" where there is no orbit).
-fn evaluate(scene: &Scene, opts: &FloquetOptions) -> Result<(Eval, String), StabilityError> {
+/// the mode carrying the largest multiplier ("" where there is no orbit). The population's
+/// window check (api/population.rs) asks it too: the verdict at the top of the range on the
+/// cheap rungs, as the search decides its own points.
+pub fn evaluate(scene: &Scene, opts: &FloquetOptions) -> Result<(Eval, String), StabilityError> {
     let model = base_model(scene)?;
     let prep = match prepare(&model, scene, opts) {
         Ok(prep) => prep,
@@ -213,8 +221,15 @@ mod tests {
         assert_eq!(judge(&rung(12, 6, 1.0001, 1e-4)), Next::Climb);
         // far from 1 but the rungs still differ by more than 1e-3 of μ: climb
         assert_eq!(judge(&rung(25, 12, 1e6, 1e4)), Next::Climb);
-        // the last rung decides whatever the margin
+        // the last rung decides whatever the margin, when its pair is asymptotic
         assert_eq!(judge(&rung(200, 100, 1.0001, 1e-4)), Next::Accept);
+        // … and when it is not, the n-step value does: 9.7e32 after 1.2e38 has a Richardson
+        // value of −7.7e36, which read as "stable" (benches/population.toml, R0 8.68 µm, 500 kHz,
+        // ε_p 1: `stability` said stable_throughout with max|μ| 4.9e32 at the bracket's top)
+        let mut wild = rung(200, 100, 9.7e32, 1.15e38);
+        wild.value = 9.7e32 + (9.7e32 - 1.15e38) / 15.0; // μ(n/2) + (μ(n/2) − μ(n/4))·r
+        assert!(wild.value < 0.0);
+        assert_eq!(judge(&wild), Next::Full);
     }
 
     #[test]

@@ -7,7 +7,9 @@
 use super::common::Monitor;
 use super::scene::Scene;
 use super::stability::{error_fields, FreqAxis};
-use crate::analysis::stability::{check_range, critical_point, floquet, CriticalOptions, Criterion, StabilityError};
+use crate::analysis::bisect::Verdict;
+use crate::analysis::ladder;
+use crate::analysis::stability::{check_range, critical_point, CriticalOptions, Criterion, StabilityError};
 use crate::analysis::sweep::{self, Shard, SweepMeta};
 use crate::population::fraction::{eps_grid, Threshold};
 use crate::population::{bin_templates, tables};
@@ -139,9 +141,11 @@ fn compute_point(t: &SceneTemplate, bin: PopulationBin, f: f64, req: &Population
             let fields = c.fields();
             let threshold = Threshold::of(&fields[1], c.outcome.value().unwrap_or(f64::NAN), fields[3].parse().unwrap_or(f64::NAN));
             if req.window_check && matches!(threshold, Threshold::From(_)) {
-                windows = match at(opts.hi).and_then(|s| floquet(&s, &opts.floquet)) {
-                    Ok(r) if r.unstable => "1".into(),
-                    Ok(_) => "2+".into(),
+                // the search's own verdict rule (cheap Magnus rungs first, ladder.rs)
+                windows = match at(opts.hi).and_then(|s| ladder::evaluate(&s, &opts.floquet)) {
+                    Ok((e, _)) if e.verdict == Verdict::Unstable => "1".into(),
+                    Ok((e, _)) if e.verdict == Verdict::Stable => "2+".into(),
+                    Ok(_) => format!("unknown: no periodic orbit at eps_p = {}", opts.hi),
                     Err(e) => format!("unknown: {e}"),
                 };
             }
