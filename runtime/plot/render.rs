@@ -245,6 +245,19 @@ fn placements<DB: DrawingBackend>(
     out
 }
 
+/// The font size for `text` across `area`: `largest` px, or smaller (down to 12 px) when the
+/// text would be wider than the area less its margins — a long run title was cut at both ends
+/// ("…marmottant: boundary-layer, linear coupling, marmottant, radau5 — completed 400.0…").
+fn fitting_size<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, largest: f64) -> f64 {
+    let room = area.dim_in_pixel().0.saturating_sub(2 * MARGIN as u32);
+    let fits = |px: f64| area.estimate_text_size(text, &(fonts::FAMILY, px).into_font().into()).map_or(true, |(w, _)| w <= room);
+    let mut px = largest;
+    while px > 12.0 && !fits(px) {
+        px -= 1.0;
+    }
+    px
+}
+
 fn draw_figure<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     fig: &Figure,
@@ -253,7 +266,7 @@ fn draw_figure<DB: DrawingBackend>(
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let body = match &fig.title {
         Some(t) => root
-            .titled(t, (fonts::FAMILY, 26).into_font())
+            .titled(t, (fonts::FAMILY, fitting_size(root, t, 26.0)).into_font())
             .map_err(|e| e.to_string())?,
         None => root.clone(),
     };
@@ -311,7 +324,7 @@ where
         .x_label_area_size(X_LABELS as u32)
         .y_label_area_size(Y_LABELS as u32);
     if let Some(t) = &panel.title {
-        builder.caption(t, (fonts::FAMILY, 22).into_font());
+        builder.caption(t, (fonts::FAMILY, fitting_size(area, t, 22.0)).into_font());
     }
     let mut chart = builder.build_cartesian_2d(xs, ys).map_err(|e| err(&e))?;
     // A tick that is zero up to rounding (1.39e-17 on a ±0.1 axis) prints as 0.
@@ -459,3 +472,25 @@ fn draw_legend_at<DB: DrawingBackend>(
     Ok(())
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A title that fits keeps its size; the 960-px run title of coil_marmottant (cut at both
+    /// ends at 26 px) is set smaller, and then fits.
+    #[test]
+    fn a_long_title_is_set_smaller_until_it_fits() {
+        fonts::register().unwrap();
+        let mut svg = String::new();
+        let root = SVGBackend::with_string(&mut svg, (960, 400)).into_drawing_area();
+        assert_eq!(fitting_size(&root, "fig 12", 26.0), 26.0);
+        let long = "coil_marmottant: boundary-layer, linear coupling, marmottant, radau5 — completed 400.00 µs";
+        let px = fitting_size(&root, long, 26.0);
+        assert!(px < 26.0 && px >= 12.0, "{px}");
+        let (w, _) = root.estimate_text_size(long, &(fonts::FAMILY, px).into_font().into()).unwrap();
+        assert!(w <= 960 - 2 * MARGIN as u32, "{w}");
+        let (w26, _) = root.estimate_text_size(long, &(fonts::FAMILY, 26.0).into_font().into()).unwrap();
+        assert!(w26 > 960 - 2 * MARGIN as u32, "the example must be one that did not fit: {w26}");
+    }
+}
