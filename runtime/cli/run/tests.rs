@@ -38,6 +38,7 @@ fn report(status: RunStatus, names: &[String]) -> RunReport {
             omega_d_star: None,
         },
         shell_branches: None,
+        integrator: None,
     }
 }
 
