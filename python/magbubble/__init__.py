@@ -103,6 +103,7 @@ class Run:
       the values bit for bit those the CLI writes;
     - ``summary``: the dict of ``summary.json``;
     - ``status``: ``"completed"``, ``"blow_up"`` or ``"failed"`` (details in ``summary["status"]``);
+    - ``integrator``: which method ran and why (``summary["integrator"]``);
     - ``echo`` (scenes with ``[echo]``, else None): DataFrame with the columns of ``echo.csv``
       (``t``, then the scattered pressure ``p_<distance>m_<angle>deg`` [Pa] per point);
     - ``spectrum`` (with ``[echo]``, else None): DataFrame with the columns of ``spectrum.csv``
@@ -135,6 +136,13 @@ class Run:
         """``{"t": seconds, "mode": "a16"}`` for a blow-up, else None."""
         s = self.summary["status"]
         return s.get("blow_up") if isinstance(s, dict) else None
+
+    @property
+    def integrator(self) -> Optional[Dict[str, Any]]:
+        """Which integrator ran and why (``summary["integrator"]``, issue 34): ``method``
+        (e.g. ``"dop853"``), ``chosen`` (``"auto"`` or ``"scene"``), ``reason`` and
+        ``spectral_radius_per_s`` (the stiffness estimate, 1/s)."""
+        return self.summary.get("integrator")
 
     def __repr__(self) -> str:
         return f"Run({self.scene.origin!r}, status={self.status!r}, rows={len(self.series)})"

@@ -51,3 +51,16 @@ def test_blow_up_is_a_status():
     assert r.status == "blow_up"
     assert r.blow_up["mode"].startswith("a")
     assert r.series["t"].iloc[-1] == pytest.approx(r.blow_up["t"])
+
+
+def test_run_says_which_integrator_ran_and_why():
+    """Issue 34: the default `auto` choice is in the summary and on `Run.integrator`."""
+    radial = mb.run("scenes/radial_only.toml", overrides={"run.duration": 2e-6}, progress=False)
+    assert radial.integrator == radial.summary["integrator"]
+    assert (radial.integrator["method"], radial.integrator["chosen"]) == ("dop853", "auto")
+    assert radial.integrator["spectral_radius_per_s"] > 0
+    assert "spectral radius" in radial.integrator["reason"]
+    stiff = mb.run("scenes/coil_static.toml", overrides={"run.duration": 2e-6}, progress=False)
+    assert (stiff.integrator["method"], stiff.integrator["chosen"]) == ("radau5", "auto")
+    given = mb.run("scenes/coil_static.toml", overrides={"run.duration": 2e-6, "run.integrator.method": "dopri5"}, progress=False)
+    assert (given.integrator["method"], given.integrator["chosen"]) == ("dopri5", "scene")

@@ -151,6 +151,9 @@ pub struct AccuracyReport {
     pub ladders: Vec<Ladder>,
     /// Settings used for the mode and grid ladders.
     pub size_ladder_method: String,
+    /// The integrator the scene's own settings run (issue 34: under `auto`, which method the
+    /// stiffness estimate chose and why).
+    pub integrator: crate::model::IntegratorChoice,
     pub modes: Vec<SizeRung>,
     pub grid: Vec<SizeRung>,
 }
@@ -380,6 +383,7 @@ pub fn accuracy_study_cancellable(
         } else {
             sc.run.integrator.method = Method::Rk4;
             sc.run.integrator.dt = aligned_dt(sample, opts.reference_dt_star * t_star) * factor;
+            sc.run.integrator.dt_given = true;
         }
     };
     let reference_what = |stiff: bool| {
@@ -430,6 +434,7 @@ pub fn accuracy_study_cancellable(
         ladders.push(ladder(&base, "staggered", &dts, true, &reference.rows, rep, &|sc, dt| {
             sc.vorticity.scheme = VorticityScheme::Staggered;
             sc.run.integrator.dt = dt;
+            sc.run.integrator.dt_given = true;
         }, tally)?);
         ladders.push(ladder(&base, "monolithic", &opts.rtols, false, &reference.rows, rep, &|sc, r| {
             sc.vorticity.scheme = VorticityScheme::Monolithic;
@@ -439,6 +444,7 @@ pub fn accuracy_study_cancellable(
         ladders.push(ladder(&base, "rk4", &dts, true, &reference.rows, rep, &|sc, dt| {
             sc.run.integrator.method = Method::Rk4;
             sc.run.integrator.dt = dt;
+            sc.run.integrator.dt_given = true;
         }, tally)?);
         for (name, m) in [("dopri5", Method::Dopri5), ("dop853", Method::Dop853), ("radau5", Method::Radau5)] {
             ladders.push(ladder(&base, name, &opts.rtols, false, &reference.rows, rep, &|sc, r| set_adaptive(sc, m, r), tally)?);
@@ -446,6 +452,7 @@ pub fn accuracy_study_cancellable(
     }
 
     // size ladders with the scene's own integrator settings
+    let integrator = crate::model::stiffness::choice_of_scene(&base)?;
     let size_ladder_method = if full {
         format!(
             "full model, {:?} scheme, rtol {:e} atol {:e} (dt {:e} s for staggered)",
@@ -453,8 +460,9 @@ pub fn accuracy_study_cancellable(
         )
     } else {
         format!(
-            "{:?} rtol {:e} atol {:e} (dt {:e} s for fixed-step)",
-            base.run.integrator.method, base.run.integrator.rtol, base.run.integrator.atol, base.run.integrator.dt
+            "{} ({}) rtol {:e} atol {:e} (dt {:e} s for fixed-step)",
+            integrator.method,
+            integrator.chosen, base.run.integrator.rtol, base.run.integrator.atol, base.run.integrator.dt
         )
     };
     let size = |configure: &dyn Fn(&mut Scene, usize), sizes: &[usize]| -> Result<Vec<SizeRung>, AccuracyError> {
@@ -499,6 +507,7 @@ pub fn accuracy_study_cancellable(
         t_star,
         ladders,
         size_ladder_method,
+        integrator,
         modes,
         grid,
     })

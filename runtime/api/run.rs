@@ -52,6 +52,10 @@ pub struct Summary {
     pub jacobian_evaluations: u64,
     /// LU factorisations of the Newton matrix.
     pub lu_decompositions: u64,
+    /// Which integrator ran and why (issue 34): method, "auto" or "scene", the reason, the
+    /// spectral radius it was decided from.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integrator: Option<crate::model::IntegratorChoice>,
     pub wall_seconds: f64,
     pub rows: u64,
     #[serde(serialize_with = "ordered")]
@@ -102,6 +106,7 @@ impl Summary {
             rhs_evaluations: report.stats.rhs_evals,
             jacobian_evaluations: report.stats.jac_evals,
             lu_decompositions: report.stats.lu_decompositions,
+            integrator: report.integrator.clone(),
             wall_seconds: report.wall_seconds,
             rows,
             max_abs: report.max_abs.clone(),

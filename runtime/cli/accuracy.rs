@@ -58,6 +58,7 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
         opts.samples,
         report.t_star
     );
+    outln!("the scene's integrator: {} ({}: {})", report.integrator.method, report.integrator.chosen, report.integrator.reason);
     outln!("error = max(max_t |R - R_ref|/R0, max_t max_k |a_k - a_k,ref|/R0)");
     outln!(
         "{:>10} {:>11} {:>11} {:>11} {:>11} {:>10} {:>9} {:>8}  status",
@@ -124,7 +125,12 @@ pub fn run(args: &AccuracyArgs) -> anyhow::Result<()> {
     write_json(&dir.join("accuracy.json"), &report)?;
     if args.plot {
         let fig = work_precision(
-            &format!("work–precision: {}", args.scene.display()),
+            &format!(
+                "work–precision: {}; the scene's integrator: {} ({})",
+                args.scene.display(),
+                report.integrator.method,
+                report.integrator.chosen
+            ),
             "max error / R0",
             &[("rhs evaluations (Jacobian columns included; LU solves not)", counted), ("wall time [s], median of the repeats", curves)],
         );

@@ -155,6 +155,9 @@ fn print_summary(report: &RunReport, scene: &crate::scene::Scene, out: &Path, ro
         "steps:      {} ({} rejected), {} rhs evaluations, {:.3} s wall",
         report.stats.steps, report.stats.rejected, report.stats.rhs_evals, report.wall_seconds
     );
+    if let Some(c) = &report.integrator {
+        outln!("integrator: {} ({}: {})", c.method, c.chosen, c.reason);
+    }
     outln!(
         "effects:    {} (state dimension {})",
         report.active_effects.join(", "),

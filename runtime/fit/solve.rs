@@ -8,7 +8,7 @@ use super::sensitivities::ModelRates;
 use crate::integrate::run_loop::{self, Event, Schedule, StopReason};
 use crate::integrate::sensitivity::Sensitivity;
 use crate::integrate::{stepper, Control, IntegrateError, OdeSystem, Output, Stats};
-use crate::model::{method_of, layout::StateLayout, Failure, Model, RunStatus};
+use crate::model::{layout::StateLayout, Failure, Model, RunStatus};
 
 /// The model at the requested times.
 #[derive(Debug, Clone)]
@@ -51,7 +51,7 @@ pub fn model_time(t: f64, model: &Model, run: &crate::scene::Run) -> f64 {
 pub fn solve(model: &Model, run: &crate::scene::Run, times: &[f64], rates: Option<&ModelRates>) -> Curve {
     let ts = model.time_scale();
     let t_end = run.duration / ts;
-    let method = method_of(&run.integrator, ts);
+    let (method, _) = model.choose_integrator(&run.integrator);
     let base = model.system();
     let n = base.dim();
     let sens = rates.map(|r| Sensitivity::new(base, r));

@@ -44,6 +44,7 @@ mod dop853_dense;
 mod driver;
 mod explicit;
 mod jacobian;
+pub(crate) use jacobian::FdJacobian;
 mod linalg;
 pub(crate) use linalg::pivot_row;
 pub mod linear;

@@ -27,6 +27,7 @@ pub mod thermal;
 mod executor;
 pub(crate) use executor::RunSession;
 mod simulate;
+pub mod stiffness;
 pub mod vorticity;
 
 pub use boundary_layer::BoundaryLayerSystem;
@@ -35,6 +36,7 @@ pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};
 pub use radial::{RadialForm, RadialSystem};
+pub use stiffness::IntegratorChoice;
 pub use simulate::{method_of, simulate, Failure, Row, RunReport, RunStatus};
 
 use crate::coefficients::KMAX;

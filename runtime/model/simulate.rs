@@ -107,13 +107,19 @@ pub struct RunReport {
     /// The kinked Marmottant law's fractions of time buckled / elastic / ruptured (issue 31).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shell_branches: Option<super::events::BranchFractions>,
+    /// Which integrator ran and why (issue 34; `None` for a run on a given stepper).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integrator: Option<super::stiffness::IntegratorChoice>,
 }
 
 /// The integrator of a scene's settings; `time_scale` [s] is the model's unit of time (the model
 /// is nondimensional, FORMULATION §4.5), so RK4's `dt` [s] becomes `dt / time_scale`.
+/// `auto` here is Radau5 (the full vorticity model's method); a boundary-layer run resolves
+/// it from the stiffness estimate instead ([`Model::choose_integrator`]).
 pub fn method_of(s: &IntegratorSettings, time_scale: f64) -> Method {
     use crate::scene::Method as M;
     match s.method {
+        M::Auto => Method::Radau5 { rtol: s.rtol, atol: s.atol },
         M::Rk4 => Method::Rk4 { dt: s.dt / time_scale },
         M::Dopri5 => Method::Dopri5 { rtol: s.rtol, atol: s.atol },
         M::Dop853 => Method::Dop853 { rtol: s.rtol, atol: s.atol },
@@ -155,9 +161,11 @@ impl Model {
     /// the velocities, which the output row does not hold).
     pub fn run_rows(&self, run: &Run, observer: &mut dyn FnMut(&Row<'_>)) -> RunReport {
         let t_end = run.duration / self.time_scale();
-        let method = method_of(&run.integrator, self.time_scale());
+        let (method, choice) = self.choose_integrator(&run.integrator);
         let st = stepper(self.system(), &method, 0.0, self.initial_state(), t_end);
-        self.execute_run(run, st, observer)
+        let mut report = self.execute_run(run, st, observer);
+        report.integrator = Some(choice);
+        report
     }
 
     /// [`run_rows`](Self::run_rows) on a given stepper, already at (0, the initial state), in
@@ -198,6 +206,7 @@ impl Model {
             active_effects,
             state_dimension: dim,
             groups: self.groups(),
+            integrator: None,
             shell_branches: out.branches,
         }
     }

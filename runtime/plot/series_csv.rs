@@ -236,7 +236,9 @@ pub fn run_title(summary: &serde_json::Value) -> Option<String> {
     let free = summary.get("active_effects").and_then(|e| e.as_array()).is_some_and(|e| e.iter().any(|e| e.as_str() == Some("free bubble (no membrane)")));
     let law = scene.pointer("/shell/law/name").and_then(|n| n.as_str()).unwrap_or("mooney-rivlin");
     model.push(if free { "free bubble".to_string() } else { law.to_string() });
-    model.push(scene.pointer("/run/integrator/method")?.as_str()?.to_string());
+    // the method that ran (issue 34: under `auto`, the one the stiffness estimate chose)
+    let ran = summary.pointer("/integrator/method").and_then(|m| m.as_str());
+    model.push(ran.or(scene.pointer("/run/integrator/method").and_then(|m| m.as_str()))?.to_string());
     let us = |v: Option<&serde_json::Value>| v.and_then(|t| t.as_f64()).map_or("?".to_string(), |t| format!("{:.2} µs", t * 1e6));
     let status = summary.get("status")?;
     let end = if let Some(b) = status.get("blow_up") {

@@ -433,8 +433,10 @@ pub static SCHEMA: &[Param] = &[
     p("run.blow_up_threshold", K::Float, "", D::Float(0.5), Rg::Positive, "",
       "The run stops as `blow_up` when max_k |a_k|/R0 or |b_k|/R0 exceeds this (or R leaves (0, inf))."),
     section("run.integrator", D::Present, "The time integrator and its settings."),
-    p("run.integrator.method", K::Choice(&["radau5", "rk4", "dopri5", "dop853", "rosenbrock23"]), "", D::Str("radau5"),
-      Rg::None, "", "`radau5` (implicit Radau IIA, stiff), `rk4` (fixed step, the paper's), `dopri5` / \
+    p("run.integrator.method", K::Choice(&["auto", "radau5", "rk4", "dopri5", "dop853", "rosenbrock23"]), "", D::Str("auto"),
+      Rg::None, "", "`auto` (per run from the Jacobian's spectral radius at the initial state against DOP853's \
+       step for rtol: `dop853` when non-stiff, `radau5` when stiff; summary.json `integrator` says which and why), \
+       `radau5` (implicit Radau IIA, stiff), `rk4` (fixed step, the paper's), `dopri5` / \
        `dop853` (adaptive explicit Dormand-Prince), `rosenbrock23` (linearly implicit ode23s, order 2)."),
     p("run.integrator.rtol", K::Float, "", D::Float(1e-6),
       Rg::Between { lo: 1e-14, hi: 0.1, lo_incl: true, hi_incl: true }, "",
@@ -443,7 +445,8 @@ pub static SCHEMA: &[Param] = &[
       "Absolute tolerance on the integrator's nondimensional state (lengths / R0, docs/model.md §4.5)."),
     p("run.integrator.dt", K::Float, "s", D::Derived("1e-3 t*, t* = sqrt(rho R0^3 / (2 c1)) (free bubble: R0 sqrt(rho/p0))"), Rg::Positive,
       "Delta t", "Fixed step of rk4 and of the staggered vorticity scheme; initial step otherwise \
-       (must not exceed run.duration)."),
+       (must not exceed run.duration). Not given: rk4 takes the smaller of 1e-3 t* and half its stability \
+       interval over the Jacobian's spectral radius at the initial state."),
     p("run.integrator.max_steps", K::Int, "", D::Int(50_000_000), Rg::IntBetween(1, i64::MAX), "",
       "Hard cap on the number of steps; a run that needs more fails with that reason."),
     section("population", D::Absent,

@@ -432,6 +432,9 @@ pub enum VorticityScheme {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
+    /// Chosen per run from a stiffness estimate at the initial state (the default; issue 34,
+    /// `model::stiffness`): DOP853 when non-stiff, Radau5 when stiff.
+    Auto,
     /// Classical fixed-step RK4 (the paper's).
     Rk4,
     /// Dormand–Prince 5(4), adaptive.
@@ -451,6 +454,9 @@ pub struct IntegratorSettings {
     pub atol: f64,
     /// Fixed step Δt [s] for RK4 (and the staggered vorticity scheme); initial step hint otherwise.
     pub dt: f64,
+    /// Whether the scene gave `run.integrator.dt` (otherwise RK4 takes a stable default from
+    /// the spectral radius, `model::stiffness`).
+    pub dt_given: bool,
     /// Hard cap on the number of steps (a run that needs more fails with a clear reason).
     pub max_steps: u64,
 }

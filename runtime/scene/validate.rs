@@ -389,6 +389,7 @@ fn build_run(
     }
     let integrator = IntegratorSettings {
         method: match c.choice("run.integrator.method", ri.method.as_deref()) {
+            "auto" => Method::Auto,
             "rk4" => Method::Rk4,
             "dopri5" => Method::Dopri5,
             "dop853" => Method::Dop853,
@@ -399,6 +400,7 @@ fn build_run(
         rtol: c.float("run.integrator.rtol", ri.rtol),
         atol: c.float("run.integrator.atol", ri.atol),
         dt,
+        dt_given: ri.dt.is_some(),
         max_steps: u64::try_from(c.int("run.integrator.max_steps", ri.max_steps)).unwrap_or(0),
     };
     Run {

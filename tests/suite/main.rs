@@ -4,6 +4,7 @@
 mod common;
 mod support;
 
+mod auto_integrator;
 mod blow_up_time;
 mod bordered_lu;
 mod boundary_layer_omega;

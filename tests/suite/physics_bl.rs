@@ -29,7 +29,7 @@ fn scene(max_order: usize, dt: f64, duration: f64, sample: f64) -> Scene {
         run: Run {
             duration,
             sample_interval: sample,
-            integrator: IntegratorSettings { method: Method::Rk4, rtol: 1e-8, atol: 1e-12, dt, max_steps: 100_000_000 },
+            integrator: IntegratorSettings { method: Method::Rk4, rtol: 1e-8, atol: 1e-12, dt, dt_given: true, max_steps: 100_000_000 },
             blow_up_threshold: 0.5,
             max_output_bytes: 1e9,
         },

@@ -49,7 +49,8 @@ fn empty_scene_takes_formulation_defaults() {
         ),
         (100e-6, 1e-8, 0.5)
     );
-    assert_eq!(s.run.integrator.method, Method::Radau5);
+    assert_eq!(s.run.integrator.method, Method::Auto);
+    assert!(!s.run.integrator.dt_given);
     assert_eq!((s.run.integrator.rtol, s.run.integrator.atol), (1e-6, 1e-9));
     assert_eq!(s.run.integrator.max_steps, 50_000_000);
     // dt = 1e-3 t*, t* = sqrt(rho R0^3/(2 c1)) = 2.236 µs for the defaults (FORMULATION audit 12: 2.2 ns).

@@ -28,7 +28,7 @@ fn scene(amplitude: f64, a2: f64, points: usize) -> Scene {
         run: Run {
             duration: 10e-6,
             sample_interval: 1e-7,
-            integrator: IntegratorSettings { method: Method::Radau5, rtol: 1e-6, atol: 1e-9, dt: 2.236e-9, max_steps: 50_000_000 },
+            integrator: IntegratorSettings { method: Method::Radau5, rtol: 1e-6, atol: 1e-9, dt: 2.236e-9, dt_given: true, max_steps: 50_000_000 },
             blow_up_threshold: 0.5,
             max_output_bytes: 1e9,
         },

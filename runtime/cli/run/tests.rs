@@ -38,6 +38,7 @@ fn report(status: RunStatus, names: &[String]) -> RunReport {
             omega_d_star: None,
         },
         shell_branches: None,
+        integrator: None,
     }
 }
 
@@ -91,7 +92,7 @@ fn run_writes_series_and_summary_and_no_temp_files() {
     assert_eq!(summary["rhs_evaluations"], 70);
     assert_eq!(summary["rows"], 11);
     assert_eq!(summary["scene"]["shell"]["c1"], 0.2);
-    assert_eq!(summary["scene"]["run"]["integrator"]["method"], "radau5");
+    assert_eq!(summary["scene"]["run"]["integrator"]["method"], "auto"); // the default; the stand-in simulate records no choice
     assert_eq!(summary["source"]["overrides"][0], "shell.c1=0.2");
     let keys: Vec<&String> = summary["max_abs"].as_object().unwrap().keys().collect();
     assert_eq!(keys.len(), 5);

@@ -326,7 +326,9 @@ impl FullModel {
             (y[n - 1] - y[n - 2]) / self.grid.h0(),
             self.scheme
         ));
-        self.model.report(out, start, effects, sys.dim())
+        let mut report = self.model.report(out, start, effects, sys.dim());
+        report.integrator = Some(crate::model::stiffness::full_model_choice(&run.integrator, &method, self.scheme));
+        report
     }
 }
 
@@ -397,3 +399,4 @@ pub fn damped_spectrum(scene: &Scene) -> Result<DampedSpectrum, FullModelError> 
         .collect();
     Ok(DampedSpectrum { closure, shape })
 }
+

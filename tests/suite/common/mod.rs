@@ -56,7 +56,7 @@ pub fn scene(max_order: usize, eps_p: f64, f_hz: f64) -> Scene {
         run: Run {
             duration: 100e-6,
             sample_interval: 1e-7,
-            integrator: IntegratorSettings { method: Method::Dopri5, rtol: 1e-8, atol: 1e-12, dt: 1e-9, max_steps: 100_000_000 },
+            integrator: IntegratorSettings { method: Method::Dopri5, rtol: 1e-8, atol: 1e-12, dt: 1e-9, dt_given: true, max_steps: 100_000_000 },
             blow_up_threshold: 0.5,
             max_output_bytes: 1e9,
         },
