@@ -133,8 +133,19 @@ impl Equations {
 
     /// R̈ at (t, z) (shape loads not evaluated).
     pub fn radial_acceleration(&self, t: f64, z: &[f64]) -> f64 {
-        let p = self.loads(t, z, &mut [], &mut []);
-        self.acceleration_at(t, z, p)
+        if !self.form.needs_rate() {
+            let p = self.loads(t, z, &mut [], &mut []);
+            return self.acceleration_at(t, z, p);
+        }
+        // P and its rate in one pass ([`Term::add_with_rate`]): the same sums as `loads` and
+        // `radial_rate`, term by term in the same order
+        let at = At { t, z };
+        let mut l = Loads { pressure: 0.0, gn: &mut [], gt: &mut [] };
+        let mut rate = PressureRate::default();
+        for term in &self.terms {
+            term.add_with_rate(&at, &mut l, &mut rate);
+        }
+        self.form.acceleration_rate(self.params.rho, z[0], z[1], l.pressure, &rate)
     }
 
     /// The pressure's rate (q, s and their (R, Ṙ)-gradients) summed over the terms, and whether

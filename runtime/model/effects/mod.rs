@@ -297,6 +297,16 @@ pub trait Term: std::fmt::Debug {
     fn add_rate(&self, _at: &At<'_>, _rate: &mut PressureRate) -> bool {
         false
     }
+    /// [`add`](Term::add) and [`add_rate`](Term::add_rate) in one call, for the Keller–Miksis
+    /// rhs, which needs both at every stage ([`super::equations::Equations::radial_acceleration`]).
+    /// The default calls the two; a term whose value and rate share a costly factor (the gas's
+    /// power: 20 % of a radial run, issue 34) overrides it with the same expressions, so the
+    /// sums are the same to the bit.
+    #[inline]
+    fn add_with_rate(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) -> bool {
+        self.add(at, loads);
+        self.add_rate(at, rate)
+    }
     /// Whether the term has shape loads proportional to ḃ_k ([`BdotLoads`]; default: none).
     fn has_bdot_loads(&self) -> bool {
         false
