@@ -23,7 +23,8 @@ if [ -f "$src/include/apecss.h" ]; then
 elif git --git-dir="$src" rev-parse --verify -q HEAD > /dev/null; then
   tree=$work/apecss
   rm -rf "$tree" && mkdir -p "$tree"
-  git --git-dir="$src" archive HEAD include src | tar -x -C "$tree"
+  # (a mirror may lack unrelated blobs, e.g. example data: only include/ and src/ are read)
+  git --git-dir="$src" archive HEAD include src 2> "$work/git-archive.log" | tar -x -C "$tree"
   echo "APECSS $(git --git-dir="$src" log -1 --format='%h %cs %s' HEAD) (from $src)"
 else
   echo "$src: neither an APECSS checkout (no include/apecss.h) nor a git directory" >&2
