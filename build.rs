@@ -11,6 +11,13 @@ fn main() {
     println!("cargo:rerun-if-changed=codegen/Cargo.toml");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed=MAGBUBBLE_KMAX");
+    // The CLI as a position-dependent executable on Linux: a PIE binary has ~17,000 relative
+    // relocations that the loader applies at every start (0.26 M instructions and ~70 page
+    // faults of a one-step run's 1.6 M; issue 34, docs/performance.md "Radial runs against
+    // APECSS"). The Python module (a cdylib) and the library stay position-independent.
+    if std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("linux") {
+        println!("cargo:rustc-link-arg-bins=-no-pie");
+    }
     let kmax = match std::env::var("MAGBUBBLE_KMAX") {
         Err(_) => codegen::DEFAULT_KMAX,
         Ok(v) => match v.trim().parse::<usize>() {

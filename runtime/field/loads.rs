@@ -391,11 +391,13 @@ impl MagneticLoads {
                 let (al, be) = (c.band_n[j], c.band_n[j + 1]);
                 s += al * y[l.a(m)] + be * y[l.b(m)];
                 sa += al * y[l.adot(m)];
-                rate.dq_shape[StateLayout::x_a(m)] += scale * (f1d * al + rd * p1 * f1 * al / r);
-                rate.dq_shape[StateLayout::x_adot(m)] += scale * f1 * al;
-                rate.dq_shape[StateLayout::x_b(m)] += scale * (f1d * be + rd * p1 * f1 * be / r);
-                rate.db[m] += scale * f1 * be;
-                rate.db_dr[m] += scale * p1 * f1 * be / r;
+                if let Some(sh) = rate.shape.as_deref_mut() {
+                    sh.dq_shape[StateLayout::x_a(m)] += scale * (f1d * al + rd * p1 * f1 * al / r);
+                    sh.dq_shape[StateLayout::x_adot(m)] += scale * f1 * al;
+                    sh.dq_shape[StateLayout::x_b(m)] += scale * (f1d * be + rd * p1 * f1 * be / r);
+                    sh.db[m] += scale * f1 * be;
+                    sh.db_dr[m] += scale * p1 * f1 * be / r;
+                }
             }
             rate.q += scale * (f0d * z + f1d * s + rd * (p0 * f0 * z + p1 * f1 * s) / r + f1 * sa);
             rate.dq[0] += scale

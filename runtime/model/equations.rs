@@ -133,15 +133,37 @@ impl Equations {
 
     /// R̈ at (t, z) (shape loads not evaluated).
     pub fn radial_acceleration(&self, t: f64, z: &[f64]) -> f64 {
-        let p = self.loads(t, z, &mut [], &mut []);
-        self.acceleration_at(t, z, p)
+        if !self.form.needs_rate() {
+            let p = self.loads(t, z, &mut [], &mut []);
+            return self.acceleration_at(t, z, p);
+        }
+        // P and its rate in one pass ([`Term::add_with_rate`]): the same sums as `loads` and
+        // `radial_rate`, term by term in the same order
+        let at = At { t, z };
+        let mut l = Loads { pressure: 0.0, gn: &mut [], gt: &mut [] };
+        let mut rate = PressureRate::default();
+        for term in &self.terms {
+            term.add_with_rate(&at, &mut l, &mut rate);
+        }
+        self.form.acceleration_rate(self.params.rho, z[0], z[1], l.pressure, &rate)
     }
 
     /// The pressure's rate (q, s and their (R, Ṙ)-gradients) summed over the terms, and whether
     /// every term provides it ([`Term::add_rate`]).
+    /// With the shape part ([`PressureRate::with_shape`]).
     pub fn rate(&self, t: f64, z: &[f64]) -> (PressureRate, bool) {
+        self.rate_into(t, z, PressureRate::with_shape())
+    }
+
+    /// q, s and their (R, Ṙ)-gradients alone: what R̈ with the shape frozen needs.
+    #[inline]
+    pub fn radial_rate(&self, t: f64, z: &[f64]) -> PressureRate {
+        self.rate_into(t, z, PressureRate::default()).0
+    }
+
+    #[inline]
+    fn rate_into(&self, t: f64, z: &[f64], mut rate: PressureRate) -> (PressureRate, bool) {
         let at = At { t, z };
-        let mut rate = PressureRate::default();
         let mut all = true;
         for term in &self.terms {
             all &= term.add_rate(&at, &mut rate);
@@ -156,7 +178,7 @@ impl Equations {
         if !self.form.needs_rate() {
             return self.acceleration(z[0], z[1], pressure);
         }
-        let (rate, _) = self.rate(t, z);
+        let rate = self.radial_rate(t, z);
         self.form.acceleration_rate(self.params.rho, z[0], z[1], pressure, &rate)
     }
 
@@ -170,7 +192,7 @@ impl Equations {
         }
         let (mut rate, _) = self.rate(t, z);
         for (m, bd) in bdot.iter().enumerate() {
-            rate.q += rate.db[m] * bd;
+            rate.q += rate.db(m) * bd;
         }
         self.form.acceleration_rate(self.params.rho, z[0], z[1], pressure, &rate)
     }
@@ -224,7 +246,7 @@ impl Equations {
         let (mut rate, _) = self.rate(t, z);
         if let Some((bd, _)) = bdot {
             for (m, x) in bd.iter().enumerate() {
-                rate.q += rate.db[m] * x;
+                rate.q += rate.db(m) * x;
             }
         }
         let d = self.form.partials_rate(self.params.rho, z[0], z[1], pressure, &rate);
@@ -236,14 +258,14 @@ impl Equations {
         }
         let n = grad.len();
         for j in StateLayout::RADIAL..n {
-            grad[j] += d[3] * rate.dq_shape[StateLayout::x_of(j)];
+            grad[j] += d[3] * rate.dq_shape(StateLayout::x_of(j));
         }
         if let Some((bd, dbd)) = bdot {
             for (m, x) in bd.iter().enumerate() {
-                grad[0] += d[3] * rate.db_dr[m] * x;
-                if rate.db[m] != 0.0 {
+                grad[0] += d[3] * rate.db_dr(m) * x;
+                if rate.db(m) != 0.0 {
                     for j in 0..n {
-                        grad[j] += d[3] * rate.db[m] * dbd[m * n + j];
+                        grad[j] += d[3] * rate.db(m) * dbd[m * n + j];
                     }
                 }
             }

@@ -42,8 +42,16 @@ impl AtomicFile {
         &self.path
     }
 
-    /// Flushes, syncs and renames the temp file to the final path. On any error (a full disk
-    /// shows at the last flush) the temp file is removed: nothing temporary survives.
+    /// Flushes and renames the temp file to the final path. On any error (a full disk shows at
+    /// the last flush) the temp file is removed: nothing temporary survives.
+    ///
+    /// No `fsync`: the rename alone is what a reader needs — another process (or this run
+    /// killed half-way) sees the old file or the whole new one, never a partial one. A sync
+    /// would only add durability across an operating-system crash or power loss in the
+    /// seconds before the kernel writes the page cache back, for output any run reproduces;
+    /// it cost 2 syncs per run, a short run's wall 3–8× its CPU (issue 34,
+    /// docs/performance.md "Radial runs against APECSS"). The sweep's resume checkpoint
+    /// (analysis/sweep.rs), which hours of work depend on, keeps its sync.
     pub fn commit(mut self) -> Result<(), OutputError> {
         let err = |source| OutputError::Write {
             path: self.path.display().to_string(),
@@ -53,8 +61,10 @@ impl AtomicFile {
         let result = writer
             .into_inner()
             .map_err(|e| e.into_error())
-            .and_then(|file| file.sync_all())
-            .and_then(|()| fs::rename(&self.tmp, &self.path));
+            .and_then(|file| {
+                drop(file);
+                fs::rename(&self.tmp, &self.path)
+            });
         if let Err(e) = result {
             let _ = fs::remove_file(&self.tmp);
             return Err(err(e));
@@ -132,5 +142,68 @@ impl OutputDir {
         if self.created {
             let _ = fs::remove_dir(&self.path);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn the_old_file_stays_whole_until_commit_then_the_new_one_is_whole() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("series.csv");
+        fs::write(&path, "old\n").unwrap();
+        let mut f = AtomicFile::create(&path).unwrap();
+        // more than the write buffer, so part of it already sits in the temp file
+        let body = "x".repeat(WRITE_BUFFER + 12345);
+        f.write_all(body.as_bytes()).unwrap();
+        assert_eq!(fs::read_to_string(&path).unwrap(), "old\n", "a reader sees the old file");
+        assert_eq!(names(dir.path()), ["series.csv", "series.csv.tmp"]);
+        f.commit().unwrap();
+        assert_eq!(fs::read_to_string(&path).unwrap(), body, "the whole new file");
+        assert_eq!(names(dir.path()), ["series.csv"], "no temp file left");
+    }
+
+    #[test]
+    fn dropped_without_commit_leaves_the_old_file_and_no_temp() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.json");
+        fs::write(&path, "old").unwrap();
+        {
+            let mut f = AtomicFile::create(&path).unwrap();
+            f.write_all(&vec![b'y'; WRITE_BUFFER * 2]).unwrap();
+            // an error on the way: the file is dropped, not committed
+        }
+        assert_eq!(fs::read_to_string(&path).unwrap(), "old");
+        assert_eq!(names(dir.path()), ["summary.json"]);
+        // and a new path never appears at all
+        let fresh = dir.path().join("new.csv");
+        drop(AtomicFile::create(&fresh).unwrap());
+        assert!(!fresh.exists());
+        assert_eq!(names(dir.path()), ["summary.json"]);
+    }
+
+    #[test]
+    fn a_failed_rename_removes_the_temp_file() {
+        let dir = tempfile::tempdir().unwrap();
+        // the final path is a non-empty directory: the rename fails after the data is written
+        let path = dir.path().join("out");
+        fs::create_dir(&path).unwrap();
+        fs::write(path.join("keep"), "k").unwrap();
+        let mut f = AtomicFile::create(&path).unwrap();
+        f.write_all(b"data").unwrap();
+        assert!(f.commit().is_err());
+        assert_eq!(names(dir.path()), ["out"], "no out.tmp left");
+        assert_eq!(fs::read_to_string(path.join("keep")).unwrap(), "k");
     }
 }

@@ -47,7 +47,7 @@ fn pressure_rate_with_a_field_matches_a_finite_difference_along_the_motion() {
             let (rate, all) = eq.rate(t, &z);
             assert!(all, "{field}: every term provides the rate");
             let l = StateLayout::reduced_of_dim(n);
-            let bdot: f64 = (0..l.modes()).map(|j| rate.db[j] * dz[l.b(j)]).sum();
+            let bdot: f64 = (0..l.modes()).map(|j| rate.db(j) * dz[l.b(j)]).sum();
             let exact = rate.q + bdot + rate.s * dz[1];
             let p = |h: f64| {
                 let zh: Vec<f64> = z.iter().zip(&dz).map(|(x, d)| x + h * d).collect();
@@ -59,9 +59,9 @@ fn pressure_rate_with_a_field_matches_a_finite_difference_along_the_motion() {
             let fd = (4.0 * d(h / 2.0) - d(h)) / 3.0;
             // the magnetic share must be visible in the check
             let mag = eq.terms().find(|t| t.name() == "magnetic").unwrap();
-            let mut mr = PressureRate::default();
+            let mut mr = PressureRate::with_shape();
             assert!(mag.add_rate(&At { t, z: &z }, &mut mr));
-            let mag_share = mr.q + (0..l.modes()).map(|j| mr.db[j] * dz[l.b(j)]).sum::<f64>();
+            let mag_share = mr.q + (0..l.modes()).map(|j| mr.db(j) * dz[l.b(j)]).sum::<f64>();
             eprintln!("{}: dP/dt FD {fd:.6e}, exact {exact:.6e}, magnetic part {mag_share:.3e} (ḃ part {bdot:.3e})", field.lines().nth(1).unwrap());
             assert!(mag_share.abs() > 1e-4 * fd.abs(), "{field}: magnetic part {mag_share} too small to be tested");
             assert!(bdot != 0.0, "{field}: the ḃ part is exercised");

@@ -166,7 +166,7 @@ impl LoadJacobian {
 /// the tangential closure (NS): the model adds it where it knows ḃ
 /// ([`super::equations::Equations::acceleration_with`], the boundary-layer system) and takes
 /// ḃ = 0 (frozen shape) where the shape is prescribed (a radial equation on its own).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct PressureRate {
     pub q: f64,
     pub s: f64,
@@ -174,6 +174,16 @@ pub struct PressureRate {
     pub dq: [f64; 2],
     /// (∂s/∂R, ∂s/∂Ṙ)
     pub ds: [f64; 2],
+    /// The shape part (∂q/∂(a, ȧ, b), ∂P/∂b, ∂²P/∂b∂R), only when asked for
+    /// ([`PressureRate::with_shape`]): R̈ with the shape frozen (a radial run, every Keller–Miksis
+    /// rhs) needs q and s alone, and 1.3 kB of zeros written and copied per rhs were 14 % of a
+    /// radial run (issue 34). Without it a term adds its shape terms to `q` only.
+    pub shape: Option<Box<ShapeRate>>,
+}
+
+/// The shape part of a [`PressureRate`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeRate {
     /// ∂q/∂(a_m, ȧ_m, b_m) at index 3m, 3m + 1, 3m + 2 (zero unless P depends on the shape).
     pub dq_shape: [f64; StateLayout::x_dim(MAX_MODES)],
     /// ∂P/∂b_m: dP/dt ∋ Σ_m db[m] ḃ_m (see above).
@@ -182,16 +192,35 @@ pub struct PressureRate {
     pub db_dr: [f64; MAX_MODES],
 }
 
-impl Default for PressureRate {
+impl Default for ShapeRate {
     fn default() -> Self {
-        Self { q: 0.0, s: 0.0, dq: [0.0; 2], ds: [0.0; 2], dq_shape: [0.0; StateLayout::x_dim(MAX_MODES)], db: [0.0; MAX_MODES], db_dr: [0.0; MAX_MODES] }
+        Self { dq_shape: [0.0; StateLayout::x_dim(MAX_MODES)], db: [0.0; MAX_MODES], db_dr: [0.0; MAX_MODES] }
     }
 }
 
 impl PressureRate {
+    /// A zero rate that also collects the shape part.
+    pub fn with_shape() -> Self {
+        Self { shape: Some(Box::default()), ..Self::default() }
+    }
     /// Whether dP/dt has a ḃ part (some db[m] ≠ 0).
     pub fn has_bdot(&self) -> bool {
-        self.db.iter().any(|&x| x != 0.0)
+        self.shape.as_ref().is_some_and(|s| s.db.iter().any(|&x| x != 0.0))
+    }
+    /// ∂P/∂b_m (0 without the shape part).
+    #[inline]
+    pub fn db(&self, m: usize) -> f64 {
+        self.shape.as_ref().map_or(0.0, |s| s.db[m])
+    }
+    /// ∂db[m]/∂R (0 without the shape part).
+    #[inline]
+    pub fn db_dr(&self, m: usize) -> f64 {
+        self.shape.as_ref().map_or(0.0, |s| s.db_dr[m])
+    }
+    /// ∂q/∂(a, ȧ, b) at shape index `x` (0 without the shape part).
+    #[inline]
+    pub fn dq_shape(&self, x: usize) -> f64 {
+        self.shape.as_ref().map_or(0.0, |s| s.dq_shape[x])
     }
 }
 
@@ -267,6 +296,16 @@ pub trait Term: std::fmt::Debug {
     /// radial form that needs the rate (Keller–Miksis) is refused when the model is assembled.
     fn add_rate(&self, _at: &At<'_>, _rate: &mut PressureRate) -> bool {
         false
+    }
+    /// [`add`](Term::add) and [`add_rate`](Term::add_rate) in one call, for the Keller–Miksis
+    /// rhs, which needs both at every stage ([`super::equations::Equations::radial_acceleration`]).
+    /// The default calls the two; a term whose value and rate share a costly factor (the gas's
+    /// power: 20 % of a radial run, issue 34) overrides it with the same expressions, so the
+    /// sums are the same to the bit.
+    #[inline]
+    fn add_with_rate(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) -> bool {
+        self.add(at, loads);
+        self.add_rate(at, rate)
     }
     /// Whether the term has shape loads proportional to ḃ_k ([`BdotLoads`]; default: none).
     fn has_bdot_loads(&self) -> bool {
