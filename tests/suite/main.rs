@@ -21,6 +21,7 @@ mod population;
 mod equations_jacobian;
 mod marmottant;
 mod marmottant_events;
+mod stability_cutoff;
 mod thermal_damping;
 mod sarkar;
 mod church_hoff;
