@@ -22,6 +22,7 @@ mod equations_jacobian;
 mod marmottant;
 mod marmottant_events;
 mod stability_cutoff;
+mod tension_curve;
 mod thermal_damping;
 mod sarkar;
 mod church_hoff;
