@@ -23,6 +23,7 @@ mod marmottant;
 mod marmottant_events;
 mod stability_cutoff;
 mod tension_curve;
+mod hard_lipid;
 mod thermal_damping;
 mod sarkar;
 mod church_hoff;
