@@ -323,6 +323,8 @@ def stability(
     progress: Progress = True,
     executor: Any = None,
     shards: Optional[int] = None,
+    modes: str = "scene",
+    cutoff_limit: Optional[int] = None,
 ) -> pd.DataFrame:
     """A stability diagram (``magbubble stability``): one row per frequency and family member,
     the columns of the CSV (``index``, the frequency key, ``critical``, ``outcome``, …), with the
@@ -336,12 +338,16 @@ def stability(
     ``df.attrs`` holds ``csv`` (paths, with ``out``), ``computed``, ``resumed`` and ``failed``.
     KeyboardInterrupt stops it: no point starts, the points in flight are abandoned, and the CSV
     keeps only the whole rows finished so far (a rerun with the same ``out`` resumes). ``progress``: a tqdm bar of points, or a function ``(done, total)``.
+    ``modes="auto"`` (``--modes auto``) raises the cutoff ``modes.max_order`` from the scene's
+    value, doubling up to ``cutoff_limit`` (default 64), until the critical value converges; the
+    frame gains ``max_order_used``, ``cutoff_converged``, ``critical_error`` and ``min_tension``.
     """
     scene = _scene(scene_or_path, overrides)
     if executor is not None:  # issue 33: shards on any concurrent.futures.Executor (_shards.py)
         from ._shards import run_sharded
 
-        kwargs = dict(family=family, method=method, vary=vary, freq_key=freq_key, range=range, tol=tol, abs_tol=abs_tol, scan=scan)
+        kwargs = dict(family=family, method=method, vary=vary, freq_key=freq_key, range=range, tol=tol, abs_tol=abs_tol, scan=scan,
+                      modes=modes, cutoff_limit=cutoff_limit)
         return run_sharded(executor, "stability", scene, (freq,), kwargs, out, shards, progress)
     lo, hi = range
     freq = freq_arg(freq)
@@ -353,6 +359,7 @@ def stability(
             curves, failed = _ext.stability(
                 scene._inner, freq, out_dir, family, method, vary, freq_key, (float(lo), float(hi)), float(tol),
                 None if abs_tol is None else float(abs_tol), int(scan), shard, update,
+                modes, None if cutoff_limit is None else int(cutoff_limit),
             )
         finally:
             close()

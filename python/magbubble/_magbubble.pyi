@@ -56,6 +56,8 @@ def stability(
     scan: int = 8,
     shard: Optional[str] = None,
     progress: _Progress = None,
+    modes: str = "scene",
+    cutoff_limit: Optional[int] = None,
 ) -> Tuple[List[_Curve], List[str]]: ...
 
 _Series = Optional[Tuple[List[str], npt.NDArray[np.float64]]]

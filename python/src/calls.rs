@@ -8,7 +8,7 @@ use crate::{chain_error, value_error, worker, PyScene};
 use magbubble::analysis::sweep::Shard;
 use magbubble::api::coefficients::Field;
 use magbubble::api::floquet::Variant;
-use magbubble::api::stability::{Criterion, Family, FreqAxis, StabilityRequest};
+use magbubble::api::stability::{Criterion, Family, FreqAxis, Modes, StabilityRequest};
 use magbubble::api::sweep::{GridAxis, SweepRequest, SweepTable};
 use magbubble::api::table::Table;
 use magbubble::api::{self, Monitor};
@@ -143,7 +143,8 @@ type Curve<'py> = (String, String, String, Columns<'py>, usize, usize);
 /// whole rows finished so far.
 #[pyfunction]
 #[pyo3(signature = (scene, freq, out, family = None, method = "floquet", vary = "drive.amplitude".to_string(),
-    freq_key = None, range = (0.0, 1.0), tol = 1e-3, abs_tol = None, scan = 8, shard = None, progress = None))]
+    freq_key = None, range = (0.0, 1.0), tol = 1e-3, abs_tol = None, scan = 8, shard = None, progress = None,
+    modes = "scene", cutoff_limit = None))]
 #[allow(clippy::too_many_arguments)]
 fn stability<'py>(
     py: Python<'py>,
@@ -160,7 +161,11 @@ fn stability<'py>(
     scan: usize,
     shard: Option<String>,
     progress: Option<Bound<'py, PyAny>>,
+    modes: &str,
+    cutoff_limit: Option<usize>,
 ) -> PyResult<(Vec<Curve<'py>>, Vec<String>)> {
+    // issue 31 part 5: the cutoff, parsed and checked by the library as for the CLI
+    let modes = Modes::parse(modes, cutoff_limit).map_err(|e| chain_error(&e))?;
     let method = match method {
         "floquet" => Criterion::Floquet,
         "series" => Criterion::Series,
@@ -181,7 +186,7 @@ fn stability<'py>(
         None => Shard::from_env().map(|s| s.unwrap_or(Shard::ALL)),
     }
     .map_err(value_error)?;
-    let req = StabilityRequest { freq, method, family, vary, freq_key, range, tol, abs_tol, scan, out, shard };
+    let req = StabilityRequest { freq, method, family, vary, freq_key, range, tol, abs_tol, scan, out, shard, modes };
     let sc = &scene.inner;
     api::stability::plan(sc, &req).map_err(|e| chain_error(&e))?;
     let result = worker::run(py, progress.as_ref(), |ctl| with_monitor(ctl, |m| api::stability::stability(sc, &req, m)))?;

@@ -105,3 +105,16 @@ def test_interrupted_stability_leaves_a_complete_resumable_csv(tmp_path):
     whole = mb.stability(SCENE, freq=freq, overrides=sets, out=tmp_path / "whole", progress=False)
     assert (tmp_path / "cut" / "stability.csv").read_text() == (tmp_path / "whole" / "stability.csv").read_text()
     pd.testing.assert_frame_equal(resumed, whole)
+
+
+def test_modes_auto_equals_the_cli_and_has_the_cutoff_columns(cli, tmp_path):
+    # issue 31 part 5: the cutoff raised through the library, the same CSV as `--modes auto`
+    sets = {"modes.max_order": 4}
+    df = mb.stability(SCENE, freq="1e6", overrides=sets, out=tmp_path / "py", modes="auto", cutoff_limit=8)
+    cli(*_cli_args(tmp_path / "cli", "1e6", sets, "--modes", "auto", "--cutoff-limit", "8"))
+    assert (tmp_path / "py" / "stability.csv").read_text() == (tmp_path / "cli" / "stability.csv").read_text()
+    for col in ["max_order_used", "cutoff_converged", "critical_error", "min_tension"]:
+        assert col in df.columns
+    assert df["max_order_used"].tolist() == [8]
+    with pytest.raises(ValueError, match="--modes 'every'"):
+        mb.stability(SCENE, freq="1e6", overrides=sets, modes="every")

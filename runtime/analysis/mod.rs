@@ -9,6 +9,7 @@
 pub mod bisect;
 pub mod critical;
 pub mod critical_accuracy;
+pub mod cutoff;
 pub mod expm;
 pub mod floquet;
 pub mod floquet_full;

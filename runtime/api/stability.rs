@@ -7,6 +7,8 @@ use super::scene::Scene;
 pub use crate::analysis::stability::Criterion;
 use crate::analysis::stability::{check_range, critical_point, CriticalOptions, StabilityError, CRITICAL_HEADER};
 use crate::analysis::sweep::{self, Shard, SweepMeta};
+pub use crate::analysis::cutoff::CutoffOptions;
+use crate::analysis::cutoff::{critical_point_auto, CUTOFF_HEADER};
 use crate::scene::schema::fmt_num;
 use crate::scene::{numeric_param, path_exists, SceneTemplate};
 use anyhow::Context;
@@ -109,6 +111,37 @@ pub struct StabilityRequest {
     /// The directory of the CSVs (+ `.meta.json`); rows already there are resumed.
     pub out: PathBuf,
     pub shard: Shard,
+    /// The mode cutoff: the scene's `modes.max_order`, or raised until the critical value
+    /// converges (`--modes auto`, issue 31 part 5; analysis/cutoff.rs).
+    pub modes: Modes,
+}
+
+/// `--modes`: the scene's cutoff, or `auto` (analysis/cutoff.rs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Modes {
+    #[default]
+    Scene,
+    Auto(CutoffOptions),
+}
+
+impl Modes {
+    /// `scene` or `auto`, with the largest N `auto` tries.
+    pub fn parse(text: &str, limit: Option<usize>) -> anyhow::Result<Modes> {
+        let m = match text {
+            "scene" => Modes::Scene,
+            "auto" => Modes::Auto(CutoffOptions::default()),
+            other => anyhow::bail!("--modes '{other}': expected 'auto' or 'scene'"),
+        };
+        match (m, limit) {
+            (Modes::Scene, Some(l)) => anyhow::bail!("--cutoff-limit {l}: only with --modes auto"),
+            (Modes::Auto(_), Some(l)) => {
+                let top = crate::scene::schema::MAX_ORDER_LIMIT;
+                anyhow::ensure!(l >= 4 && l % 2 == 0 && l <= top, "--cutoff-limit {l}: must be even, 4 ≤ N ≤ {top} (the coefficient tables' k_max)");
+                Ok(Modes::Auto(CutoffOptions { limit: l }))
+            }
+            (m, None) => Ok(m),
+        }
+    }
 }
 
 impl StabilityRequest {
@@ -173,6 +206,15 @@ pub fn plan(scene: &Scene, req: &StabilityRequest) -> anyhow::Result<Plan> {
     let (f0, f1) = (freqs[0], freqs[freqs.len() - 1]);
     for (k, v, t) in &families {
         let at = if k.is_empty() { String::new() } else { format!(" (--family {k}={v})") };
+        if let Modes::Auto(c) = req.modes {
+            let n = t.scene().modes.max_order;
+            anyhow::ensure!(k != "modes.max_order", "--family modes.max_order: --modes auto chooses the cutoff itself; drop one of them");
+            anyhow::ensure!(
+                n >= 2 && n < c.limit,
+                "--modes auto: modes.max_order = {n}{at} must be ≥ 2 and below the cutoff limit {} (the rungs are the scene's N, 2N, … up to the limit)",
+                c.limit
+            );
+        }
         let sc = |f: f64, p: f64| {
             t.with(&[(freq_key.as_str(), f), (req.vary.as_str(), p)])
                 .with_context(|| format!("the scene at {freq_key} = {}, {} = {}{at}", fmt_num(f), req.vary, fmt_num(p)))
@@ -198,11 +240,28 @@ fn is_error_row(fields: &[String]) -> bool {
 /// the numeric cells of a computed row spell it (`{:e}` of NaN: `NaN`; one spelling of NaN in
 /// every CSV).
 pub fn error_fields(message: &str) -> Vec<String> {
-    let mut blank: Vec<String> = vec![format!("{:e}", f64::NAN); CRITICAL_HEADER.len()];
+    error_fields_of(CRITICAL_HEADER.len(), message)
+}
+
+/// [`error_fields`] for a header of `len` fields (`--modes auto` has [`CUTOFF_HEADER`] more).
+fn error_fields_of(len: usize, message: &str) -> Vec<String> {
+    let mut blank: Vec<String> = vec![format!("{:e}", f64::NAN); len];
     blank[1] = "error".into();
     blank[4] = String::new();
-    blank[CRITICAL_HEADER.len() - 1] = message.to_string();
+    blank[len - 1] = message.to_string();
     blank
+}
+
+/// The header of one curve's fields: [`CRITICAL_HEADER`], with [`CUTOFF_HEADER`] before `note`
+/// for `--modes auto`.
+pub fn point_header(modes: Modes) -> Vec<String> {
+    let mut h: Vec<String> = CRITICAL_HEADER.iter().map(|s| s.to_string()).collect();
+    if let Modes::Auto(_) = modes {
+        let note = h.pop().unwrap_or_default();
+        h.extend(CUTOFF_HEADER.iter().map(|s| s.to_string()));
+        h.push(note);
+    }
+    h
 }
 
 /// One curve (family member) of a finished stability run.
@@ -262,7 +321,7 @@ pub fn stability(scene: &Scene, req: &StabilityRequest, monitor: &Monitor) -> an
         let name = if shard == Shard::ALL { format!("{stem}.csv") } else { format!("{stem}.shard-{}-of-{}.csv", shard.index, shard.count) };
         let csv = req.out.join(name);
         let mut header = vec![freq_key.clone()];
-        header.extend(CRITICAL_HEADER.iter().map(|s| s.to_string()));
+        header.extend(point_header(req.modes));
         let meta = SweepMeta {
             fingerprint: format!(
                 "scene={:?} set={set:?} vary={} freq_key={freq_key} freq={} method={:?} range={lo}:{hi} tol={} abs_tol={:?} scan={}",
@@ -273,7 +332,10 @@ pub fn stability(scene: &Scene, req: &StabilityRequest, monitor: &Monitor) -> an
                 req.tol,
                 req.abs_tol,
                 req.scan
-            ),
+            ) + &match req.modes {
+                Modes::Scene => String::new(),
+                Modes::Auto(c) => format!(" modes=auto limit={}", c.limit),
+            },
             total: freqs.len(),
             shard,
             header,
@@ -290,9 +352,26 @@ pub fn stability(scene: &Scene, req: &StabilityRequest, monitor: &Monitor) -> an
                 template.with(&[(freq_key.as_str(), f), (req.vary.as_str(), p)]).map_err(|e| StabilityError::Scene(e.to_string()))
             };
             let mut row = vec![format!("{f:.8e}")];
-            match critical_point(&at, &opts) {
-                Ok(c) => row.extend(c.fields()),
-                Err(e) => row.extend(error_fields(&e.to_string())),
+            match req.modes {
+                Modes::Scene => match critical_point(&at, &opts) {
+                    Ok(c) => row.extend(c.fields()),
+                    Err(e) => row.extend(error_fields(&e.to_string())),
+                },
+                Modes::Auto(cutoff) => {
+                    let at_n = |p: f64, n: usize| {
+                        if cancelled() {
+                            return Err(StabilityError::Scene("cancelled".into()));
+                        }
+                        template
+                            .with(&[(freq_key.as_str(), f), (req.vary.as_str(), p), ("modes.max_order", n as f64)])
+                            .map_err(|e| StabilityError::Scene(e.to_string()))
+                    };
+                    let start = template.scene().modes.max_order;
+                    match critical_point_auto(&at_n, start, &opts, &cutoff) {
+                        Ok(c) => row.extend(c.fields()),
+                        Err(e) => row.extend(error_fields_of(meta.header.len() - 1, &e.to_string())),
+                    }
+                }
             }
             // a point cut short by the cancel is abandoned, not written as an error
             (!cancelled()).then_some(row)

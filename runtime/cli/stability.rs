@@ -3,7 +3,7 @@
 //! (analysis::sweep). Definitions: docs/stability.md.
 
 use crate::analysis::sweep::{self, Shard};
-use crate::api::stability::{stability, Criterion, Family, FreqAxis, StabilityOutput, StabilityRequest};
+use crate::api::stability::{stability, Criterion, Family, FreqAxis, Modes, StabilityOutput, StabilityRequest};
 use crate::api::{Monitor, Scene};
 use anyhow::Context;
 use std::path::PathBuf;
@@ -51,6 +51,14 @@ pub struct StabilityArgs {
     /// Shard i/n of the frequency points (default from SLURM_ARRAY_TASK_ID/COUNT).
     #[arg(long)]
     pub shard: Option<String>,
+    /// The mode cutoff N: `scene` (modes.max_order) or `auto` (raise N from the scene's value,
+    /// doubling, until the critical value moves by less than the bracket tolerance; the CSV
+    /// gains max_order_used, cutoff_converged, critical_error, min_tension; docs/stability.md).
+    #[arg(long, default_value = "scene")]
+    pub modes: String,
+    /// The largest N `--modes auto` tries (default: the coefficient tables' k_max, 64).
+    #[arg(long, value_name = "N")]
+    pub cutoff_limit: Option<usize>,
     /// Override a scene key, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -122,6 +130,7 @@ fn request(args: &StabilityArgs) -> anyhow::Result<(Scene, StabilityRequest)> {
         scan: args.scan,
         out: args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "stability")),
         shard,
+        modes: Modes::parse(&args.modes, args.cutoff_limit)?,
     };
     req.check()?;
     let scene = Scene::load(&args.scene, &args.set)?;

@@ -47,7 +47,7 @@ pub struct BranchEvent<'a> {
 
 impl Event for BranchEvent<'_> {
     fn g(&self, _t: f64, z: &[f64]) -> f64 {
-        self.law.branch_margins(z[0])[self.which]
+        self.law.margin(z[0], self.which)
     }
     fn direction(&self) -> Direction {
         Direction::Either
@@ -59,8 +59,7 @@ impl Event for BranchEvent<'_> {
         Action::Restart
     }
     fn update(&self, t: f64, y: &mut [f64]) {
-        let b = self.law.branch_of(y[0]);
-        self.law.branch.set(Some(b));
+        let b = self.law.enter(y[0]);
         if let Ok(mut c) = self.clock.lock() {
             c.switch(t, b);
         }
@@ -117,7 +116,7 @@ impl Model {
     pub fn events(&self) -> Vec<Box<dyn Event + '_>> {
         let mut v: Vec<Box<dyn Event + '_>> = vec![Box::new(BlowUpEvent { model: self })];
         if let Some((law, clock)) = &self.kinked {
-            for which in 0..2 {
+            for which in 0..law.event_count() {
                 v.push(Box::new(BranchEvent { law, which, clock }));
             }
         }
@@ -135,8 +134,7 @@ impl Model {
     /// and the branch clock starts. No-op without a kinked law.
     pub fn start_branches(&self, t0: f64, z0: &[f64]) {
         if let Some((law, clock)) = &self.kinked {
-            let b = law.branch_of(z0[0]);
-            law.branch.set(Some(b));
+            let b = law.enter(z0[0]);
             if let Ok(mut c) = clock.lock() {
                 *c = BranchClock { start: t0, ..Default::default() };
                 c.switch(t0, b);

@@ -550,7 +550,7 @@ fn law_name(law: &crate::scene::ShellLaw) -> &'static str {
         // branch-wise use of the spec's tables (effects/lipid_quadratic.rs); the smooth law is
         // refused by check_quadratic
         crate::scene::ShellLaw::Marmottant(_) => "marmottant",
-        crate::scene::ShellLaw::MarmottantSmooth(_) | crate::scene::ShellLaw::Sarkar(_) | crate::scene::ShellLaw::ChurchHoff { .. } => "",
+        crate::scene::ShellLaw::MarmottantSmooth(_) | crate::scene::ShellLaw::Sarkar(_) | crate::scene::ShellLaw::ChurchHoff { .. } | crate::scene::ShellLaw::TensionCurve(_) => "",
     }
 }
 

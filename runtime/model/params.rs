@@ -101,11 +101,11 @@ impl std::fmt::Debug for Membrane {
 impl Membrane {
     /// The tables of the scene's elastic law (`shell.law`) in its `shell.form`. The Skalak
     /// functions take (G_s, C) where Mooney–Rivlin takes (c1, c2): same signature.
-    pub fn for_law(law: ShellLaw, form: MembraneForm) -> Self {
+    pub fn for_law(law: &ShellLaw, form: MembraneForm) -> Self {
         match (law, form) {
             // a Marmottant law is not a membrane table (effects/lipid.rs): the Mooney–Rivlin
             // tables with zero constants stand in where a table is read (odd-mode frequencies)
-            (ShellLaw::MooneyRivlin | ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_) | ShellLaw::ChurchHoff { .. }, form) => Self::new(form),
+            (ShellLaw::MooneyRivlin | ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_) | ShellLaw::ChurchHoff { .. } | ShellLaw::TensionCurve(_), form) => Self::new(form),
             (ShellLaw::Skalak { .. }, MembraneForm::Paper) => tables!(membrane::skalak::paper),
             (ShellLaw::Skalak { .. }, MembraneForm::Tension) => tables!(membrane::skalak::tension),
         }
@@ -180,11 +180,11 @@ impl Params {
             sound_speed: s.liquid.sound_speed.map(|c| c * sc.time / sc.length),
             three_kappa: 3.0 * s.gas.polytropic_exponent,
             drive,
-            membrane: Membrane::for_law(s.shell.law, s.shell.form),
+            membrane: Membrane::for_law(&s.shell.law, s.shell.form),
             membrane_args: match s.shell.law {
                 ShellLaw::MooneyRivlin => (c(s.shell.c1), c(s.shell.c2)),
                 ShellLaw::Skalak { shear_modulus, area_dilatation } => (c(shear_modulus), area_dilatation),
-                ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_) | ShellLaw::ChurchHoff { .. } => (0.0, 0.0),
+                ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_) | ShellLaw::ChurchHoff { .. } | ShellLaw::TensionCurve(_) => (0.0, 0.0),
             },
         }
     }

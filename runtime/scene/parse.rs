@@ -73,12 +73,12 @@ pub(crate) fn validate_table(
     })
 }
 
-/// A relative `drive.file` or `population.file` is read from the scene file's directory (when `origin` is a path
+/// A relative `drive.file`, `population.file` or `shell.tension_file` is read from the scene file's directory (when `origin` is a path
 /// whose directory exists; otherwise from the working directory).
 fn resolve_paths(table: &mut Table, origin: &str) {
-    for section in ["drive", "population"] {
+    for (section, key) in [("drive", "file"), ("population", "file"), ("shell", "tension_file")] {
         let Some(Value::Table(t)) = table.get_mut(section) else { continue };
-        let Some(Value::String(file)) = t.get_mut("file") else { continue };
+        let Some(Value::String(file)) = t.get_mut(key) else { continue };
         let rel = Path::new(file.as_str());
         if rel.is_relative() {
             if let Some(dir) = Path::new(origin).parent().filter(|d| !d.as_os_str().is_empty() && d.is_dir()) {

@@ -87,6 +87,7 @@ pub struct RawShell {
     pub reference_tension: Option<f64>,
     pub modulus: Option<f64>,
     pub viscosity: Option<f64>,
+    pub tension_file: Option<String>,
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]

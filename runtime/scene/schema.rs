@@ -233,7 +233,7 @@ pub static SCHEMA: &[Param] = &[
     p("shell.form", K::Choice(&["paper", "tension"]), "", D::Str("paper"), Rg::None, "eqs 2.26-2.29",
       "Membrane load: `paper` = divergence of the Cauchy stress (the paper's); `tension` = divergence of \
        the tension eps sigma/alpha (docs/model.md §2, audit 9)."),
-    p("shell.law", K::Choice(&["mooney-rivlin", "skalak", "marmottant", "marmottant-smooth", "sarkar", "church-hoff"]), "", D::Str("mooney-rivlin"), Rg::None,
+    p("shell.law", K::Choice(&["mooney-rivlin", "skalak", "marmottant", "marmottant-smooth", "sarkar", "church-hoff", "tension-curve"]), "", D::Str("mooney-rivlin"), Rg::None,
       "eq 2.24 / Skalak 1973 / Marmottant 2005",
       "Elastic law of the membrane (derivations/shell/): `mooney-rivlin` with c1, c2; `skalak` with \
        shear_modulus and area_dilatation; `marmottant` (buckled / elastic / ruptured lipid monolayer, \
@@ -241,7 +241,8 @@ pub static SCHEMA: &[Param] = &[
        rupture_tension; `marmottant-smooth` the same with a smooth tension (smoothing); `sarkar` (the \
        exponential elasticity model of Paul et al. 2010, area-only) with elasticity, elasticity_decay, \
        reference_tension; `church-hoff` (Church 1995, Hoff et al. 2000's thin shell, radial only: \
-       modes.max_order = 0) with modulus, viscosity, thickness. c1 still sets the time scale t* \
+       modes.max_order = 0) with modulus, viscosity, thickness; `tension-curve` (a measured sigma(A/A0), \
+       monotone PCHIP interpolation) with tension_file. c1 still sets the time scale t* \
        (docs/model.md, \"Lipid shells\")."),
     p("shell.shear_modulus", K::Float, "N/m", D::Derived("2 (c1 + c2), the small-strain shear modulus of the Mooney-Rivlin membrane"),
       Rg::Positive, "G_s", "Skalak shear modulus (shell.law = \"skalak\" only)."),
@@ -269,6 +270,11 @@ pub static SCHEMA: &[Param] = &[
     p("shell.reference_tension", K::Float, "N/m", D::Derived("0"), Rg::NonNegative, "gamma_0",
       "Exponential elasticity model: tension gamma0 + E^s beta; R_E is set so that it vanishes at R0 (no net tension at \
        rest, p_g0 = p0) (shell.law = \"sarkar\" only)."),
+    p("shell.tension_file", K::Text, "", D::Absent, Rg::None, "sigma(A/A0)",
+      "CSV of a measured tension curve (shell.law = \"tension-curve\" only): a header with the columns area_ratio \
+       (A/A0 = R^2/R0^2, strictly increasing) and tension [N/m] (non-decreasing), at least 3 rows; interpolated by \
+       PCHIP (Fritsch-Carlson monotone cubic), constant beyond the ends, each knot a branch switch of the run \
+       (docs/model.md, \"Lipid shells: tension curve\"). A relative path is read from the scene file's directory."),
     p("shell.modulus", K::Float, "Pa", D::Derived("none: required with shell.law = \"church-hoff\""), Rg::Positive, "G_s",
       "Church-Hoff shell: shear modulus of the shell material (a bulk modulus, not N/m); radial pressure \
        12 G_s d R0^2/R^3 (1 - R0/R) with d = shell.thickness (shell.law = \"church-hoff\" only)."),

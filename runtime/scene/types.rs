@@ -158,7 +158,7 @@ fn is_zero(v: &f64) -> bool {
 }
 
 /// The elastic law of the shell (derivations/shell/, `shell.law`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(rename_all = "kebab-case", tag = "name")]
 pub enum ShellLaw {
     /// Eq 2.24 with `shell.c1`, `shell.c2`.
@@ -185,6 +185,20 @@ pub enum ShellLaw {
         /// η_s [Pa s]
         viscosity: f64,
     },
+    /// A measured tension σ(A/A0) (`shell.tension_file`), monotone PCHIP between its knots
+    /// (docs/model.md, "Lipid shells: tension curve").
+    TensionCurve(TensionCurve),
+}
+
+/// The knots of a measured tension curve, checked (scene/validate/tension_curve.rs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TensionCurve {
+    /// The CSV read.
+    pub file: String,
+    /// A/A0 [–], strictly increasing.
+    pub area_ratio: Vec<f64>,
+    /// σ [N/m], non-decreasing.
+    pub tension: Vec<f64>,
 }
 
 /// The constants of the exponential elasticity model, resolved.
@@ -223,7 +237,7 @@ impl ShellLaw {
     /// An isotropic area-only law (Marmottant, Sarkar): it replaces the Mooney–Rivlin membrane
     /// (runtime/model/effects/lipid.rs).
     pub fn is_area_law(&self) -> bool {
-        matches!(self, ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_))
+        matches!(self, ShellLaw::Marmottant(_) | ShellLaw::MarmottantSmooth(_) | ShellLaw::Sarkar(_) | ShellLaw::TensionCurve(_))
     }
     /// A law with its own term in place of the Mooney–Rivlin membrane (an area law, Church–Hoff).
     pub fn replaces_membrane(&self) -> bool {

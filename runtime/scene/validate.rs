@@ -10,6 +10,7 @@ mod check;
 mod warn;
 mod lipid;
 mod sarkar;
+mod tension_curve;
 mod drive;
 mod population;
 use check::Check;
@@ -100,6 +101,9 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     if law_name != "sarkar" {
         sarkar::refuse_keys(c, &rs, law_name);
     }
+    if law_name != "tension-curve" {
+        tension_curve::refuse_key(c, &rs, law_name);
+    }
     if law_name != "church-hoff" {
         for (key, v) in [("shell.modulus", rs.modulus), ("shell.viscosity", rs.viscosity)] {
             if let Some(v) = v {
@@ -110,6 +114,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
     let law = match law_name {
         "church-hoff" => church_hoff(c, &rs, modes.max_order),
         "sarkar" => ShellLaw::Sarkar(sarkar::build(c, &rs, r0)),
+        "tension-curve" => ShellLaw::TensionCurve(tension_curve::build(c, &rs)),
         "marmottant" => ShellLaw::Marmottant(lipid::build(c, &rs, r0, false)),
         "marmottant-smooth" => ShellLaw::MarmottantSmooth(lipid::build(c, &rs, r0, true)),
         "skalak" => ShellLaw::Skalak {

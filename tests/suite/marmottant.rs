@@ -51,52 +51,13 @@ fn rp(t: f64, y: [f64; 2], eps: f64, w: f64, l: &Lipid) -> [f64; 2] {
 }
 
 /// R at the times `ts` by classical RK4 with step h, every step that crosses a branch radius
-/// (R_b, R_r) cut at the crossing (secant iteration on the step length), so that no step
-/// straddles a kink of σ: the reference keeps RK4's order through the switches.
+/// (R_b, R_r) cut at the crossing ([`common::rk4_cut_at`]).
 fn reference(eps: f64, f_hz: f64, l: &Lipid, ts: &[f64], h: f64) -> (Vec<f64>, usize) {
     let w = 2.0 * std::f64::consts::PI * f_hz;
     let f = |t: f64, y: [f64; 2]| rp(t, y, eps, w, l);
     let rb = l.buckling_radius;
     let radii = [rb, rb * (1.0 + l.rupture_tension / l.elasticity).sqrt()];
-    let side = |r: f64| radii.map(|x| r >= x);
-    let (mut t, mut y, mut out, mut switches) = (0.0, [common::R0, 0.0], Vec::new(), 0);
-    for &target in ts {
-        while t < target - 1e-18 {
-            let step = h.min(target - t);
-            let y1 = common::rk4_step2(t, y, step, &f);
-            if side(y1[0]) == side(y[0]) {
-                t += step;
-                y = y1;
-                continue;
-            }
-            // the first radius crossed: cut the step where R reaches it
-            let x = radii.iter().copied().find(|&x| (y[0] >= x) != (y1[0] >= x)).unwrap();
-            let g = |s: f64| common::rk4_step2(t, y, s, &f)[0] - x;
-            let (mut a, mut b, mut ga, mut gb) = (0.0, step, y[0] - x, y1[0] - x);
-            for _ in 0..60 {
-                let c = b - gb * (b - a) / (gb - ga);
-                let gc = g(c);
-                (a, ga, b, gb) = (b, gb, c, gc);
-                if gc.abs() < 1e-22 || (b - a).abs() < 1e-24 {
-                    break;
-                }
-            }
-            // land just past the crossing, on the new branch (a step that falls short is lengthened)
-            let mut s = b.clamp(0.0, step);
-            let mut y2 = common::rk4_step2(t, y, s, &f);
-            let mut extra = 1e-9 * step;
-            while (y2[0] >= x) == (y[0] >= x) && s < step {
-                s = (s + extra).min(step);
-                extra *= 2.0;
-                y2 = common::rk4_step2(t, y, s, &f);
-            }
-            y = y2;
-            t += s;
-            switches += 1;
-        }
-        out.push(y[0]);
-    }
-    (out, switches)
+    common::rk4_cut_at(&f, &radii, [common::R0, 0.0], ts, h)
 }
 
 /// max |R_magbubble − R_reference| / R0 over 3 drive periods, and the switches.

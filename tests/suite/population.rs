@@ -120,6 +120,7 @@ fn one_bin_population_is_stability_bit_for_bit() {
         scan: req.scan,
         out: dir.path().join("stab"),
         shard: Shard::ALL,
+        modes: Default::default(),
     };
     let s = stability(&single, &sreq, &Monitor::default()).unwrap();
     let srows = &s.curves[0].report.rows;

@@ -197,7 +197,7 @@ fn eulerian_projection(law: Law, amps: &[(usize, f64, f64)], jmax: usize) -> Vec
     out
 }
 
-fn membrane_stack(law: ShellLaw, form: Form, name: &str, args: (f64, f64)) -> Stack {
+fn membrane_stack(law: &ShellLaw, form: Form, name: &str, args: (f64, f64)) -> Stack {
     let mform = match form {
         Form::Paper => MembraneForm::Paper,
         Form::Tension => MembraneForm::Tension,
@@ -211,7 +211,7 @@ fn membrane_stack(law: ShellLaw, form: Form, name: &str, args: (f64, f64)) -> St
 /// largest change the mapping makes to a coefficient (relative to the same scale).
 fn oracle_check(law: Law, shell: ShellLaw, name: &str, args: (f64, f64)) -> (f64, f64) {
     let stacks = |frame: bool| {
-        let s = [Form::Paper, Form::Tension].map(|f| membrane_stack(shell, f, name, args));
+        let s = [Form::Paper, Form::Tension].map(|f| membrane_stack(&shell, f, name, args));
         s.map(|x| if frame { x } else { Stack { frame: None, ..x } })
     };
     let ([paper, tension], [paper0, tension0]) = (stacks(true), stacks(false));
@@ -325,7 +325,7 @@ fn frame_term_jacobian_matches_differences() {
     let modes = 6;
     let orders: Vec<f64> = (1..=modes).map(|i| 2.0 * i as f64).collect();
     let n = StateLayout::reduced(modes).dim();
-    let mr = || MembraneTerm { law: Membrane::for_law(ShellLaw::MooneyRivlin, MembraneForm::Tension), r0: R0, c1: 0.9, c2: 0.3, orders: orders.clone() };
+    let mr = || MembraneTerm { law: Membrane::for_law(&ShellLaw::MooneyRivlin, MembraneForm::Tension), r0: R0, c1: 0.9, c2: 0.3, orders: orders.clone() };
     let bend = || OneConstant { name: "bending", label: String::new(), table: bending_table(), value: 0.02, r0: R0, orders: orders.clone() };
     let visc = || ShellViscosity { kappa_s: 0.3, mu_s: 0.2, r0: R0, orders: orders.clone() };
     let sets: Vec<(&str, Vec<Box<dyn Term>>)> = vec![

@@ -169,6 +169,12 @@ fn every_choice_value_loads_through_set() {
                     std::fs::write(&csv, "radius,weight\n2e-6,1\n").unwrap();
                     set.push(format!("population.file=\"{}\"", csv.display()));
                 }
+                // a tension curve needs its file (issue 31)
+                if *o == "tension-curve" {
+                    let csv = std::env::temp_dir().join(format!("magbubble-curve-{}.csv", std::process::id()));
+                    std::fs::write(&csv, "area_ratio,tension\n0.9,0\n1.0,0.02\n1.1,0.05\n").unwrap();
+                    set.push(format!("shell.tension_file=\"{}\"", csv.display()));
+                }
                 // a Marmottant law needs its elasticity (issue 31: required, no default)
                 let text = match *o {
                     o if o.starts_with("marmottant") || o == "sarkar" => "[shell]\nelasticity = 0.5\n",

@@ -68,6 +68,17 @@ impl BranchState {
     pub fn set(&self, b: Option<Branch>) {
         self.0.store(b.map_or(0, Branch::code), Ordering::Relaxed);
     }
+
+    /// The segment of a tension curve set by the run (its code − 1), if any.
+    #[inline]
+    fn segment(&self) -> Option<usize> {
+        (self.0.load(Ordering::Relaxed) as usize).checked_sub(1)
+    }
+
+    /// Sets a tension curve's segment (the scene allows at most 250 knots: codes ≤ 252).
+    fn set_segment(&self, seg: usize) {
+        self.0.store(u8::try_from(seg + 1).unwrap_or(u8::MAX), Ordering::Relaxed);
+    }
 }
 
 /// The Marmottant tension law of a scene, nondimensional (FORMULATION §4.5: tensions like c1).
@@ -88,6 +99,9 @@ pub struct LipidLaw {
     pub branch: BranchState,
     /// `shell.law = "sarkar"`: its τ(J) (effects/sarkar.rs) instead of Marmottant's.
     pub sarkar: Option<super::sarkar::SarkarTension>,
+    /// `shell.law = "tension-curve"`: the measured τ(J) (effects/tension_curve.rs); its knots
+    /// are the run's branch switches, its segment the run's branch.
+    pub curve: Option<Arc<super::tension_curve::CurveTension>>,
 }
 
 /// softplus(z) = ln(1 + e^z), without overflow.
@@ -113,7 +127,13 @@ impl LipidLaw {
             };
             // the Marmottant fields unused: τ is the EEM's (a smooth law, no branches)
             let (chi, jb, sigma_r, smoothing) = (sarkar.e0, sarkar.je, f64::INFINITY, None);
-            return Some(Self { chi, jb, sigma_r, smoothing, r0: 1.0, branch: BranchState::default(), sarkar: Some(sarkar) });
+            return Some(Self { chi, jb, sigma_r, smoothing, r0: 1.0, branch: BranchState::default(), sarkar: Some(sarkar), curve: None });
+        }
+        if let ShellLaw::TensionCurve(c) = law {
+            let curve = super::tension_curve::CurveTension::new(c.area_ratio.clone(), c.tension.iter().map(|&s| t(s)).collect());
+            // the Marmottant fields unused: τ is the curve's
+            let (chi, jb) = (curve.slope.iter().fold(0.0, |m: f64, &d| m.max(d)), c.area_ratio[0]);
+            return Some(Self { chi, jb, sigma_r: f64::INFINITY, smoothing: None, r0: 1.0, branch: BranchState::default(), sarkar: None, curve: Some(Arc::new(curve)) });
         }
         let l: &Lipid = law.lipid()?;
         Some(Self {
@@ -124,6 +144,7 @@ impl LipidLaw {
             r0: 1.0,
             branch: BranchState::default(),
             sarkar: None,
+            curve: None,
         })
     }
 
@@ -140,6 +161,45 @@ impl LipidLaw {
     pub fn branch_margins(&self, r: f64) -> [f64; 2] {
         let (rb, rr) = self.radii();
         [r - rb, r - rr]
+    }
+
+    /// The number of branch switches of the law ([`LipidLaw::margin`]): R_b and R_r of the
+    /// kinked Marmottant law, the knots of a tension curve, none for a smooth law.
+    pub fn event_count(&self) -> usize {
+        match &self.curve {
+            Some(c) => c.j.len(),
+            None if self.is_kinked() => 2,
+            None => 0,
+        }
+    }
+
+    /// The signed margin of switch `which` at radius `r` (model units): the kinked law's
+    /// [`LipidLaw::branch_margins`], or J − J_which for a tension curve's knot.
+    pub fn margin(&self, r: f64, which: usize) -> f64 {
+        match &self.curve {
+            Some(c) => (r / self.r0).powi(2) - c.j[which],
+            None => self.branch_margins(r)[which],
+        }
+    }
+
+    /// The run enters radius `r`: its branch (a tension curve: its segment) becomes r's; returns
+    /// the branch class for the run's clock (a curve: below its first knot buckled, above its
+    /// last ruptured, elastic between).
+    pub fn enter(&self, r: f64) -> Branch {
+        if let Some(c) = &self.curve {
+            let seg = c.segment_of((r / self.r0).powi(2));
+            self.branch.set_segment(seg);
+            return if seg == 0 {
+                Branch::Buckled
+            } else if seg >= c.j.len() {
+                Branch::Ruptured
+            } else {
+                Branch::Elastic
+            };
+        }
+        let b = self.branch_of(r);
+        self.branch.set(Some(b));
+        b
     }
 
     /// Whether the law has kinks (the kinked Marmottant law): its switches are events of a run.
@@ -175,6 +235,9 @@ impl LipidLaw {
     pub fn tension(&self, j: f64) -> [f64; 3] {
         if let Some(s) = &self.sarkar {
             return s.tension(j);
+        }
+        if let Some(c) = &self.curve {
+            return c.eval(self.branch.segment().unwrap_or_else(|| c.segment_of(j)), j);
         }
         let (chi, sr) = (self.chi, self.sigma_r);
         let x = chi * (j / self.jb - 1.0);
@@ -305,6 +368,19 @@ pub fn term(law: &ShellLaw, l: &LipidLaw, orders: &[f64]) -> Option<LipidTerm> {
         let label = format!(
             "sarkar shell (exponential elasticity) E0 = {} N/m, alpha = {}, gamma0 = {} N/m, R_E = {} m",
             p.elasticity, p.elasticity_decay, p.reference_tension, p.unstrained_radius
+        );
+        return Some(LipidTerm { law: l, orders: orders.to_vec(), label });
+    }
+    if let ShellLaw::TensionCurve(c) = law {
+        let (a, s) = (&c.area_ratio, &c.tension);
+        let label = format!(
+            "tension-curve shell ({}: {} knots, A/A0 {}..{}, sigma {}..{} N/m, PCHIP)",
+            c.file,
+            a.len(),
+            a[0],
+            a[a.len() - 1],
+            s[0],
+            s[s.len() - 1]
         );
         return Some(LipidTerm { law: l, orders: orders.to_vec(), label });
     }

@@ -22,7 +22,7 @@ pub struct LipidQuadratic {
 impl LipidQuadratic {
     /// None for the smooth law, or if the generated table is missing.
     pub fn new(law: LipidLaw, orders: &[f64]) -> Option<Self> {
-        if !law.is_kinked() {
+        if !law.is_kinked() || law.curve.is_some() {
             return None;
         }
         let table = QuadraticMembrane::law("marmottant")?;

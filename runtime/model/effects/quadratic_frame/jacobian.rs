@@ -273,7 +273,7 @@ mod tests {
     fn k_product_assembly_is_the_entry_walk() {
         let nm = 8;
         let orders: Vec<f64> = (1..=nm).map(|i| 2.0 * i as f64).collect();
-        let mr = MembraneTerm { law: Membrane::for_law(ShellLaw::MooneyRivlin, MembraneForm::Tension), r0: 1.0, c1: 0.9, c2: 0.3, orders: orders.clone() };
+        let mr = MembraneTerm { law: Membrane::for_law(&ShellLaw::MooneyRivlin, MembraneForm::Tension), r0: 1.0, c1: 0.9, c2: 0.3, orders: orders.clone() };
         let visc = ShellViscosity { kappa_s: 0.3, mu_s: 0.2, r0: 1.0, orders: orders.clone() };
         let lagrangian: Vec<Box<dyn Term>> = vec![Box::new(mr), Box::new(visc)];
         let fm = FrameMap::new(lagrangian, &orders).expect("frame map");
