@@ -141,7 +141,8 @@ pub(crate) fn optimise<P: Target>(problem: &mut P, settings: &Settings, cancel: 
         low: params.iter().map(|p| p.to_u(p.low)).map(|v| if v.is_nan() { f64::NEG_INFINITY } else { v }).collect(),
         high: params.iter().map(|p| p.to_u(p.high)).collect(),
         tolerance: 1e-10,
-        noise_fraction: 5e-7,
+        // a step under 1e-2 standard errors ends the fit (lm::Options)
+        noise_fraction: 5e-5,
     };
     let u_start: Vec<f64> = params.iter().map(|p| p.to_u(p.start)).collect();
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
