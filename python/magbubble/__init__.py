@@ -492,24 +492,39 @@ class Fit:
 
 def fit(
     scene_or_path: SceneOrPath,
-    data: Union[PathLike, pd.DataFrame],
-    params: Sequence[str],
+    data: Optional[Union[PathLike, pd.DataFrame]] = None,
+    params: Sequence[str] = (),
     *,
+    attenuation: Optional[Union[PathLike, pd.DataFrame]] = None,
+    concentration: Optional[float] = None,
     starts: int = 1,
     overrides: Optional[Mapping[str, Any]] = None,
 ) -> Fit:
     """Fits scene keys to measured R(t) (and a_k(t)) (``magbubble fit``). ``data``: a CSV path or a
     DataFrame with columns ``t, R[, a2, …][, sigma_R, …]``; ``params``: ``"KEY"`` or
     ``"KEY=LOW:HIGH"`` (a numeric scene key or ``"time_offset"``). Bad input raises ValueError
-    naming the key, column or value; a fit that fails is ``status == "failed"``."""
+    naming the key, column or value; a fit that fails is ``status == "failed"``.
+
+    ``attenuation=`` instead of ``data`` (``magbubble fit --attenuation``): a measured attenuation
+    spectrum, path or DataFrame with columns ``f`` [Hz], ``attenuation_db_per_cm``[, ``sigma``],
+    of the scene's ``[population]`` (with ``population.concentration``) or of a monodisperse
+    suspension at bubble.radius with ``concentration`` [bubbles/mL]; ``curves`` then has columns
+    ``f, data, model, residual``."""
     scene = _scene(scene_or_path, overrides)
     if isinstance(params, str):
         params = [params]
-    if isinstance(data, pd.DataFrame):
-        cols = [(str(c), [float(x) for x in data[c].to_numpy(dtype=float)]) for c in data.columns]
-        report, names, columns = _ext.fit(scene._inner, list(params), columns=cols, starts=starts)
-    elif isinstance(data, (str, os.PathLike)):
-        report, names, columns = _ext.fit(scene._inner, list(params), path=os.fspath(data), starts=starts)
+    if (data is None) == (attenuation is None):
+        raise ValueError("fit: give either data (R(t)) or attenuation (a spectrum), not both or neither")
+    call = _ext.fit if attenuation is None else _ext.fit_attenuation
+    extra: Dict[str, Any] = {} if attenuation is None else {"concentration": concentration}
+    if attenuation is None and concentration is not None:
+        raise ValueError("fit: concentration is for an attenuation spectrum (attenuation=)")
+    source = data if attenuation is None else attenuation
+    if isinstance(source, pd.DataFrame):
+        cols = [(str(c), [float(x) for x in source[c].to_numpy(dtype=float)]) for c in source.columns]
+        report, names, columns = call(scene._inner, list(params), columns=cols, starts=starts, **extra)
+    elif isinstance(source, (str, os.PathLike)):
+        report, names, columns = call(scene._inner, list(params), path=os.fspath(source), starts=starts, **extra)
     else:
-        raise TypeError(f"data: expected a path or a DataFrame, got {type(data).__name__}")
+        raise TypeError(f"{'data' if attenuation is None else 'attenuation'}: expected a path or a DataFrame, got {type(source).__name__}")
     return Fit(report, names, columns)

@@ -100,4 +100,12 @@ def fit(
     columns: Optional[List[Tuple[str, List[float]]]] = None,
     starts: int = 1,
 ) -> Tuple[Dict[str, Any], List[str], List[List[float]]]: ...
+def fit_attenuation(
+    scene: Scene,
+    params: List[str],
+    path: Optional[str] = None,
+    columns: Optional[List[Tuple[str, List[float]]]] = None,
+    concentration: Optional[float] = None,
+    starts: int = 1,
+) -> Tuple[Dict[str, Any], List[str], List[List[float]]]: ...
 def response(scene: Scene, freq: Union[str, Sequence[float]]) -> Tuple[List[_Column], float, float, Dict[str, float]]: ...

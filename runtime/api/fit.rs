@@ -4,6 +4,7 @@
 use super::common::{Cancelled, Monitor};
 use super::scene::Scene;
 pub use crate::fit::driver::{CurveColumn, FitReport, Fitted};
+pub use crate::fit::spectrum::Spectrum;
 pub use crate::fit::{Data, ParamSpec};
 
 /// What to fit, and how.
@@ -36,4 +37,37 @@ pub fn fit(scene: &Scene, request: &FitRequest, monitor: &Monitor) -> anyhow::Re
         return Err(Cancelled.into());
     }
     r.map_err(|e| e.context(format!("fit of {}", scene.origin())))
+}
+
+/// A fit of a measured attenuation spectrum (`fit --attenuation`, issue 32 part 4 and issue 33
+/// part 3): the suspension of the scene's `[population]` (with population.concentration), or a
+/// monodisperse one at bubble.radius with `concentration` [bubbles/mL].
+#[derive(Debug, Clone)]
+pub struct AttenuationFitRequest {
+    /// The measured spectrum ([`Spectrum::read`], [`Spectrum::from_columns`]).
+    pub data: Spectrum,
+    pub params: Vec<ParamSpec>,
+    /// Bubbles per mL of a scene without `[population]`.
+    pub concentration: Option<f64>,
+    pub starts: usize,
+    pub max_iterations: usize,
+}
+
+impl AttenuationFitRequest {
+    pub fn new(data: Spectrum, params: Vec<ParamSpec>, concentration: Option<f64>) -> AttenuationFitRequest {
+        AttenuationFitRequest { data, params, concentration, starts: 1, max_iterations: 100 }
+    }
+}
+
+/// Fits `scene` to a measured attenuation spectrum (report as [`fit`]'s; its curve's abscissa
+/// is the frequency [Hz]).
+pub fn fit_attenuation(scene: &Scene, request: &AttenuationFitRequest, monitor: &Monitor) -> anyhow::Result<FitReport> {
+    anyhow::ensure!(request.starts >= 1, "--starts {}: at least 1", request.starts);
+    let settings = crate::fit::Settings { params: request.params.clone(), starts: request.starts, max_iterations: request.max_iterations };
+    let cancel = || monitor.cancelled();
+    let r = crate::fit::spectrum::fit_attenuation(scene.template(), &request.data, request.concentration, &settings, &cancel);
+    if monitor.cancelled() {
+        return Err(Cancelled.into());
+    }
+    r.map_err(|e| e.context(format!("attenuation fit of {}", scene.origin())))
 }

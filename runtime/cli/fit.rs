@@ -4,7 +4,7 @@
 //! `--plot` draws data against model and the residuals (fit.svg/png). The fit runs to the end
 //! before anything is written; each file is written atomically.
 
-use crate::api::fit::{fit, Data, FitRequest, ParamSpec};
+use crate::api::fit::{fit, fit_attenuation, AttenuationFitRequest, Data, FitRequest, ParamSpec, Spectrum};
 use crate::api::{Monitor, Scene};
 use crate::output::{write_json, CsvWriter, OutputDir};
 use crate::plot::{Axis, Figure, Panel, Series};
@@ -16,8 +16,16 @@ pub struct FitArgs {
     /// The scene file (TOML): the model and the start values.
     pub scene: PathBuf,
     /// Measurements: CSV with t [s], R [m], optional a2, a4, … [m] and sigma_R, sigma_a2, … [m].
-    #[arg(long)]
-    pub data: PathBuf,
+    #[arg(long, required_unless_present = "attenuation", conflicts_with = "attenuation")]
+    pub data: Option<PathBuf>,
+    /// A measured attenuation spectrum instead: CSV with f [Hz], attenuation_db_per_cm, optional
+    /// sigma [dB/cm]; the suspension is the scene's [population] (population.concentration) or
+    /// monodisperse at bubble.radius with --concentration.
+    #[arg(long, value_name = "FILE")]
+    pub attenuation: Option<PathBuf>,
+    /// Bubbles per mL of a monodisperse suspension (a scene without [population]; --attenuation).
+    #[arg(long, value_name = "N", requires = "attenuation")]
+    pub concentration: Option<f64>,
     /// A parameter to fit: a numeric scene key or time_offset, with optional bounds LOW:HIGH
     /// (repeatable).
     #[arg(long = "param", value_name = "KEY[=LOW:HIGH]", required = true)]
@@ -39,7 +47,10 @@ pub struct FitArgs {
 pub fn run(args: &FitArgs) -> anyhow::Result<()> {
     let params = args.params.iter().map(|p| p.parse::<ParamSpec>()).collect::<anyhow::Result<Vec<_>>>()?;
     let scene = Scene::load(&args.scene, &args.set)?;
-    let data = Data::read(&args.data)?;
+    if let Some(path) = &args.attenuation {
+        return spectrum(args, &scene, params, path);
+    }
+    let data = Data::read(args.data.as_ref().expect("clap: --data or --attenuation"))?;
     let mut request = FitRequest::new(data, params);
     request.starts = args.starts;
     for w in &scene.scene().warnings {
@@ -87,6 +98,11 @@ pub fn run(args: &FitArgs) -> anyhow::Result<()> {
         }
         Figure::stacked(panels).title(format!("fit: {}", args.scene.display())).save(&out, "fit").context("the fit's plot")?;
     }
+    summary(&report, &out)
+}
+
+/// The parameters, warnings and status on stdout; a failed fit is an error (after fit.json).
+fn summary(report: &crate::api::fit::FitReport, out: &std::path::Path) -> anyhow::Result<()> {
     for p in &report.parameters {
         outln!("{} = {:e} ± {:e} ({})", p.key, p.value, p.std_error, p.derivative);
     }
@@ -105,4 +121,41 @@ pub fn run(args: &FitArgs) -> anyhow::Result<()> {
         anyhow::bail!("the fit failed: {}", report.reason.clone().unwrap_or_default());
     }
     Ok(())
+}
+
+/// `--attenuation`: fit.json as for R(t), fit.csv with f, data, model, residual; --plot draws
+/// the spectrum against the model and the residuals.
+fn spectrum(args: &FitArgs, scene: &Scene, params: Vec<ParamSpec>, path: &std::path::Path) -> anyhow::Result<()> {
+    let data = Spectrum::read(path)?;
+    let mut request = AttenuationFitRequest::new(data, params, args.concentration);
+    request.starts = args.starts;
+    for w in &scene.scene().warnings {
+        noteln!("warning: {w}");
+    }
+    #[cfg(unix)]
+    let cancel = Some(crate::output::cancel_on_signal());
+    #[cfg(not(unix))]
+    let cancel = None;
+    let report = fit_attenuation(scene, &request, &Monitor { cancel, ..Monitor::default() })?;
+    let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "fit"));
+    let dir = OutputDir::create(&out)?;
+    if let Some(c) = report.curves.first() {
+        let mut csv = CsvWriter::create(&dir.join("fit.csv"), &["f", "data", "model", "residual"].map(String::from))?;
+        for (i, &f) in report.t.iter().enumerate() {
+            csv.row(&[f, c.data[i], c.model[i], c.residual[i]]);
+        }
+        csv.commit()?;
+    }
+    write_json(&dir.join("fit.json"), &report)?;
+    if let (true, Some(c)) = (args.plot, report.curves.first()) {
+        let mhz: Vec<f64> = report.t.iter().map(|f| f * 1e-6).collect();
+        let panels = vec![
+            Panel::new(Axis::linear("f [MHz]"), Axis::linear("attenuation [dB/cm]"))
+                .series(Series::points("data", mhz.clone(), c.data.clone()))
+                .series(Series::line("model", mhz.clone(), c.model.clone())),
+            Panel::new(Axis::linear("f [MHz]"), Axis::linear("residual [dB/cm]")).series(Series::points("model - data", mhz, c.residual.clone())),
+        ];
+        Figure::stacked(panels).title(format!("attenuation fit: {}", args.scene.display())).save(&out, "fit").context("the fit's plot")?;
+    }
+    summary(&report, &out)
 }

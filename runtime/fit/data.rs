@@ -39,25 +39,7 @@ impl Data {
 
     /// Parses CSV text (see [`Data::read`]).
     pub fn parse(text: &str) -> anyhow::Result<Data> {
-        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-        let Some((_, header)) = lines.next() else { bail!("no header line (expected columns t, R[, a2, …][, sigma_R, …])") };
-        let names: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
-        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
-        for (i, line) in lines {
-            let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-            if cells.len() != names.len() {
-                bail!("line {}: {} values, the header has {} columns", i + 1, cells.len(), names.len());
-            }
-            for ((c, cell), name) in cols.iter_mut().zip(&cells).zip(&names) {
-                let v: f64 = cell.parse().map_err(|_| anyhow::anyhow!("line {}, column {name}: `{cell}` is not a number", i + 1))?;
-                if !v.is_finite() {
-                    bail!("line {}, column {name}: {cell} (NaN or infinite)", i + 1);
-                }
-                c.push(v);
-            }
-        }
-        let columns: Vec<(String, Vec<f64>)> = names.into_iter().zip(cols).collect();
-        Self::from_columns(columns)
+        Self::from_columns(csv_columns(text, "t, R[, a2, …][, sigma_R, …]")?)
     }
 
     /// Data from named columns (what a CSV file or a DataFrame holds).
@@ -121,4 +103,27 @@ impl Data {
     pub fn is_empty(&self) -> bool {
         self.t.is_empty()
     }
+}
+
+/// The named columns of CSV text (header line, comma-separated finite numbers; lines starting
+/// with `#` skipped); `expected` names the columns in the error for a missing header.
+pub fn csv_columns(text: &str, expected: &str) -> anyhow::Result<Vec<(String, Vec<f64>)>> {
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let Some((_, header)) = lines.next() else { bail!("no header line (expected columns {expected})") };
+    let names: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
+    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+    for (i, line) in lines {
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        if cells.len() != names.len() {
+            bail!("line {}: {} values, the header has {} columns", i + 1, cells.len(), names.len());
+        }
+        for ((c, cell), name) in cols.iter_mut().zip(&cells).zip(&names) {
+            let v: f64 = cell.parse().map_err(|_| anyhow::anyhow!("line {}, column {name}: `{cell}` is not a number", i + 1))?;
+            if !v.is_finite() {
+                bail!("line {}, column {name}: {cell} (NaN or infinite)", i + 1);
+            }
+            c.push(v);
+        }
+    }
+    Ok(names.into_iter().zip(cols).collect())
 }

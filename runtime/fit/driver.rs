@@ -4,7 +4,7 @@
 
 use super::data::Data;
 use super::lm::{self, Status};
-use super::params::{self, ParamSpec};
+use super::params::{self, Param, ParamSpec};
 use super::residuals::FitProblem;
 use super::sensitivities::Derivative;
 use crate::scene::SceneTemplate;
@@ -72,6 +72,7 @@ pub struct FitReport {
     pub overrides: Vec<String>,
     /// The time offset [s] (0 unless fitted).
     pub time_offset: f64,
+    /// The abscissa of the curves: the data's t [s], or f [Hz] for an attenuation spectrum.
     #[serde(skip)]
     pub t: Vec<f64>,
     #[serde(skip)]
@@ -107,12 +108,41 @@ pub fn fit(template: &SceneTemplate, data: &Data, settings: &Settings, cancel: &
     let params = params::resolve(template, &settings.params, window)?;
     anyhow::ensure!(data.len() > params.len(), "{} residuals for {} parameters: more data are needed", data.len(), params.len());
     let mut problem = FitProblem::new(template, data, &params, cancel)?;
+    optimise(&mut problem, settings, cancel)
+}
+
+/// What the driver needs of a fit's problem besides the optimiser's: the R(t) fit's
+/// [`FitProblem`] and the attenuation spectrum's ([`super::spectrum`]).
+pub(crate) trait Target: lm::Problem {
+    fn params(&self) -> &[Param];
+    /// Number of residuals.
+    fn residual_count(&self) -> usize;
+    /// The noise is estimated from the residuals (some column came without σ).
+    fn sigma_estimated(&self) -> bool;
+    fn last_failure(&self) -> Option<String>;
+    /// The abscissa (t or f) and the fitted columns at u (`None`: the model fails there).
+    fn curves(&mut self, u: &[f64]) -> Option<(Vec<f64>, Vec<CurveColumn>)>;
+    /// How the residuals' derivative in parameter j was formed (`fit.json`'s `derivative`).
+    fn derivative(&self, j: usize) -> String;
+    /// (plain, sensitivity) solves so far.
+    fn solves(&self) -> (u64, u64);
+    /// The parameter values of u.
+    fn values(&self, u: &[f64]) -> Vec<f64> {
+        self.params().iter().zip(u).map(|(p, &u)| p.from_u(u)).collect()
+    }
+}
+
+/// Levenberg–Marquardt from `settings.starts` points (the scene's values first), the best
+/// outcome reported.
+pub(crate) fn optimise<P: Target>(problem: &mut P, settings: &Settings, cancel: &dyn Fn() -> bool) -> anyhow::Result<FitReport> {
+    let params = problem.params().to_vec();
     let opt = lm::Options {
         max_iterations: settings.max_iterations,
         low: params.iter().map(|p| p.to_u(p.low)).map(|v| if v.is_nan() { f64::NEG_INFINITY } else { v }).collect(),
         high: params.iter().map(|p| p.to_u(p.high)).collect(),
         tolerance: 1e-10,
-        noise_fraction: 5e-7,
+        // a step under 1e-2 standard errors ends the fit (lm::Options)
+        noise_fraction: 5e-5,
     };
     let u_start: Vec<f64> = params.iter().map(|p| p.to_u(p.start)).collect();
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
@@ -135,7 +165,7 @@ pub fn fit(template: &SceneTemplate, data: &Data, settings: &Settings, cancel: &
                 })
                 .collect()
         };
-        let out = lm::minimise(&mut problem, &u0, &opt);
+        let out = lm::minimise(problem, &u0, &opt);
         let better = match &best {
             None => true,
             Some((_, b)) => rank(&out) < rank(b) || (rank(&out) == rank(b) && out.cost < b.cost),
@@ -148,7 +178,7 @@ pub fn fit(template: &SceneTemplate, data: &Data, settings: &Settings, cancel: &
         }
     }
     let (best_start, out) = best.expect("at least one start");
-    report(&mut problem, out, best_start, settings.starts.max(1))
+    report(problem, out, best_start, settings.starts.max(1))
 }
 
 /// Converged first, then max_iterations, then failed.
@@ -160,8 +190,9 @@ fn rank(o: &lm::Outcome) -> u8 {
     }
 }
 
-fn report(problem: &mut FitProblem<'_>, out: lm::Outcome, best_start: usize, starts: usize) -> anyhow::Result<FitReport> {
-    let params = problem.params;
+fn report<P: Target>(problem: &mut P, out: lm::Outcome, best_start: usize, starts: usize) -> anyhow::Result<FitReport> {
+    let params = problem.params().to_vec();
+    let params = &params[..];
     let p = params.len();
     let values = problem.values(&out.u);
     let (status, mut reason) = match &out.status {
@@ -169,11 +200,11 @@ fn report(problem: &mut FitProblem<'_>, out: lm::Outcome, best_start: usize, sta
         Status::MaxIterations => ("max_iterations", Some(format!("{} iterations without convergence", out.iterations))),
         Status::Failed(why) => ("failed", Some(why.clone())),
     };
-    if let (Some(r), Some(last)) = (reason.as_mut(), problem.last_failure.as_ref()) {
+    if let (Some(r), Some(last)) = (reason.as_mut(), problem.last_failure()) {
         r.push_str(&format!(" (last: {last})"));
     }
-    let m = problem.data.len();
-    let estimated = problem.data.columns.iter().any(|c| !c.sigma_given);
+    let m = problem.residual_count();
+    let estimated = problem.sigma_estimated();
     let chi2: f64 = out.r.iter().map(|v| v * v).sum();
     let s2 = if estimated && m > p { chi2 / (m - p) as f64 } else { 1.0 };
     let cov = out.jac.as_ref().and_then(lm::covariance);
@@ -210,31 +241,13 @@ fn report(problem: &mut FitProblem<'_>, out: lm::Outcome, best_start: usize, sta
         }
     }
     // the model curve: a plain solve at the fitted values (the rows `run` gives at these times)
-    let (t, curves) = match problem.curve(&out.u) {
-        Some((_, c)) => {
-            let n = problem.data.t.len();
-            let cols = problem
-                .data
-                .columns
-                .iter()
-                .zip(&problem.columns)
-                .map(|(col, &idx)| {
-                    let model: Vec<f64> = (0..n).map(|i| c.rows[i][idx]).collect();
-                    let residual: Vec<f64> = (0..n).map(|i| model[i] - col.values[i]).collect();
-                    let rms = (residual.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
-                    CurveColumn { name: col.name.clone(), data: col.values.clone(), model, residual, rms }
-                })
-                .collect();
-            (problem.data.t.clone(), cols)
-        }
-        None => (problem.data.t.clone(), Vec::new()),
-    };
+    let (t, curves) = problem.curves(&out.u).unwrap_or_default();
     let parameters = params
         .iter()
         .zip(&values)
         .zip(&std_error)
-        .zip(&problem.derivative)
-        .map(|(((p, &v), &se), d)| Fitted {
+        .enumerate()
+        .map(|(j, ((p, &v), &se))| Fitted {
             key: p.key.clone(),
             value: v,
             std_error: se,
@@ -242,12 +255,7 @@ fn report(problem: &mut FitProblem<'_>, out: lm::Outcome, best_start: usize, sta
             high: p.high.is_finite().then_some(p.high),
             start: p.start,
             log: p.log,
-            derivative: match (p.is_time_offset(), d) {
-                (true, _) => "time".into(),
-                (_, Some(Derivative::Exact)) => "exact".into(),
-                (_, Some(Derivative::FiniteDifference)) => "finite_difference".into(),
-                (_, None) => "none".into(),
-            },
+            derivative: problem.derivative(j),
         })
         .collect();
     let overrides = params.iter().zip(&values).filter(|(p, _)| !p.is_time_offset()).map(|(p, v)| format!("{}={v:?}", p.key)).collect();
@@ -262,11 +270,61 @@ fn report(problem: &mut FitProblem<'_>, out: lm::Outcome, best_start: usize, sta
         warnings,
         starts,
         best_start,
-        plain_solves: problem.plain_solves,
-        sensitivity_solves: problem.sensitivity_solves,
+        plain_solves: problem.solves().0,
+        sensitivity_solves: problem.solves().1,
         overrides,
         time_offset,
         t,
         curves,
     })
+}
+
+impl Target for FitProblem<'_> {
+    fn params(&self) -> &[Param] {
+        self.params
+    }
+    fn residual_count(&self) -> usize {
+        self.data.len()
+    }
+    fn sigma_estimated(&self) -> bool {
+        self.data.columns.iter().any(|c| !c.sigma_given)
+    }
+    fn last_failure(&self) -> Option<String> {
+        self.last_failure.clone()
+    }
+    fn curves(&mut self, u: &[f64]) -> Option<(Vec<f64>, Vec<CurveColumn>)> {
+        let (_, c) = self.curve(u)?;
+        let n = self.data.t.len();
+        let cols = self
+            .data
+            .columns
+            .iter()
+            .zip(&self.columns)
+            .map(|(col, &idx)| {
+                let model: Vec<f64> = (0..n).map(|i| c.rows[i][idx]).collect();
+                CurveColumn::new(&col.name, col.values.clone(), model)
+            })
+            .collect();
+        Some((self.data.t.clone(), cols))
+    }
+    fn derivative(&self, j: usize) -> String {
+        match (self.params[j].is_time_offset(), self.derivative[j]) {
+            (true, _) => "time".into(),
+            (_, Some(Derivative::Exact)) => "exact".into(),
+            (_, Some(Derivative::FiniteDifference)) => "finite_difference".into(),
+            (_, None) => "none".into(),
+        }
+    }
+    fn solves(&self) -> (u64, u64) {
+        (self.plain_solves, self.sensitivity_solves)
+    }
+}
+
+impl CurveColumn {
+    /// A column from data and model: residual = model − data, rms its root mean square.
+    pub fn new(name: &str, data: Vec<f64>, model: Vec<f64>) -> CurveColumn {
+        let residual: Vec<f64> = model.iter().zip(&data).map(|(m, d)| m - d).collect();
+        let rms = (residual.iter().map(|v| v * v).sum::<f64>() / residual.len().max(1) as f64).sqrt();
+        CurveColumn { name: name.into(), data, model, residual, rms }
+    }
 }

@@ -4,7 +4,8 @@
 //! ([`sensitivities`]: ∂f/∂p of the model; integrated with the state by
 //! [`crate::integrate::sensitivity`]; sampled at the data's times by [`solve`]); the data
 //! ([`data`]) and the parameters with their bounds ([`params`]) are read and checked first;
-//! [`driver::fit`] runs it all and reports.
+//! [`driver::fit`] runs it all and reports. [`spectrum`] fits an attenuation spectrum of a
+//! suspension through the linear response instead (`fit --attenuation`).
 
 pub mod data;
 pub mod driver;
@@ -13,6 +14,7 @@ pub mod params;
 pub mod residuals;
 pub mod sensitivities;
 pub mod solve;
+pub mod spectrum;
 
 pub use data::Data;
 pub use driver::{fit, FitReport, Settings};

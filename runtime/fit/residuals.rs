@@ -118,6 +118,28 @@ impl super::lm::Problem for FitProblem<'_> {
     }
 
     fn jacobian(&mut self, u: &[f64]) -> Option<DMatrix<f64>> {
+        self.sensitivity(u).map(|(_, j)| j)
+    }
+
+    /// One sensitivity solve: its rows are the residuals (the start point needs no plain solve).
+    fn residuals_and_jacobian(&mut self, u: &[f64]) -> Option<(Vec<f64>, Option<DMatrix<f64>>)> {
+        match self.sensitivity(u) {
+            Some((r, j)) if r.iter().all(|v| v.is_finite()) => Some((r, Some(j))),
+            _ => {
+                let r = super::lm::Problem::residuals(self, u)?;
+                Some((r, None))
+            }
+        }
+    }
+
+    fn cancelled(&self) -> bool {
+        (self.cancel)()
+    }
+}
+
+impl FitProblem<'_> {
+    /// The weighted residuals and their Jacobian from one sensitivity solve at u.
+    fn sensitivity(&mut self, u: &[f64]) -> Option<(Vec<f64>, DMatrix<f64>)> {
         let pt = self.point(u).map_err(|e| self.last_failure = Some(format!("{e:#}"))).ok()?;
         let scene_params: Vec<usize> = (0..self.params.len()).filter(|&j| !self.params[j].is_time_offset()).collect();
         let keys: Vec<&str> = scene_params.iter().map(|&j| self.params[j].key.as_str()).collect();
@@ -148,10 +170,6 @@ impl super::lm::Problem for FitProblem<'_> {
                 }
             }
         }
-        jac.iter().all(|v| v.is_finite()).then_some(jac)
-    }
-
-    fn cancelled(&self) -> bool {
-        (self.cancel)()
+        jac.iter().all(|v| v.is_finite()).then(|| (self.weighted(&c), jac))
     }
 }

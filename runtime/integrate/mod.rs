@@ -86,6 +86,12 @@ pub trait OdeSystem {
     fn jacobian(&self, _t: f64, _y: &[f64], _jac: &mut [f64]) -> bool {
         false
     }
+    /// Optional product J·S with p directions at once (`s`, `out`: p blocks of length n)
+    /// without forming J, exact as [`OdeSystem::jacobian`] (the forward sensitivities'
+    /// product, [`sensitivity`]). Returns `false` when not provided (J is formed instead).
+    fn jacobian_product(&self, _t: f64, _y: &[f64], _s: &[f64], _out: &mut [f64]) -> bool {
+        false
+    }
     /// Optional structured Jacobian at (t, y) with its own solve of σI − J (the linear-solver
     /// hook of the implicit steppers, [`linear`]). `None` (the default): the steppers use
     /// [`OdeSystem::jacobian`] or finite differences and a dense or banded LU.

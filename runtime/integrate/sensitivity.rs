@@ -3,8 +3,9 @@
 //!
 //!   y' = f(t, y),   S_j' = J(t, y) S_j + ∂f/∂θ_j (t, y),   S_j(0) = ∂y0/∂θ_j,
 //!
-//! J the system's Jacobian (analytic when it has one, else forward differences as the implicit
-//! steppers take it) and ∂f/∂θ_j from a [`ParameterRates`] (the model's: fit/sensitivities.rs).
+//! J·S the system's product without forming J when it has one
+//! ([`OdeSystem::jacobian_product`]), else through J (analytic when it has one, else forward
+//! differences as the implicit steppers take it) and ∂f/∂θ_j from a [`ParameterRates`] (the model's: fit/sensitivities.rs).
 //! Like [`super::Variational`] this is one system of dimension n·(1 + p) for any
 //! [`Method`](super::Method) on the one run loop.
 //!
@@ -90,14 +91,20 @@ impl OdeSystem for Sensitivity<'_> {
         let (dx, ds) = dy.split_at_mut(n);
         self.sys.rhs(t, x, dx);
         w.stats.rhs_evals += 1;
-        w.fd.evaluate(self.sys, t, x, dx, &mut w.jac, &mut w.stats);
+        // J·S: the system's own product when it has one, else through the (dense) J
+        if !self.sys.jacobian_product(t, x, s, ds) {
+            w.fd.evaluate(self.sys, t, x, dx, &mut w.jac, &mut w.stats);
+            for j in 0..self.p {
+                let col = &s[j * n..(j + 1) * n];
+                for (r, out) in ds[j * n..(j + 1) * n].iter_mut().enumerate() {
+                    let row = &w.jac[r * n..(r + 1) * n];
+                    *out = row.iter().zip(col).map(|(a, b)| a * b).sum::<f64>();
+                }
+            }
+        }
         for j in 0..self.p {
             self.rates.rate(j, t, x, dx, &mut w.dp);
-            let col = &s[j * n..(j + 1) * n];
-            for (r, out) in ds[j * n..(j + 1) * n].iter_mut().enumerate() {
-                let row = &w.jac[r * n..(r + 1) * n];
-                *out = row.iter().zip(col).map(|(a, b)| a * b).sum::<f64>() + w.dp[r];
-            }
+            ds[j * n..(j + 1) * n].iter_mut().zip(&w.dp).for_each(|(o, d)| *o += d);
         }
     }
 

@@ -318,6 +318,12 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         true
     }
 
+    /// J·S from the same gradients without the dense J ([`Self::jacobian_product_into`]).
+    fn jacobian_product(&self, t: f64, y: &[f64], s: &[f64], out: &mut [f64]) -> bool {
+        self.jacobian_product_into(t, y, s, out);
+        true
+    }
+
     fn error_scale(&self) -> Option<Vec<f64>> {
         let mut w = vec![1.0, 1.0];
         for &s in &self.shape_weights {

@@ -49,6 +49,19 @@ impl JacobianPattern {
     }
 }
 
+/// Mode m's (ä, ḃ) rows as a linear form ([`BoundaryLayerSystem::row_form`]): row =
+/// d[RDD]·∇R̈ + d[GN]·∇G_n + d[GT]·∇G_t + d[R]·e_R + d[RD]·e_Ṙ + d[A]·e_a + d[AD]·e_ȧ + d[B]·e_b
+/// (+ the ḃ loads' R column and the implicit ḃ correction when `c` is set).
+struct RowForm {
+    da: [f64; var::N],
+    db: [f64; var::N],
+    c: Option<[f64; 5]>,
+    cn_r_b: f64,
+    ct_r_b: f64,
+    /// a, ȧ, b of the mode in the state.
+    idx: [usize; 3],
+}
+
 /// Scratch-free helpers: the gradient of the loads and of R̈ at (t, y).
 struct Lin {
     lj: LoadJacobian,
@@ -153,10 +166,11 @@ impl BoundaryLayerSystem {
         self.mode_rows_in(y, l, m, 0..y.len(), out_a, out_b)
     }
 
-    /// [`mode_rows`](Self::mode_rows) in the columns `cols` only (the rest of `out_a`, `out_b`
-    /// untouched): either all columns from 0, or a range of shape columns (≥ 2) holding mode m's.
-    fn mode_rows_in(&self, y: &[f64], l: &Lin, m: usize, cols: std::ops::Range<usize>, out_a: &mut [f64], out_b: &mut [f64]) {
-        use var::*;
+    /// The linear form of mode m's (ä, ḃ) rows over the gradients they combine (the partials
+    /// of docs/model.md's mode equations at (t, y)): what [`mode_rows_in`](Self::mode_rows_in)
+    /// writes out column by column and [`jacobian_product_into`](Self::jacobian_product_into)
+    /// applies to a direction.
+    fn row_form(&self, y: &[f64], l: &Lin, m: usize) -> RowForm {
         let p = &self.eq.params;
         let mc = &self.modes[m];
         let (r, rd) = (y[0], y[1]);
@@ -167,10 +181,18 @@ impl BoundaryLayerSystem {
         let src = wall_source(mc.k, p.eta, r, rd, a, ad, gt);
         let w = mc.wall_linear(r, src, &wall_source_partials(mc.k, p.eta, r, rd, a, gt));
         let (da, db) = mode_partials(mc.k, p.rho, p.eta, r, rd, l.rdd, a, ad, b, gn, &w);
-        let (gn_row, gt_row) = (l.lj.gn_row(m), l.lj.gt_row(m));
         // ḃ loads (cn, ct, cn_r, ct_r, ḃ): at fixed ḃ they add ḃ·(cn_r, ct_r) to the R column
         let c = l.bdot.as_ref().map(|v| v[m]);
         let (cn_r_b, ct_r_b) = c.map_or((0.0, 0.0), |c| (c[2] * c[4], c[3] * c[4]));
+        RowForm { da, db, c, cn_r_b, ct_r_b, idx: [ia, iad, ib] }
+    }
+
+    /// [`mode_rows`](Self::mode_rows) in the columns `cols` only (the rest of `out_a`, `out_b`
+    /// untouched): either all columns from 0, or a range of shape columns (≥ 2) holding mode m's.
+    fn mode_rows_in(&self, y: &[f64], l: &Lin, m: usize, cols: std::ops::Range<usize>, out_a: &mut [f64], out_b: &mut [f64]) {
+        use var::*;
+        let RowForm { da, db, c, cn_r_b, ct_r_b, idx: [ia, iad, ib] } = self.row_form(y, l, m);
+        let (gn_row, gt_row) = (l.lj.gn_row(m), l.lj.gt_row(m));
         debug_assert!(cols.start == 0 || (cols.start >= StateLayout::RADIAL && cols.contains(&ia) && cols.contains(&ib)));
         for (out, d) in [(&mut *out_a, &da), (&mut *out_b, &db)] {
             for j in cols.clone() {
@@ -192,6 +214,40 @@ impl BoundaryLayerSystem {
             for j in cols {
                 out_b[j] /= den;
                 out_a[j] += via * out_b[j];
+            }
+        }
+    }
+
+    /// J·S for p directions at once without forming J (the sensitivity equations' product,
+    /// [`crate::integrate::sensitivity`]): `s` and `out` hold p blocks of length n. Each row of
+    /// [`jacobian_into`](Self::jacobian_into) is a combination of a few gradients (R̈'s, mode
+    /// m's G_n and G_t) plus single columns ([`RowForm`]), so (row·S) is that combination of
+    /// the gradients' products with S: O(M·n) per direction instead of O(n²), the same
+    /// numbers as the dense product up to the order of the additions.
+    pub fn jacobian_product_into(&self, t: f64, y: &[f64], s: &[f64], out: &mut [f64]) {
+        use var::*;
+        let n = y.len();
+        let l = self.lin(t, y, None);
+        let dot = |g: &[f64], v: &[f64]| g.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        let forms: Vec<RowForm> = (0..self.modes.len()).map(|m| self.row_form(y, &l, m)).collect();
+        for (sj, oj) in s.chunks_exact(n).zip(out.chunks_exact_mut(n)) {
+            let rdd = dot(&l.drdd, sj);
+            oj[0] = sj[1];
+            oj[1] = rdd;
+            for (m, f) in forms.iter().enumerate() {
+                let [ia, iad, ib] = f.idx;
+                let (gn, gt) = (dot(l.lj.gn_row(m), sj), dot(l.lj.gt_row(m), sj));
+                let row = |d: &[f64; var::N]| {
+                    d[RDD] * rdd + d[GN] * gn + d[GT] * gt + (d[R] + d[GN] * f.cn_r_b + d[GT] * f.ct_r_b) * sj[0] + d[RD] * sj[1] + d[A] * sj[ia] + d[AD] * sj[iad] + d[B] * sj[ib]
+                };
+                let (mut va, mut vb) = (row(&f.da), row(&f.db));
+                if let Some(c) = f.c {
+                    vb /= 1.0 - f.db[GN] * c[0] - f.db[GT] * c[1];
+                    va += (f.da[GN] * c[0] + f.da[GT] * c[1]) * vb;
+                }
+                oj[ia] = sj[iad];
+                oj[iad] = va;
+                oj[ib] = vb;
             }
         }
     }

@@ -26,24 +26,41 @@ pub struct AttenuationPoint {
 /// of the module doc in bin order (parallel over the bins; the sum does not depend on the
 /// thread count).
 pub fn attenuation_at(bins: &[(Scene, f64)], frequency_hz: f64) -> anyhow::Result<AttenuationPoint> {
-    let per_bin: Vec<(f64, f64)> = bins
+    Ok(attenuation_spectrum(bins, &[frequency_hz])?[0])
+}
+
+/// [`attenuation_at`] at every frequency of `freqs`, one linear response per bin over all of
+/// them (the fit of a measured spectrum, `fit --attenuation`).
+pub fn attenuation_spectrum(bins: &[(Scene, f64)], freqs: &[f64]) -> anyhow::Result<Vec<AttenuationPoint>> {
+    let per_bin: Vec<Vec<(f64, f64)>> = bins
         .par_iter()
         .enumerate()
         .map(|(i, (scene, _))| {
-            let r = response(scene, &[frequency_hz]).with_context(|| format!("linear response of population bin {i}"))?;
-            let p = &r.points[0];
-            let sigma_e = p.sigma_e_m2.context("the extinction cross-section needs liquid.sound_speed")?;
-            Ok((sigma_e, p.sigma_s_m2))
+            let r = response(scene, freqs).with_context(|| format!("linear response of population bin {i}"))?;
+            r.points
+                .iter()
+                .map(|p| {
+                    let sigma_e = p.sigma_e_m2.context("the extinction cross-section needs liquid.sound_speed")?;
+                    Ok((sigma_e, p.sigma_s_m2))
+                })
+                .collect::<anyhow::Result<Vec<_>>>()
         })
         .collect::<anyhow::Result<_>>()?;
-    let (mut ext, mut sca) = (0.0, 0.0);
-    for ((_, n), (se, ss)) in bins.iter().zip(&per_bin) {
-        ext += n * se;
-        sca += n * ss;
-    }
-    Ok(AttenuationPoint {
-        frequency_hz,
-        attenuation_db_per_cm: 10.0 * std::f64::consts::LOG10_E * ext / 100.0,
-        backscatter_per_m_sr: sca / (4.0 * PI),
-    })
+    Ok(freqs
+        .iter()
+        .enumerate()
+        .map(|(k, &frequency_hz)| {
+            let (mut ext, mut sca) = (0.0, 0.0);
+            for ((_, n), b) in bins.iter().zip(&per_bin) {
+                let (se, ss) = b[k];
+                ext += n * se;
+                sca += n * ss;
+            }
+            AttenuationPoint {
+                frequency_hz,
+                attenuation_db_per_cm: 10.0 * std::f64::consts::LOG10_E * ext / 100.0,
+                backscatter_per_m_sr: sca / (4.0 * PI),
+            }
+        })
+        .collect())
 }

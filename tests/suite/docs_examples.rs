@@ -181,6 +181,8 @@ fn every_guide_example_runs() {
         "out/coil/series.csv",
         "out/fit/fit.json",
         "out/fit/fit.csv",
+        "out/fit_att/fit.json",
+        "out/fit_att/fit.csv",
         "out/coil/summary.json",
         "out/coil_h4/summary.json",
         "out/stab/stability.csv",

@@ -62,6 +62,7 @@ mod km_effects;
 mod fit_sensitivities;
 mod fit;
 mod fit_cli;
+mod fit_attenuation;
 mod km_field;
 mod shell_viscosity;
 mod lamb_modes;
