@@ -53,14 +53,7 @@ pub fn run(args: &FitArgs) -> anyhow::Result<()> {
     let data = Data::read(args.data.as_ref().expect("clap: --data or --attenuation"))?;
     let mut request = FitRequest::new(data, params);
     request.starts = args.starts;
-    for w in &scene.scene().warnings {
-        noteln!("warning: {w}");
-    }
-    #[cfg(unix)]
-    let cancel = Some(crate::output::cancel_on_signal());
-    #[cfg(not(unix))]
-    let cancel = None;
-    let report = fit(&scene, &request, &Monitor { cancel, ..Monitor::default() })?;
+    let report = fit(&scene, &request, &start(&scene))?;
     let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "fit"));
     let dir = OutputDir::create(&out)?;
     if !report.curves.is_empty() {
@@ -129,14 +122,7 @@ fn spectrum(args: &FitArgs, scene: &Scene, params: Vec<ParamSpec>, path: &std::p
     let data = Spectrum::read(path)?;
     let mut request = AttenuationFitRequest::new(data, params, args.concentration);
     request.starts = args.starts;
-    for w in &scene.scene().warnings {
-        noteln!("warning: {w}");
-    }
-    #[cfg(unix)]
-    let cancel = Some(crate::output::cancel_on_signal());
-    #[cfg(not(unix))]
-    let cancel = None;
-    let report = fit_attenuation(scene, &request, &Monitor { cancel, ..Monitor::default() })?;
+    let report = fit_attenuation(scene, &request, &start(scene))?;
     let out = args.out.clone().unwrap_or_else(|| super::run::default_out_for(&args.scene, "fit"));
     let dir = OutputDir::create(&out)?;
     if let Some(c) = report.curves.first() {
@@ -158,4 +144,16 @@ fn spectrum(args: &FitArgs, scene: &Scene, params: Vec<ParamSpec>, path: &std::p
         Figure::stacked(panels).title(format!("attenuation fit: {}", args.scene.display())).save(&out, "fit").context("the fit's plot")?;
     }
     summary(&report, &out)
+}
+
+/// The scene's warnings printed, and the monitor of a fit that stops on Ctrl-C.
+fn start(scene: &Scene) -> Monitor<'static> {
+    for w in &scene.scene().warnings {
+        noteln!("warning: {w}");
+    }
+    #[cfg(unix)]
+    let cancel = Some(crate::output::cancel_on_signal());
+    #[cfg(not(unix))]
+    let cancel = None;
+    Monitor { cancel, ..Monitor::default() }
 }
