@@ -82,7 +82,8 @@ pub fn response(scene: &Scene, frequencies: &[f64]) -> Result<Response, ModelErr
         dp[1] += dpt[1];
         by_term.push((term.name(), dpt[1]));
     }
-    let (rate, _) = eq.rate(0.0, &z);
+    let mut shape = crate::model::effects::ShapeRate::default();
+    let (rate, _) = eq.rate(0.0, &z, &mut shape);
     let rho = eq.params.rho;
     let d = if eq.form().needs_rate() { eq.form().partials_rate(rho, 1.0, 0.0, p, &rate) } else { eq.form().partials_rate(rho, 1.0, 0.0, p, &Default::default()) };
     // nondimensional k, c; SI by t*

@@ -23,7 +23,7 @@
 //! loads given those, and R̈ and the mode rates are evaluated again from the completed loads.
 
 use super::effects::second_order::{FirstOrder, FirstOrderGradient, SecondOrderTerm};
-use super::effects::{At, BdotLoads, LoadJacobian, Loads, PressureRate, Term};
+use super::effects::{At, BdotLoads, LoadJacobian, Loads, PressureRate, ShapeRate, Term};
 use super::params::Params;
 use super::radial::RadialForm;
 use super::layout::StateLayout;
@@ -151,18 +151,19 @@ impl Equations {
     /// The pressure's rate (q, s and their (R, Ṙ)-gradients) summed over the terms, and whether
     /// every term provides it ([`Term::add_rate`]).
     /// With the shape part ([`PressureRate::with_shape`]).
-    pub fn rate(&self, t: f64, z: &[f64]) -> (PressureRate, bool) {
-        self.rate_into(t, z, PressureRate::with_shape())
+    /// `shape` is the caller's buffer for the shape part (a zero [`ShapeRate::default`]).
+    pub fn rate<'s>(&self, t: f64, z: &[f64], shape: &'s mut ShapeRate) -> (PressureRate<'s>, bool) {
+        self.rate_into(t, z, PressureRate::with_shape(shape))
     }
 
     /// q, s and their (R, Ṙ)-gradients alone: what R̈ with the shape frozen needs.
     #[inline]
-    pub fn radial_rate(&self, t: f64, z: &[f64]) -> PressureRate {
+    pub fn radial_rate(&self, t: f64, z: &[f64]) -> PressureRate<'static> {
         self.rate_into(t, z, PressureRate::default()).0
     }
 
     #[inline]
-    fn rate_into(&self, t: f64, z: &[f64], mut rate: PressureRate) -> (PressureRate, bool) {
+    fn rate_into<'s>(&self, t: f64, z: &[f64], mut rate: PressureRate<'s>) -> (PressureRate<'s>, bool) {
         let at = At { t, z };
         let mut all = true;
         for term in &self.terms {
@@ -190,7 +191,8 @@ impl Equations {
         if !self.form.needs_rate() {
             return self.acceleration(z[0], z[1], pressure);
         }
-        let (mut rate, _) = self.rate(t, z);
+        let mut shape = ShapeRate::default();
+        let (mut rate, _) = self.rate(t, z, &mut shape);
         for (m, bd) in bdot.iter().enumerate() {
             rate.q += rate.db(m) * bd;
         }
@@ -204,7 +206,7 @@ impl Equations {
             return false;
         }
         let z = vec![1.0; StateLayout::reduced(self.orders.len()).dim()];
-        self.rate(0.0, &z).0.has_bdot()
+        self.rate(0.0, &z, &mut ShapeRate::default()).0.has_bdot()
     }
 
     /// R̈ and its exact ∂R̈/∂(R, Ṙ) at (t, z) with the shape amplitudes of z held fixed (the
@@ -243,7 +245,8 @@ impl Equations {
         if !self.form.needs_rate() {
             return self.acceleration_gradient(z[0], z[1], pressure, dp, grad);
         }
-        let (mut rate, _) = self.rate(t, z);
+        let mut shape = ShapeRate::default();
+        let (mut rate, _) = self.rate(t, z, &mut shape);
         if let Some((bd, _)) = bdot {
             for (m, x) in bd.iter().enumerate() {
                 rate.q += rate.db(m) * x;

@@ -15,6 +15,7 @@ use crate::support::rk4_ref::rk4_at_rows;
 use crate::support::jacobian::assert_jacobian_matches_fd;
 use magbubble::coefficients::membrane::viscous;
 use magbubble::model::Model;
+use magbubble::model::effects::ShapeRate;
 use magbubble::scene;
 use crate::common::water::*;
 
@@ -58,7 +59,8 @@ fn pressure_rate_matches_a_finite_difference_along_the_trajectory() {
         for (t, z) in [(0.37, [1.3, -0.4]), (2.1, [0.8, 0.9]), (0.0, [1.0, 0.0])] {
             let mut dz = [0.0; 2];
             sys.rhs(t, &z, &mut dz);
-            let (rate, all) = eq.rate(t, &z);
+            let mut shape = ShapeRate::default();
+            let (rate, all) = eq.rate(t, &z, &mut shape);
             assert!(all, "every term provides the rate");
             let p = |h: f64| eq.loads(t + h, &[z[0] + h * dz[0], z[1] + h * dz[1]], &mut [], &mut []);
             let h = 1e-5;

@@ -11,7 +11,7 @@
 
 use crate::support::jacobian::assert_jacobian_matches_fd_step;
 use magbubble::model::layout::StateLayout;
-use magbubble::model::effects::{At, PressureRate};
+use magbubble::model::effects::{At, PressureRate, ShapeRate};
 use magbubble::model::Model;
 use magbubble::scene;
 
@@ -44,7 +44,8 @@ fn pressure_rate_with_a_field_matches_a_finite_difference_along_the_motion() {
             z[1] = -0.3 * seed;
             let mut dz = vec![0.0; n];
             sys.rhs(t, &z, &mut dz);
-            let (rate, all) = eq.rate(t, &z);
+            let mut shape = ShapeRate::default();
+            let (rate, all) = eq.rate(t, &z, &mut shape);
             assert!(all, "{field}: every term provides the rate");
             let l = StateLayout::reduced_of_dim(n);
             let bdot: f64 = (0..l.modes()).map(|j| rate.db(j) * dz[l.b(j)]).sum();
@@ -59,7 +60,8 @@ fn pressure_rate_with_a_field_matches_a_finite_difference_along_the_motion() {
             let fd = (4.0 * d(h / 2.0) - d(h)) / 3.0;
             // the magnetic share must be visible in the check
             let mag = eq.terms().find(|t| t.name() == "magnetic").unwrap();
-            let mut mr = PressureRate::with_shape();
+            let mut mr_shape = ShapeRate::default();
+            let mut mr = PressureRate::with_shape(&mut mr_shape);
             assert!(mag.add_rate(&At { t, z: &z }, &mut mr));
             let mag_share = mr.q + (0..l.modes()).map(|j| mr.db(j) * dz[l.b(j)]).sum::<f64>();
             eprintln!("{}: dP/dt FD {fd:.6e}, exact {exact:.6e}, magnetic part {mag_share:.3e} (ḃ part {bdot:.3e})", field.lines().nth(1).unwrap());

@@ -167,8 +167,8 @@ impl LoadJacobian {
 /// the tangential closure (NS): the model adds it where it knows ḃ
 /// ([`super::equations::Equations::acceleration_with`], the boundary-layer system) and takes
 /// ḃ = 0 (frozen shape) where the shape is prescribed (a radial equation on its own).
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct PressureRate {
+#[derive(Debug, PartialEq, Default)]
+pub struct PressureRate<'s> {
     pub q: f64,
     pub s: f64,
     /// (∂q/∂R, ∂q/∂Ṙ)
@@ -178,8 +178,10 @@ pub struct PressureRate {
     /// The shape part (∂q/∂(a, ȧ, b), ∂P/∂b, ∂²P/∂b∂R), only when asked for
     /// ([`PressureRate::with_shape`]): R̈ with the shape frozen (a radial run, every Keller–Miksis
     /// rhs) needs q and s alone, and 1.3 kB of zeros written and copied per rhs were 14 % of a
-    /// radial run (issue 34). Without it a term adds its shape terms to `q` only.
-    pub shape: Option<Box<ShapeRate>>,
+    /// radial run (issue 34). Without it a term adds its shape terms to `q` only. The buffer is
+    /// the caller's (a stack [`ShapeRate`]): a boxed one cost a malloc, memset and free per rhs
+    /// of Keller–Miksis with a field and shape modes (+2.8 % instructions).
+    pub shape: Option<&'s mut ShapeRate>,
 }
 
 /// The shape part of a [`PressureRate`].
@@ -199,10 +201,11 @@ impl Default for ShapeRate {
     }
 }
 
-impl PressureRate {
-    /// A zero rate that also collects the shape part.
-    pub fn with_shape() -> Self {
-        Self { shape: Some(Box::default()), ..Self::default() }
+impl<'s> PressureRate<'s> {
+    /// A zero rate that also collects the shape part, adding it to `shape` (pass a zero
+    /// [`ShapeRate::default`]).
+    pub fn with_shape(shape: &'s mut ShapeRate) -> Self {
+        Self { shape: Some(shape), ..Self::default() }
     }
     /// Whether dP/dt has a ḃ part (some db[m] ≠ 0).
     pub fn has_bdot(&self) -> bool {
