@@ -13,7 +13,11 @@ mod sarkar;
 mod tension_curve;
 mod drive;
 mod population;
+mod field;
+mod run;
 use check::Check;
+use field::{build_field, build_vorticity};
+use run::build_run;
 
 impl TryFrom<RawScene> for Scene {
     type Error = Issues;
@@ -266,154 +270,6 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         warnings: Vec::new(),
         echo,
         population,
-    }
-}
-
-fn build_field(c: &mut Check, raw: Option<RawField>, r0: f64) -> Option<Field> {
-    let raw = raw?;
-    if raw.coil.is_some() && raw.dipole.is_some() {
-        c.push(
-            "field",
-            None,
-            "give at most one of [field.coil] and [field.dipole]",
-        );
-    }
-    if let Some(rc) = raw.coil {
-        let current = match rc.current {
-            None => {
-                c.push(
-                    "field.coil.current",
-                    None,
-                    "required when [field.coil] is present",
-                );
-                Current::Static { value: f64::NAN }
-            }
-            Some(RawCurrent::Static(value)) => {
-                c.range("field.coil.current", value);
-                Current::Static { value }
-            }
-            Some(RawCurrent::Cosine(o)) => Current::Cosine {
-                amplitude: c.float("field.coil.current.amplitude", o.amplitude),
-                frequency_hz: c.float("field.coil.current.frequency_hz", o.frequency_hz),
-            },
-        };
-        let distance_oscillation = rc.distance_oscillation.map(|o| Oscillation {
-            amplitude: c.float("field.coil.distance_oscillation.amplitude", o.amplitude),
-            frequency_hz: c.float(
-                "field.coil.distance_oscillation.frequency_hz",
-                o.frequency_hz,
-            ),
-        });
-        return Some(Field::Coil(Coil {
-            turns: c.float("field.coil.turns", rc.turns),
-            distance: c.float("field.coil.distance", rc.distance),
-            angle: c.float("field.coil.angle", rc.angle),
-            current,
-            distance_oscillation,
-            include_h4: c.bool("field.coil.include_h4", rc.include_h4),
-        }));
-    }
-    if let Some(rd) = raw.dipole {
-        let moment = c.float("field.dipole.moment", rd.moment);
-        let distance = c.float("field.dipole.distance", rd.distance);
-        if distance > 0.0 && r0 > 0.0 && distance <= r0 {
-            c.push(
-                "field.dipole.distance",
-                Some(fmt_num(distance)),
-                format!(
-                    "must exceed bubble.radius = {} (the dipoles are outside the bubble)",
-                    fmt_num(r0)
-                ),
-            );
-        }
-        return Some(Field::Dipole(Dipole { moment, distance }));
-    }
-    None
-}
-
-fn build_vorticity(c: &mut Check, raw: Option<RawVorticity>) -> VorticityGrid {
-    let rv = raw.unwrap_or_default();
-    VorticityGrid {
-        y_max: c.float("vorticity.y_max", rv.y_max),
-        points: usize::try_from(c.int("vorticity.points", rv.points)).unwrap_or(0),
-        stretching: c.float("vorticity.stretching", rv.stretching),
-        scheme: match c.choice("vorticity.scheme", rv.scheme.as_deref()) {
-            "staggered" => VorticityScheme::Staggered,
-            "monolithic" => VorticityScheme::Monolithic,
-            other => unreachable!("schema choice {other}"),
-        },
-    }
-}
-
-fn build_run(
-    c: &mut Check,
-    raw: Option<RawRun>,
-    bubble: &Bubble,
-    shell: &Shell,
-    liquid: &Liquid,
-) -> Run {
-    let rr = raw.unwrap_or_default();
-    let duration = c.float("run.duration", rr.duration);
-    let sample_interval = c.float("run.sample_interval", rr.sample_interval);
-    if sample_interval > duration && duration > 0.0 {
-        c.push(
-            "run.sample_interval",
-            Some(fmt_num(sample_interval)),
-            format!("must not exceed run.duration = {}", fmt_num(duration)),
-        );
-    }
-    let blow_up_threshold = c.float("run.blow_up_threshold", rr.blow_up_threshold);
-    let ri = rr.integrator.unwrap_or_default();
-    // t* = sqrt(rho R0^3 / (2 c1)), FORMULATION sec 4.5 (free bubble: R0 sqrt(rho/p0)).
-    let t_star = time_scale(liquid, bubble.radius, shell);
-    let dt = c.float_or("run.integrator.dt", ri.dt, schema::DT_OVER_TSTAR * t_star);
-    if ri.dt.is_none() && !(t_star.is_finite() && t_star > 0.0) {
-        // Not the user's run.integrator.dt: the time scale it defaults to (scene::derived says which key).
-    } else if ri.dt.is_none() && dt > duration && duration > 0.0 {
-        // The default step is longer than the run: blame the key that made it so.
-        c.issues.push(super::derived::blame(
-            &[
-                ("run.duration", duration),
-                ("bubble.radius", bubble.radius),
-                ("liquid.density", liquid.density),
-                ("shell.c1", shell.c1),
-            ],
-            format!(
-                "gives the default run.integrator.dt = 1e-3 t* = {} s (t* = sqrt(rho R0^3/(2 c1))), longer than \
-                 run.duration = {} s; set run.integrator.dt",
-                schema::fmt_sig(dt),
-                fmt_num(duration)
-            ),
-        ));
-    } else if dt > duration && duration > 0.0 {
-        c.push(
-            "run.integrator.dt",
-            Some(fmt_num(dt)),
-            format!("must not exceed run.duration = {}", fmt_num(duration)),
-        );
-    }
-    let integrator = IntegratorSettings {
-        method: match c.choice("run.integrator.method", ri.method.as_deref()) {
-            "auto" => Method::Auto,
-            "rk4" => Method::Rk4,
-            "dopri5" => Method::Dopri5,
-            "dop853" => Method::Dop853,
-            "radau5" => Method::Radau5,
-            "rosenbrock23" => Method::Rosenbrock23,
-            other => unreachable!("schema choice {other}"),
-        },
-        rtol: c.float("run.integrator.rtol", ri.rtol),
-        atol: c.float("run.integrator.atol", ri.atol),
-        dt,
-        dt_given: ri.dt.is_some(),
-        max_steps: u64::try_from(c.int("run.integrator.max_steps", ri.max_steps)).unwrap_or(0),
-    };
-    Run {
-        duration,
-        sample_interval,
-        integrator,
-        blow_up_threshold,
-        max_output_bytes: c.float("run.max_output_bytes", rr.max_output_bytes),
     }
 }
 
