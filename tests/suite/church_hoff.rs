@@ -4,7 +4,7 @@
 
 use crate::common;
 use crate::common::water::*;
-use magbubble::model::{simulate, Model, RunStatus};
+use magbubble::model::Model;
 use magbubble::scene::{load_str, Scene, ShellLaw};
 
 /// A Sonazoid-type shell (Hoff et al. 2000 fitted G_s ≈ 50 MPa, η_s ≈ 0.8 Pa s, d ≈ 4 nm).
@@ -36,25 +36,7 @@ fn reference(eps: f64, f_hz: f64, ts: &[f64], h: f64) -> Vec<f64> {
 
 #[test]
 fn radial_motion_matches_the_published_equation_to_1e_8() {
-    for &eps in &[0.1, 0.3, 0.6, 1.0] {
-        let mut s = scene(eps, 2e6);
-        s.run.duration = 2e-6;
-        s.run.sample_interval = 1e-8;
-        s.run.integrator.rtol = 1e-12;
-        s.run.integrator.atol = 1e-14;
-        let (mut ts, mut rs) = (vec![], vec![]);
-        let rep = simulate(&s, &mut |t, row| {
-            ts.push(t);
-            rs.push(row[0]);
-        })
-        .unwrap();
-        assert!(matches!(rep.status, RunStatus::Completed), "{:?}", rep.status);
-        let rref = reference(eps, 2e6, &ts, 5e-12);
-        let err = rs.iter().zip(&rref).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / common::R0;
-        let span = rs.iter().fold(0.0f64, |m, r| m.max((r - common::R0).abs())) / common::R0;
-        println!("eps_p = {eps}: max |R/R0 - 1| = {span:.3}, max |dR|/R0 = {err:e}");
-        assert!(err <= 1e-8, "eps_p = {eps}: {err:e}");
-    }
+    common::assert_radial_matches_reference(&[0.1, 0.3, 0.6, 1.0], 2e-6, 1e-8, &|e| scene(e, 2e6), &|e, ts| reference(e, 2e6, ts, 5e-12));
 }
 
 #[test]

@@ -6,7 +6,6 @@
 use crate::common;
 use crate::common::water::*;
 use magbubble::analysis::frequencies::natural_frequencies;
-use magbubble::model::{simulate, RunStatus};
 use magbubble::scene::{load_str, Sarkar, Scene, ShellLaw};
 
 /// E0^s, α^s, γ0, κ^s: of the order Paul et al. 2010 fitted for lipid-coated agents.
@@ -62,25 +61,7 @@ fn reference(eps: f64, f_hz: f64, ts: &[f64], h: f64) -> Vec<f64> {
 
 #[test]
 fn radial_motion_matches_the_published_equation_to_1e_8() {
-    for &eps in &[0.1, 0.3, 0.6, 1.0] {
-        let mut s = scene(eps, 1e6);
-        s.run.duration = 3e-6;
-        s.run.sample_interval = 2e-8;
-        s.run.integrator.rtol = 1e-12;
-        s.run.integrator.atol = 1e-14;
-        let (mut ts, mut rs) = (vec![], vec![]);
-        let rep = simulate(&s, &mut |t, row| {
-            ts.push(t);
-            rs.push(row[0]);
-        })
-        .unwrap();
-        assert!(matches!(rep.status, RunStatus::Completed), "{:?}", rep.status);
-        let rref = reference(eps, 1e6, &ts, 1e-11);
-        let err = rs.iter().zip(&rref).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / common::R0;
-        let span = rs.iter().fold(0.0f64, |m, r| m.max((r - common::R0).abs())) / common::R0;
-        println!("eps_p = {eps}: max |R/R0 - 1| = {span:.3}, max |dR|/R0 = {err:e}");
-        assert!(err <= 1e-8, "eps_p = {eps}: {err:e}");
-    }
+    common::assert_radial_matches_reference(&[0.1, 0.3, 0.6, 1.0], 3e-6, 2e-8, &|e| scene(e, 1e6), &|e, ts| reference(e, 1e6, ts, 1e-11));
 }
 
 #[test]

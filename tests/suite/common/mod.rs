@@ -107,6 +107,38 @@ pub fn rk4_at_times(f: &dyn Fn(f64, [f64; 2]) -> [f64; 2], y0: [f64; 2], ts: &[f
     out
 }
 
+/// Runs `scene(ε_p)` for each ε_p of `eps` at rtol 1e-12 (duration, sample interval given) and
+/// asserts its R(t) within 1e-8 R0 of `reference(ε_p, sample times)` (the published equation
+/// integrated in the test): the radial check of every shell law written from its paper.
+pub fn assert_radial_matches_reference(
+    eps: &[f64],
+    duration: f64,
+    sample_interval: f64,
+    scene: &dyn Fn(f64) -> magbubble::scene::Scene,
+    reference: &dyn Fn(f64, &[f64]) -> Vec<f64>,
+) {
+    use magbubble::model::{simulate, RunStatus};
+    for &e in eps {
+        let mut s = scene(e);
+        s.run.duration = duration;
+        s.run.sample_interval = sample_interval;
+        s.run.integrator.rtol = 1e-12;
+        s.run.integrator.atol = 1e-14;
+        let (mut ts, mut rs) = (vec![], vec![]);
+        let rep = simulate(&s, &mut |t, row| {
+            ts.push(t);
+            rs.push(row[0]);
+        })
+        .unwrap();
+        assert!(matches!(rep.status, RunStatus::Completed), "{:?}", rep.status);
+        let rref = reference(e, &ts);
+        let err = rs.iter().zip(&rref).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / R0;
+        let span = rs.iter().fold(0.0f64, |m, r| m.max((r - R0).abs())) / R0;
+        println!("eps_p = {e}: max |R/R0 - 1| = {span:.3}, max |dR|/R0 = {err:e}");
+        assert!(err <= 1e-8, "eps_p = {e}: {err:e}");
+    }
+}
+
 /// y[0] at the times `ts` by classical RK4 with step h from y0, every step that crosses one of
 /// `radii` (kinks of the right-hand side in y[0]) cut at the crossing (secant iteration on the
 /// step length), so that no step straddles a kink: the reference keeps RK4's order through the
