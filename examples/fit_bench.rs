@@ -79,23 +79,8 @@ fn main() {
         .with_overrides(&[format!("shell.c1={}", values[0] * 1.1), format!("shell.c2={}", values[1] * 0.9), format!("drive.amplitude={}", values[2] * 1.1)])
         .unwrap();
     let req = FitRequest::new(data, keys.iter().map(|k| k.parse().unwrap()).collect());
-    let t0 = Instant::now();
     if only.as_deref() != Some("fit2") {
-    let rep = fit(&start, &req, &Monitor::default()).unwrap();
-    let secs = t0.elapsed().as_secs_f64();
-    println!(
-        "3-parameter fit: {:.3} s = {:.1} plain solves (target <= 30): status {}, {} iterations, {} plain + {} sensitivity solves",
-        secs,
-        secs / plain,
-        rep.status,
-        rep.iterations,
-        rep.plain_solves,
-        rep.sensitivity_solves
-    );
-    for p in &rep.parameters {
-        println!("  {} = {:e} ± {:e} ({})", p.key, p.value, p.std_error, p.derivative);
-    }
-    println!("  warnings: {:?}", rep.warnings);
+        timed_fit("3-parameter fit", &start, &req, plain);
     }
     if only.as_deref() == Some("fit1") {
         return;
@@ -107,11 +92,16 @@ fn main() {
         .with_overrides(&[format!("shell.c1={}", values[0] * 1.1), format!("drive.amplitude={}", values[2] * 1.1), format!("liquid.viscosity={}", eta * 0.9)])
         .unwrap();
     let req2 = FitRequest { params: keys2.iter().map(|k| k.parse().unwrap()).collect(), ..req };
+    timed_fit("3-parameter fit (c1, eps_p, eta)", &start2, &req2, plain);
+}
+
+/// Runs one fit and prints its cost in plain solves, its counts and its parameters.
+fn timed_fit(label: &str, start: &Scene, req: &FitRequest, plain: f64) {
     let t0 = Instant::now();
-    let rep = fit(&start2, &req2, &Monitor::default()).unwrap();
+    let rep = fit(start, req, &Monitor::default()).unwrap();
     let secs = t0.elapsed().as_secs_f64();
     println!(
-        "3-parameter fit (c1, eps_p, eta): {:.3} s = {:.1} plain solves: status {}, {} iterations, {} plain + {} sensitivity solves",
+        "{label}: {:.3} s = {:.1} plain solves (target <= 30): status {}, {} iterations, {} plain + {} sensitivity solves",
         secs,
         secs / plain,
         rep.status,
