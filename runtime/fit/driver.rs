@@ -126,6 +126,11 @@ pub(crate) trait Target: lm::Problem {
     fn derivative(&self, j: usize) -> String;
     /// (plain, sensitivity) solves so far.
     fn solves(&self) -> (u64, u64);
+    /// Secant Jacobian updates allowed in a row ([`lm::Options::secant_steps`]): where an exact
+    /// Jacobian costs several residual evaluations. Default none.
+    fn secant_steps(&self) -> usize {
+        0
+    }
     /// The parameter values of u.
     fn values(&self, u: &[f64]) -> Vec<f64> {
         self.params().iter().zip(u).map(|(p, &u)| p.from_u(u)).collect()
@@ -143,6 +148,7 @@ pub(crate) fn optimise<P: Target>(problem: &mut P, settings: &Settings, cancel: 
         tolerance: 1e-10,
         // a step under 1e-2 standard errors ends the fit (lm::Options)
         noise_fraction: 5e-5,
+        secant_steps: problem.secant_steps(),
     };
     let u_start: Vec<f64> = params.iter().map(|p| p.to_u(p.start)).collect();
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
@@ -340,7 +346,15 @@ impl Target for FitProblem<'_> {
     fn solves(&self) -> (u64, u64) {
         (self.plain_solves, self.sensitivity_solves)
     }
+    /// A sensitivity solve costs 4–7 plain solves (docs/performance.md, "Fit"): between exact
+    /// Jacobians, up to [`SECANT_STEPS`] secant updates.
+    fn secant_steps(&self) -> usize {
+        SECANT_STEPS
+    }
 }
+
+/// Secant Jacobian updates in a row in the R(t) fit ([`lm::Options::secant_steps`]).
+pub const SECANT_STEPS: usize = 3;
 
 impl CurveColumn {
     /// A column from data and model: residual = model − data, rms its root mean square.
