@@ -141,7 +141,7 @@ impl Model {
         let material = if second.is_empty() { Vec::new() } else { (0..terms.len()).map(|i| material.contains(&i)).collect() };
         let eq = Equations { params, orders: kf, form, terms, second, material };
         if eq.form().needs_rate() {
-            let z = vec![1.0; layout::StateLayout::reduced(orders.len()).dim()];
+            let z = vec![1.0; lay.dim()];
             if let Some(t) = eq.terms().find(|t| !t.add_rate(&effects::At { t: 0.0, z: &z }, &mut Default::default())) {
                 return Err(ModelError::Unsupported {
                     key: "liquid.sound_speed",

@@ -182,15 +182,6 @@ impl Model {
         self.layout
     }
 
-    /// Refuses an analysis that does not handle the reduced thermal model's gas slot p_b, naming
-    /// `gas.thermal` and the analysis (`what`).
-    pub fn refuse_gas_state(&self, what: &'static str) -> Result<(), ModelError> {
-        match self.layout.p_b() {
-            None => Ok(()),
-            Some(_) => Err(ModelError::Unsupported { key: "gas.thermal", value: "\"reduced\"".into(), reason: what }),
-        }
-    }
-
     /// Names of the output row ([`to_si`](Self::to_si)): R, a2, b2, a4, b4, … (and p_b with the
     /// reduced thermal model).
     pub fn state_names(&self) -> Vec<String> {
@@ -281,6 +272,16 @@ impl Model {
             Some((bound, mode)) => RunStatus::OutOfCredibleRange { t, mode, bound },
             None => RunStatus::BlowUp { t, mode: "R".into() },
         }
+    }
+}
+
+/// Refuses an analysis that does not handle the reduced thermal model's gas slot p_b
+/// (`gas.thermal = "reduced"`, docs/model.md "Reduced thermal model"), naming `gas.thermal`
+/// and why (`what`).
+pub fn refuse_reduced_thermal(scene: &Scene, what: &'static str) -> Result<(), ModelError> {
+    match scene.gas.thermal {
+        crate::scene::Thermal::Reduced { .. } => Err(ModelError::Unsupported { key: "gas.thermal", value: "\"reduced\"".into(), reason: what }),
+        _ => Ok(()),
     }
 }
 

@@ -26,6 +26,7 @@ mod stability_cutoff;
 mod tension_curve;
 mod hard_lipid;
 mod thermal_damping;
+mod thermal_reduced;
 mod sarkar;
 mod church_hoff;
 mod pressure_gradient;
