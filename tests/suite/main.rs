@@ -56,6 +56,7 @@ mod floquet_orbits;
 mod floquet_periodic;
 mod hard_cases;
 mod hard_shell;
+mod hard_thermal;
 mod bending_cutoff;
 mod free_bubble_stability;
 mod lamb_km;
