@@ -99,8 +99,9 @@ def _scene(scene_or_path: SceneOrPath, overrides: Optional[Mapping[str, Any]]) -
 class Run:
     """One simulated scene (``magbubble run``).
 
-    - ``series``: DataFrame with the columns of ``series.csv`` (``t, R, a2, b2, …``, SI units),
-      the values bit for bit those the CLI writes;
+    - ``series``: DataFrame with the columns of ``series.csv`` (``t, R, a2, b2, …``, SI units;
+      a last column ``p_b`` [Pa], the bubble pressure, with ``gas.thermal = "reduced"``), the
+      values bit for bit those the CLI writes;
     - ``summary``: the dict of ``summary.json``;
     - ``status``: ``"completed"``, ``"blow_up"`` or ``"failed"`` (details in ``summary["status"]``);
     - ``integrator``: which method ran and why (``summary["integrator"]``);

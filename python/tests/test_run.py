@@ -21,6 +21,7 @@ def _read_csv(path):
     [
         ("scenes/radial_only.toml", {"run.duration": 20e-6}),
         ("scenes/coil_static.toml", {"run.duration": 5e-6, "modes.max_order": 6}),
+        ("scenes/hard/reduced_collapse.toml", {"run.duration": 5e-6}),
     ],
 )
 def test_series_and_summary_equal_the_cli(cli, tmp_path, scene, sets):
@@ -44,6 +45,13 @@ def test_series_and_summary_equal_the_cli(cli, tmp_path, scene, sets):
             assert r.summary[key] == summary[key], key
     assert r.status == "completed"
     assert r.summary["rows"] == len(r.series)
+
+
+def test_the_reduced_thermal_model_has_a_p_b_column():
+    r = mb.run("scenes/hard/reduced_collapse.toml", overrides={"run.duration": 2e-6}, progress=False)
+    assert list(r.series.columns) == ["t", "R", "p_b"]
+    # the gas starts at rest at R0: p_b(0) = p_g0 (equilibrium with surface tension)
+    assert r.series["p_b"].iloc[0] == pytest.approx(r.summary["groups"]["p_g0_pa"], rel=1e-15)
 
 
 def test_blow_up_is_a_status():

@@ -92,6 +92,7 @@ pub fn natural_frequencies(scene: &Scene, kmax: usize) -> Result<Frequencies, Fr
     let mut s = scene.clone();
     s.drive = None;
     s.modes.max_order = kmax - kmax % 2;
+    crate::model::refuse_reduced_thermal(scene, "the natural frequencies are those of the linearised shape-mode system, which does not carry the reduced model's p_b: use gas.thermal = \"prosperetti\" (its small-amplitude limit)")?;
     let model = Model::from_scene(&s)?;
     let ts = model.time_scale();
     let bl = model.boundary_layer().expect("max_order ≥ 2 assembles the boundary-layer system");

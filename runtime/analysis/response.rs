@@ -65,6 +65,7 @@ pub fn response(scene: &Scene, frequencies: &[f64]) -> Result<Response, ModelErr
     s.echo = None;
     s.bubble.initial.radius = s.bubble.radius;
     s.bubble.initial.velocity = 0.0;
+    crate::model::refuse_reduced_thermal(&s, "the linear response is computed from the radial balance without the reduced model's p_b: use gas.thermal = \"prosperetti\" (its small-amplitude limit)")?;
     let model = Model::from_scene(&s)?;
     let eq = model.equations();
     let (ts, l, pscale) = (model.time_scale(), model.scales().length, model.scales().pressure);

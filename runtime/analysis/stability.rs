@@ -146,6 +146,7 @@ pub struct FloquetReport {
 /// The boundary-layer model of `scene` whatever its `modes.viscous` says: the radial equation
 /// and the loads the full model shares (the closure is chosen in [`prepare`]).
 pub fn base_model(scene: &Scene) -> Result<Model, StabilityError> {
+    crate::model::refuse_reduced_thermal(scene, "Floquet's radial orbit and A(t) do not carry the reduced model's p_b: use gas.thermal = \"prosperetti\" (its small-amplitude limit)")?;
     if scene.modes.viscous == Viscous::BoundaryLayer {
         return Ok(Model::from_scene(scene)?);
     }

@@ -176,7 +176,7 @@ fn print_summary(report: &RunReport, scene: &crate::scene::Scene, out: &Path, ro
     let largest = report
         .max_abs
         .iter()
-        .filter(|(n, _)| n != "R")
+        .filter(|(n, _)| n != "R" && n != "p_b")
         .max_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((name, v)) = largest {
         outln!(

@@ -63,6 +63,7 @@ impl<'a> FitProblem<'a> {
         let values = self.values(u);
         let set: Vec<(&str, f64)> = self.params.iter().zip(&values).filter(|(p, _)| !p.is_time_offset()).map(|(p, &v)| (p.key.as_str(), v)).collect();
         let scene = if set.is_empty() { self.template.scene().clone() } else { self.template.with(&set)? };
+        crate::model::refuse_reduced_thermal(&scene, "the fit's sensitivities do not carry the reduced model's p_b: fit with gas.thermal = \"prosperetti\" or \"polytropic\"")?;
         let model = Model::from_scene(&scene)?;
         let tau = self.params.iter().zip(&values).find(|(p, _)| p.is_time_offset()).map_or(0.0, |(_, &v)| v);
         let times = self.data.t.iter().map(|&t| model_time(t + tau, &model, &scene.run)).collect();

@@ -52,7 +52,7 @@ impl Model {
         terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone(), piece: piece.clone() }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
         // issue 31 part 2: Prosperetti's thermal damping (its μ_th once the stiffness is known)
-        let thermal_at = (!scene.gas.thermal.is_polytropic()).then(|| {
+        let thermal_at = matches!(scene.gas.thermal, crate::scene::Thermal::Prosperetti { .. }).then(|| {
             terms.push(Box::new(effects::thermal_damping::ThermalDamping { mu: 0.0, label: String::new() }));
             terms.len() - 1
         });
@@ -93,6 +93,23 @@ impl Model {
         if let Some(i) = thermal_at {
             effects::thermal_damping::assemble(scene, &scales, &mut params, &mut terms, i)?;
         }
+        // issue 31 part 2: the reduced thermal model, p_b in the gas slot after the mode blocks
+        // (radial only: validation refuses shape modes with it)
+        let lay = match scene.gas.thermal {
+            crate::scene::Thermal::Reduced { .. } => layout::StateLayout::reduced(orders.len()).with_gas(),
+            _ => layout::StateLayout::reduced(orders.len()),
+        };
+        let reduced_gas = match lay.p_b() {
+            Some(i) => effects::thermal_damping::assemble_reduced(scene, &scales, &mut params, &mut terms, i)?,
+            None => None,
+        };
+        if reduced_gas.is_some() && !orders.is_empty() {
+            return Err(ModelError::Unsupported {
+                key: "gas.thermal",
+                value: "\"reduced\"".into(),
+                reason: "radial only: the shape systems do not carry the gas slot p_b (set modes.max_order = 0)",
+            });
+        }
         // issue 12: the quadratic coupling, a second-pass term (nothing is assembled for `linear`)
         let mut second: Vec<Box<dyn effects::second_order::SecondOrderTerm>> = Vec::new();
         if scene.modes.coupling == Coupling::Quadratic && !orders.is_empty() {
@@ -124,7 +141,7 @@ impl Model {
         let material = if second.is_empty() { Vec::new() } else { (0..terms.len()).map(|i| material.contains(&i)).collect() };
         let eq = Equations { params, orders: kf, form, terms, second, material };
         if eq.form().needs_rate() {
-            let z = vec![1.0; layout::StateLayout::reduced(orders.len()).dim()];
+            let z = vec![1.0; lay.dim()];
             if let Some(t) = eq.terms().find(|t| !t.add_rate(&effects::At { t: 0.0, z: &z }, &mut Default::default())) {
                 return Err(ModelError::Unsupported {
                     key: "liquid.sound_speed",
@@ -145,7 +162,7 @@ impl Model {
             effects.push("free bubble (no membrane)".to_string());
         }
         let system = if orders.is_empty() {
-            System::Radial(RadialSystem { eq })
+            System::Radial(RadialSystem { eq, gas: reduced_gas.as_ref().map(|g| g.0) })
         } else {
             let nu = params.eta / params.rho;
             // ω_k of the full stiffness of the assembled laws (issue 31 part 3; model/natural.rs)
@@ -170,10 +187,16 @@ impl Model {
             System::BoundaryLayer(bl)
         };
         effects.extend(self_labels(eq_of(&system)));
+        effects.extend(reduced_gas.map(|g| g.1));
 
-        let lay = layout::StateLayout::reduced(orders.len());
         let mut y0 = vec![0.0; lay.dim()];
         y0[lay.r()] = scene.bubble.initial.radius / scales.length;
+        if let Some(i) = lay.p_b() {
+            // the gas starts at the wall temperature T0 (T̄ = T0) with its mass at rest:
+            // p_b(0) = p_g0 (R0/R(0))³ (docs/model.md, "Reduced thermal model")
+            let p = eq_of(&system).params.pg0;
+            y0[i] = p * (eq_of(&system).params.r0 / y0[lay.r()]).powi(3);
+        }
         y0[lay.rdot()] = scene.bubble.initial.velocity * scales.time / scales.length;
         for (m, &k) in orders.iter().enumerate() {
             let g = |m: &std::collections::BTreeMap<usize, f64>| m.get(&k).copied().unwrap_or(0.0);
@@ -205,7 +228,7 @@ impl Model {
         let credible = eq_of(&system).has_second_order().then_some(scene.modes.credible_amplitude);
         let t_end = scene.run.duration / scales.time;
         let kinked = lipid.filter(|l| l.is_kinked()).map(|l| (l, Default::default()));
-        Ok(Model { scales, system, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, kinked, piece })
+        Ok(Model { scales, system, layout: lay, orders, y0, groups, effects, blow_up_threshold: scene.run.blow_up_threshold, credible, wave, t_end, kinked, piece })
     }
 }
 

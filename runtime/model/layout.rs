@@ -18,14 +18,22 @@
 //! Ṙ), is the reduced layout's shape part: [`StateLayout::x_a`] and friends. The staggered
 //! scheme's step-1 ODE holds the same unknowns component-major, u = [R, Ṙ, a(M), ȧ(M), b(M)]
 //! ([`StateLayout::component_major`]).
+//!
+//! **The gas slot** (issue 31 part 2, `gas.thermal = "reduced"`, docs/model.md "Reduced thermal
+//! model"): the reduced heat-transfer model makes the bubble pressure p_b a state variable. Its
+//! slot comes after every mode block, y = [R, Ṙ, (mode blocks), p_b], so every offset above is
+//! unchanged ([`StateLayout::with_gas`], [`StateLayout::p_b`]); a layout without it (every scene
+//! but a reduced-thermal one) is the one described above, dimension unchanged.
 
 use std::ops::Range;
 
-/// The offsets of one model state (module doc). Copy and two words: pass it by value.
+/// The offsets of one model state (module doc). Copy and three words: pass it by value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct StateLayout {
     modes: usize,
     nodes: usize,
+    /// Gas slots after the mode blocks: 1 with the reduced thermal model's p_b, else 0.
+    gas: usize,
 }
 
 impl StateLayout {
@@ -41,7 +49,7 @@ impl StateLayout {
     /// The boundary-layer layout of M shape modes (dimension 2 + 3M).
     #[inline]
     pub const fn reduced(modes: usize) -> Self {
-        Self { modes, nodes: 0 }
+        Self { modes, nodes: 0, gas: 0 }
     }
 
     /// The boundary-layer layout of a state of dimension `dim` (2 + 3M; panics otherwise).
@@ -55,7 +63,24 @@ impl StateLayout {
     /// (n − 2 of a grid of n points).
     #[inline]
     pub const fn monolithic(modes: usize, nodes: usize) -> Self {
-        Self { modes, nodes }
+        Self { modes, nodes, gas: 0 }
+    }
+
+    /// This layout with the gas slot p_b after the mode blocks (module doc).
+    #[inline]
+    pub const fn with_gas(self) -> Self {
+        Self { gas: 1, ..self }
+    }
+
+    /// Index of the bubble pressure p_b (the reduced thermal model's state), if the layout has
+    /// the gas slot: right after the last mode block.
+    #[inline]
+    pub const fn p_b(self) -> Option<usize> {
+        if self.gas == 1 {
+            Some(Self::RADIAL + self.modes * self.block())
+        } else {
+            None
+        }
     }
 
     /// Number of shape modes M.
@@ -76,10 +101,10 @@ impl StateLayout {
         Self::AMPLITUDES + self.nodes
     }
 
-    /// Dimension of the state, 2 + M·block.
+    /// Dimension of the state, 2 + M·block (+ 1 with the gas slot).
     #[inline]
     pub const fn dim(self) -> usize {
-        Self::RADIAL + self.modes * self.block()
+        Self::RADIAL + self.modes * self.block() + self.gas
     }
 
     /// Index of R.
@@ -133,10 +158,10 @@ impl StateLayout {
         start..start + self.nodes
     }
 
-    /// Every mode block, 2..dim (the shape part of the state).
+    /// Every mode block, 2..2 + M·block (the shape part of the state; the gas slot excluded).
     #[inline]
     pub const fn shape(self) -> Range<usize> {
-        Self::RADIAL..self.dim()
+        Self::RADIAL..Self::RADIAL + self.modes * self.block()
     }
 
     /// The mode blocks of modes `modes` (a range of mode indices), contiguous.
@@ -271,6 +296,20 @@ mod tests {
         assert_eq!(l.shape(), 2..14);
         assert_eq!(l.blocks(1..3), 5..11);
         assert_eq!(l.component_major(), [2..6, 6..10, 10..14]);
+        assert_eq!(l.p_b(), None);
+    }
+
+    #[test]
+    fn the_gas_slot_follows_the_mode_blocks_and_moves_nothing_else() {
+        for (l, p) in [(StateLayout::reduced(0), 2), (StateLayout::reduced(3), 11), (StateLayout::monolithic(2, 4), 16)] {
+            let g = l.with_gas();
+            assert_eq!(g.p_b(), Some(p));
+            assert_eq!(g.dim(), l.dim() + 1);
+            assert_eq!(g.shape(), l.shape());
+            for m in 0..l.modes() {
+                assert_eq!((g.a(m), g.adot(m), g.b(m), g.mode_block(m)), (l.a(m), l.adot(m), l.b(m), l.mode_block(m)));
+            }
+        }
     }
 
     #[test]

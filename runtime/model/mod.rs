@@ -75,6 +75,8 @@ pub enum System {
 pub struct Model {
     scales: Scales,
     system: System,
+    /// The state's offsets (the gas slot with the reduced thermal model).
+    layout: layout::StateLayout,
     orders: Vec<usize>,
     y0: Vec<f64>,
     groups: Groups,
@@ -174,12 +176,22 @@ impl Model {
         &self.orders
     }
 
-    /// Names of the output row ([`to_si`](Self::to_si)): R, a2, b2, a4, b4, …
+    /// The offsets of the integrated state ([`layout::StateLayout`]; the gas slot p_b with
+    /// `gas.thermal = "reduced"`).
+    pub fn layout(&self) -> layout::StateLayout {
+        self.layout
+    }
+
+    /// Names of the output row ([`to_si`](Self::to_si)): R, a2, b2, a4, b4, … (and p_b with the
+    /// reduced thermal model).
     pub fn state_names(&self) -> Vec<String> {
         let mut v = vec!["R".to_string()];
         for k in &self.orders {
             v.push(format!("a{k}"));
             v.push(format!("b{k}"));
+        }
+        if self.layout.p_b().is_some() {
+            v.push("p_b".to_string());
         }
         v
     }
@@ -192,23 +204,30 @@ impl Model {
             v.push(format!("a{k}dot"));
             v.push(format!("b{k}"));
         }
+        if self.layout.p_b().is_some() {
+            v.push("p_b".to_string());
+        }
         v
     }
 
-    /// The output row in SI units [m]: R, a2, b2, a4, b4, …
+    /// The output row in SI units: R, a2, b2, a4, b4, … [m] (and p_b [Pa] with the reduced
+    /// thermal model).
     pub fn to_si(&self, y: &[f64]) -> Vec<f64> {
-        let mut row = vec![0.0; 1 + 2 * self.orders.len()];
+        let mut row = vec![0.0; self.state_names().len()];
         self.to_si_into(y, &mut row);
         row
     }
 
-    /// [`to_si`](Self::to_si) into a buffer of length 1 + 2M.
+    /// [`to_si`](Self::to_si) into a buffer of length 1 + 2M (+ 1 with p_b).
     pub fn to_si_into(&self, y: &[f64], row: &mut [f64]) {
-        let (l, lay) = (self.scales.length, layout::StateLayout::reduced(self.orders.len()));
+        let (l, lay) = (self.scales.length, self.layout);
         row[0] = y[lay.r()] * l;
         for m in 0..self.orders.len() {
             row[1 + 2 * m] = y[lay.a(m)] * l;
             row[2 + 2 * m] = y[lay.b(m)] * l;
+        }
+        if let Some(i) = lay.p_b() {
+            row[1 + 2 * self.orders.len()] = y[i] * self.scales.pressure;
         }
     }
 
@@ -253,6 +272,16 @@ impl Model {
             Some((bound, mode)) => RunStatus::OutOfCredibleRange { t, mode, bound },
             None => RunStatus::BlowUp { t, mode: "R".into() },
         }
+    }
+}
+
+/// Refuses an analysis that does not handle the reduced thermal model's gas slot p_b
+/// (`gas.thermal = "reduced"`, docs/model.md "Reduced thermal model"), naming `gas.thermal`
+/// and why (`what`).
+pub fn refuse_reduced_thermal(scene: &Scene, what: &'static str) -> Result<(), ModelError> {
+    match scene.gas.thermal {
+        crate::scene::Thermal::Reduced { .. } => Err(ModelError::Unsupported { key: "gas.thermal", value: "\"reduced\"".into(), reason: what }),
+        _ => Ok(()),
     }
 }
 

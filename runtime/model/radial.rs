@@ -49,11 +49,15 @@ impl RadialForm for Incompressible {
     }
 }
 
-/// Radial motion alone (max_order = 0): y = [R, Ṙ]. With a field, only the zero-order
-/// magnetic load ℋ0 acts (there are no a_2, b_2).
+/// Radial motion alone (max_order = 0): y = [R, Ṙ], or y = [R, Ṙ, p_b] with the reduced
+/// thermal model (`gas`: the gas slot of [`super::layout::StateLayout::with_gas`];
+/// docs/model.md, "Reduced thermal model"). With a field, only the zero-order magnetic load ℋ0
+/// acts (there are no a_2, b_2).
 #[derive(Debug)]
 pub struct RadialSystem {
     pub(crate) eq: Equations,
+    /// The reduced thermal model's ṗ_b (the same law as the gas term `eq.terms[0]`).
+    pub(crate) gas: Option<super::effects::reduced_gas::ReducedGas>,
 }
 
 impl RadialSystem {
@@ -64,23 +68,44 @@ impl RadialSystem {
 
 impl OdeSystem for RadialSystem {
     fn dim(&self) -> usize {
-        2
+        2 + usize::from(self.gas.is_some())
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         dy[0] = y[1];
         dy[1] = self.eq.radial_acceleration(t, y);
+        if let Some(g) = &self.gas {
+            dy[2] = g.rate(y[0], y[1], y[2]);
+        }
     }
     fn bandwidth(&self) -> Option<(usize, usize)> {
-        Some((1, 1))
+        match self.gas {
+            None => Some((1, 1)),
+            // ṗ_b depends on R: the 3 × 3 Jacobian is dense
+            Some(_) => None,
+        }
     }
-    /// Exact: [[0, 1], ∂R̈/∂(R, Ṙ)] from the terms' gradients and the radial form.
+    /// Exact: [[0, 1], ∂R̈/∂(R, Ṙ)] from the terms' gradients and the radial form; with the gas
+    /// slot, ∂R̈/∂p_b (P ∋ p_b, and the rate's q ∋ ṗ_b for Keller–Miksis) and ṗ_b's row.
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
         let mut lj = super::effects::LoadJacobian::new(0);
         self.eq.load_jacobian(t, y, &mut lj);
         let p = self.eq.loads(t, y, &mut [], &mut []);
-        let mut g = [0.0; 2];
-        self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut g);
-        jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
+        let Some(gas) = &self.gas else {
+            let mut g = [0.0; 2];
+            self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut g);
+            jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
+            return true;
+        };
+        let mut g = [0.0; 3];
+        self.eq.acceleration_gradient_at(t, y, p, &[lj.pressure[0], lj.pressure[1], 1.0], &mut g);
+        let (_, d) = gas.rate_partials(y[0], y[1], y[2]);
+        if self.eq.form.needs_rate() {
+            // ∂R̈/∂q · ∂ṗ_b/∂p_b: the rate's p_b part (its (R, Ṙ) part is in g already)
+            let rate = self.eq.radial_rate(t, y);
+            let dq = self.eq.form.partials_rate(self.eq.params.rho, y[0], y[1], p, &rate)[3];
+            g[2] += dq * d[2];
+        }
+        jac[..9].copy_from_slice(&[0.0, 1.0, 0.0, g[0], g[1], g[2], d[0], d[1], d[2]]);
         true
     }
 }

@@ -5,13 +5,17 @@ use crate::scene::Scene;
 use std::io::Write;
 use std::path::Path;
 
-/// The header of a run's `series.csv`: t, R, then a_k, b_k for k = 2, 4, …, N (shared by `run`,
-/// `sweep --keep-series` and the Python binding).
+/// The header of a run's `series.csv`: t, R, then a_k, b_k for k = 2, 4, …, N, then p_b [Pa]
+/// with `gas.thermal = "reduced"` (its gas slot; shared by `run`, `sweep --keep-series` and the
+/// Python binding; the model's row is [`crate::model::Model::state_names`]).
 pub fn series_header(scene: &Scene) -> Vec<String> {
     let mut h = vec!["t".to_string(), "R".to_string()];
     for k in scene.modes.orders() {
         h.push(format!("a{k}"));
         h.push(format!("b{k}"));
+    }
+    if matches!(scene.gas.thermal, crate::scene::Thermal::Reduced { .. }) {
+        h.push("p_b".to_string());
     }
     h
 }

@@ -304,17 +304,20 @@ pub static SCHEMA: &[Param] = &[
        value used (groups.p_g0_pa, groups.p_g0_rule)."),
     p("gas.vapour_pressure", K::Float, "Pa", D::Float(0.0), Rg::NonNegative, "p_v",
       "Vapour pressure inside the bubble (constant; 0 = off, no term assembled)."),
-    p("gas.thermal", K::Choice(&["polytropic", "prosperetti"]), "", D::Str("polytropic"), Rg::None,
-      "Prosperetti 1977",
+    p("gas.thermal", K::Choice(&["polytropic", "prosperetti", "reduced"]), "", D::Str("polytropic"), Rg::None,
+      "Prosperetti 1977; Preston et al. 2007",
       "Heat exchange of the gas: `polytropic` = (R0/R)^(3 kappa) with gas.polytropic_exponent; `prosperetti` = \
        Prosperetti's linear theory at the drive frequency (undriven: the radial natural frequency): \
        (R0/R)^(3 kappa_eff) and a thermal damping -4 mu_th (dR/dt)/R, from thermal_diffusivity and \
-       heat_capacity_ratio (docs/model.md, \"Thermal damping\"). The issue's `reduced` (a nonlinear \
-       reduced model) is not implemented yet: refused with that message."),
+       heat_capacity_ratio (docs/model.md, \"Thermal damping\"); `reduced` = the nonlinear reduced \
+       heat-transfer model of Preston, Colonius & Brennen 2007: the bubble pressure p_b is a state \
+       variable (a p_b column in series.csv) with a heat flux whose small-amplitude limit is \
+       Prosperetti's at the same frequency (docs/model.md, \"Reduced thermal model\"); radial only \
+       (modes.max_order = 0)."),
     p("gas.thermal_diffusivity", K::Float, "m^2/s", D::Derived("2.0e-5 (air at 20 C, 1 atm)"), Rg::Positive, "D_g",
-      "Thermal diffusivity of the gas at rest (gas.thermal = \"prosperetti\" only)."),
+      "Thermal diffusivity K/(rho_g c_p) of the gas at rest (gas.thermal = \"prosperetti\" or \"reduced\" only)."),
     p("gas.heat_capacity_ratio", K::Float, "", D::Derived("1.4 (air)"), Rg::Positive, "gamma",
-      "Ratio of specific heats c_p/c_v of the gas (gas.thermal = \"prosperetti\" only; the adiabatic limit of kappa_eff)."),
+      "Ratio of specific heats c_p/c_v of the gas (gas.thermal = \"prosperetti\" or \"reduced\" only; the adiabatic limit of kappa_eff)."),
     section("liquid", D::Present, "The surrounding liquid (default: water)."),
     p("liquid.density", K::Float, "kg/m^3", D::Float(1000.0), Rg::Positive, "rho", "Liquid density."),
     p("liquid.viscosity", K::Float, "Pa s", D::Float(1e-3), Rg::Positive, "eta", "Dynamic viscosity."),

@@ -282,7 +282,8 @@ pub struct Gas {
     /// p_v [Pa], 0 = no vapour term.
     pub vapour_pressure: f64,
     /// `gas.thermal` (issue 31 part 2): the polytropic law alone (default; not written into
-    /// summary.json, which keeps its bytes) or Prosperetti's linear thermal damping.
+    /// summary.json, which keeps its bytes), Prosperetti's linear thermal damping or the reduced
+    /// heat-transfer model.
     #[serde(skip_serializing_if = "Thermal::is_polytropic")]
     pub thermal: Thermal,
 }
@@ -297,6 +298,14 @@ pub enum Thermal {
     /// Prosperetti 1977's linear theory at one frequency: κ_eff(ω) and −4μ_th(ω)Ṙ/R
     /// (runtime/model/effects/thermal_damping.rs).
     Prosperetti {
+        /// D [m²/s], `gas.thermal_diffusivity`
+        thermal_diffusivity: f64,
+        /// γ, `gas.heat_capacity_ratio`
+        heat_capacity_ratio: f64,
+    },
+    /// The reduced heat-transfer model of Preston, Colonius & Brennen 2007: p_b a state
+    /// variable (runtime/model/effects/reduced_gas.rs); radial only.
+    Reduced {
         /// D [m²/s], `gas.thermal_diffusivity`
         thermal_diffusivity: f64,
         /// γ, `gas.heat_capacity_ratio`

@@ -190,7 +190,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         reference_pressure: c.float_or("gas.reference_pressure", rg.reference_pressure, equilibrium),
         reference_pressure_given: rg.reference_pressure.is_some(),
         vapour_pressure,
-        thermal: thermal(c, &rg),
+        thermal: thermal(c, &rg, modes.max_order),
     };
     if !gas.reference_pressure_given && !(equilibrium > 0.0) && vapour_pressure.is_finite() {
         c.push(
@@ -274,25 +274,27 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
 }
 
 /// `gas.thermal` and its keys (issue 31 part 2): a thermal key under the polytropic gas is an
-/// error naming it; `reduced` is refused (not implemented).
-fn thermal(c: &mut Check, rg: &super::raw::RawGas) -> Thermal {
-    if rg.thermal.as_deref() == Some("reduced") {
-        c.push(
-            "gas.thermal",
-            Some("\"reduced\"".into()),
-            "the nonlinear reduced heat-transfer model is not implemented in this version (issue 31 part 2): use \"prosperetti\" (linear theory) or \"polytropic\"",
-        );
-        return Thermal::Polytropic;
-    }
+/// error naming it; `reduced` is radial only (modes.max_order > 0 refused, with the reason).
+fn thermal(c: &mut Check, rg: &super::raw::RawGas, max_order: usize) -> Thermal {
     let name = c.choice("gas.thermal", rg.thermal.as_deref());
     let d = c.float_or("gas.thermal_diffusivity", rg.thermal_diffusivity, 2.0e-5);
     let g = c.float_or("gas.heat_capacity_ratio", rg.heat_capacity_ratio, 1.4);
     match name {
         "prosperetti" => Thermal::Prosperetti { thermal_diffusivity: d, heat_capacity_ratio: g },
+        "reduced" => {
+            if max_order > 0 {
+                c.push(
+                    "modes.max_order",
+                    Some(max_order.to_string()),
+                    "gas.thermal = \"reduced\" is radial only in this version: its p_b enters the shape modes' normal-stress balance as a uniform pressure (no k >= 2 part), but the shape systems (boundary layer, vorticity) do not carry the gas slot of the state yet; set modes.max_order = 0, or use gas.thermal = \"prosperetti\"",
+                );
+            }
+            Thermal::Reduced { thermal_diffusivity: d, heat_capacity_ratio: g }
+        }
         _ => {
             for (key, v) in [("gas.thermal_diffusivity", rg.thermal_diffusivity), ("gas.heat_capacity_ratio", rg.heat_capacity_ratio)] {
                 if let Some(v) = v {
-                    c.push(key, Some(fmt_num(v)), "a thermal-model key under gas.thermal = \"polytropic\": set gas.thermal = \"prosperetti\", or remove it");
+                    c.push(key, Some(fmt_num(v)), "a thermal-model key under gas.thermal = \"polytropic\": set gas.thermal = \"prosperetti\" or \"reduced\", or remove it");
                 }
             }
             Thermal::Polytropic

@@ -180,6 +180,8 @@ fn every_choice_value_loads_through_set() {
                     o if o.starts_with("marmottant") || o == "sarkar" => "[shell]\nelasticity = 0.5\n",
                     // radial only (issue 31)
                     "church-hoff" => "[shell]\nmodulus = 5e7\n[modes]\nmax_order = 0\n",
+                    // radial only (issue 31 part 2)
+                    "reduced" => "[modes]\nmax_order = 0\n",
                     _ => "",
                 };
                 let scene = load_str(text, "x", &set);

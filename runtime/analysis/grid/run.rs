@@ -221,7 +221,7 @@ fn run_point(scene: &Scene, point: Point, cancel: Option<&AtomicBool>) -> Option
     for (name, v) in &mut row.max_abs {
         *v = report.max_abs.iter().find(|(n, _)| n == name).map(|p| p.1);
     }
-    row.max_shape = report.max_abs.iter().filter(|(n, _)| n != "R").max_by(|a, b| a.1.total_cmp(&b.1)).cloned();
+    row.max_shape = report.max_abs.iter().filter(|(n, _)| n != "R" && n != "p_b").max_by(|a, b| a.1.total_cmp(&b.1)).cloned();
     row.steps = report.stats.steps;
     row.rejected_steps = report.stats.rejected;
     row.rhs_evaluations = report.stats.rhs_evals;

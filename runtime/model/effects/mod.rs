@@ -24,6 +24,7 @@ pub mod lipid;
 pub mod lipid_quadratic;
 pub mod church_hoff;
 pub mod sarkar;
+pub mod reduced_gas;
 pub mod tension_curve;
 pub mod thermal_damping;
 pub mod magnetic;

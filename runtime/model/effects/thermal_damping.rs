@@ -120,10 +120,44 @@ impl Term for ThermalDamping {
     }
 }
 
+/// The frequency the thermal models are evaluated at (model units): the drive's, else
+/// [`natural_omega`] from the radial stiffness at rest of every term but the gas (`terms[0]`)
+/// and `skip` (Prosperetti's damping placeholder). `value` names the model in the error.
+pub(crate) fn frequency(
+    scene: &crate::scene::Scene,
+    d: f64,
+    gamma: f64,
+    params: &crate::model::Params,
+    terms: &[Box<dyn Term>],
+    skip: Option<usize>,
+    value: &str,
+) -> Result<f64, crate::model::ModelError> {
+    let omega = match params.drive {
+        Some((_, w)) => Some(w),
+        None => {
+            let dim = crate::model::layout::StateLayout::reduced(scene.modes.orders().count()).dim();
+            let mut z = vec![0.0; dim];
+            z[0] = params.r0;
+            let mut dp = [0.0; 2];
+            let rest = At { t: 0.0, z: &z };
+            for (i, t) in terms.iter().enumerate() {
+                if i != 0 && Some(i) != skip {
+                    t.add_pressure_gradient(&rest, &mut dp);
+                }
+            }
+            natural_omega(params.rho, params.r0, params.pg0, dp[0], d, gamma)
+        }
+    };
+    omega.filter(|w| w.is_finite() && *w > 0.0).ok_or(crate::model::ModelError::Unsupported {
+        key: "gas.thermal",
+        value: value.into(),
+        reason: "an undriven scene whose radial stiffness at rest is not positive has no natural frequency to evaluate the thermal model at",
+    })
+}
+
 /// Sets up `gas.thermal = "prosperetti"` in an assembled term list (`Model::from_scene`): the
-/// frequency (the drive's, else [`natural_omega`] from the other terms' radial stiffness at
-/// rest), κ_eff into `params.three_kappa` and the gas term `terms[0]`, μ_th into the
-/// [`ThermalDamping`] placeholder at `terms[at]`.
+/// frequency ([`frequency`]), κ_eff into `params.three_kappa` and the gas term `terms[0]`, μ_th
+/// into the [`ThermalDamping`] placeholder at `terms[at]`.
 pub(crate) fn assemble(
     scene: &crate::scene::Scene,
     sc: &crate::model::Scales,
@@ -135,27 +169,7 @@ pub(crate) fn assemble(
         return Ok(());
     };
     let d = thermal_diffusivity * sc.time / (sc.length * sc.length);
-    let omega = match params.drive {
-        Some((_, w)) => Some(w),
-        None => {
-            let dim = crate::model::layout::StateLayout::reduced(scene.modes.orders().count()).dim();
-            let mut z = vec![0.0; dim];
-            z[0] = params.r0;
-            let mut dp = [0.0; 2];
-            let rest = At { t: 0.0, z: &z };
-            for (i, t) in terms.iter().enumerate() {
-                if i != 0 && i != at {
-                    t.add_pressure_gradient(&rest, &mut dp);
-                }
-            }
-            natural_omega(params.rho, params.r0, params.pg0, dp[0], d, gamma)
-        }
-    };
-    let omega = omega.filter(|w| w.is_finite() && *w > 0.0).ok_or(crate::model::ModelError::Unsupported {
-        key: "gas.thermal",
-        value: "\"prosperetti\"".into(),
-        reason: "an undriven scene whose radial stiffness at rest is not positive has no natural frequency to evaluate the thermal damping at",
-    })?;
+    let omega = frequency(scene, d, gamma, params, terms, Some(at), "\"prosperetti\"")?;
     let (kappa, mu) = effective(omega, params.r0, d, gamma, params.pg0);
     params.three_kappa = 3.0 * kappa;
     terms[0] = Box::new(super::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa });
@@ -170,4 +184,33 @@ pub(crate) fn assemble(
         ),
     });
     Ok(())
+}
+
+/// Sets up `gas.thermal = "reduced"` (runtime/model/effects/reduced_gas.rs): the reduced gas at
+/// the same frequency as [`assemble`]'s, as the gas term `terms[0]` (p_b at `index`), κ_eff(ω)
+/// into `params.three_kappa` (what the rest stiffness of the linear analyses would use), and
+/// the run's label.
+pub(crate) fn assemble_reduced(
+    scene: &crate::scene::Scene,
+    sc: &crate::model::Scales,
+    params: &mut crate::model::Params,
+    terms: &mut [Box<dyn Term>],
+    index: usize,
+) -> Result<Option<(super::reduced_gas::ReducedGas, String)>, crate::model::ModelError> {
+    let crate::scene::Thermal::Reduced { thermal_diffusivity, heat_capacity_ratio: gamma } = scene.gas.thermal else {
+        return Ok(None);
+    };
+    let d = thermal_diffusivity * sc.time / (sc.length * sc.length);
+    let omega = frequency(scene, d, gamma, params, terms, None, "\"reduced\"")?;
+    let (kappa, _) = effective(omega, params.r0, d, gamma, params.pg0);
+    params.three_kappa = 3.0 * kappa;
+    let gas = super::reduced_gas::ReducedGas::new(params.pg0, params.r0, gamma, d, omega, index);
+    terms[0] = Box::new(gas);
+    let label = format!(
+        "reduced thermal model (Preston et al. 2007, p_b a state variable) at f = {:.6e} Hz: Re Psi = {:.6}, Im Psi = {:.6}",
+        omega / (2.0 * std::f64::consts::PI * sc.time),
+        gas.re,
+        gas.im_per_omega * omega
+    );
+    Ok(Some((gas, label)))
 }

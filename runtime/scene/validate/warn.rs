@@ -48,9 +48,14 @@ pub(super) fn check(given: &Given, scene: &Scene) -> (Vec<Issue>, Vec<String>) {
             }
         }
     }
-    if let (super::super::types::Thermal::Prosperetti { .. }, Some(k)) = (scene.gas.thermal, given.polytropic_exponent) {
+    let thermal = match scene.gas.thermal {
+        super::super::types::Thermal::Prosperetti { .. } => Some("prosperetti"),
+        super::super::types::Thermal::Reduced { .. } => Some("reduced"),
+        super::super::types::Thermal::Polytropic => None,
+    };
+    if let (Some(name), Some(k)) = (thermal, given.polytropic_exponent) {
         warnings.push(format!(
-            "`gas.polytropic_exponent` = {} does nothing under gas.thermal = \"prosperetti\" (kappa_eff follows from gas.heat_capacity_ratio and gas.thermal_diffusivity)",
+            "`gas.polytropic_exponent` = {} does nothing under gas.thermal = \"{name}\" (the gas follows from gas.heat_capacity_ratio and gas.thermal_diffusivity)",
             fmt_num(k)
         ));
     }
