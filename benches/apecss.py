@@ -10,7 +10,9 @@ tight reference. For the targets 1e-6 and 1e-9 the loosest tolerance whose error
 errors of every tighter rung, stay below the target is chosen. Then REPS interleaved pairs
 (magbubble, APECSS) run at the chosen tolerances and the process CPU (user + system, from
 wait4) of each is recorded; the table gives the medians and their ratio. magbubble runs with
-dop853, dopri5 and with no method key (the default).
+dop853, dopri5 and with no method key (the default). Each pair is followed by a process that does
+nothing (EMPTY, a C `main` returning 0: the exec, loader and exit every process pays on this
+machine); its median over APECSS's is the floor, the smallest ratio any program could reach.
 """
 import json
 import os
@@ -20,8 +22,8 @@ import subprocess
 import sys
 import time
 
-WORK, MB, DRIVER, REPS = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
-ONLY = sys.argv[5:]
+WORK, MB, DRIVER, EMPTY, REPS = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5])
+ONLY = sys.argv[6:]
 R0, F, PERIODS = 5e-6, 1e6, 50
 T_END = PERIODS / F
 RHO, ETA, P0, C, KAPPA = 1000.0, 1e-3, 101325.0, 1500.0, 1.4
@@ -191,19 +193,21 @@ def main():
                     print(f"{name} | {target:.0e} | {label}: no tolerance reaches the target "
                           f"(magbubble {tol_mb}, APECSS {tol_ap})")
                     continue
-                cpu_mb, cpu_ap = [], []
+                cpu_mb, cpu_ap, cpu_0 = [], [], []
                 for _ in range(REPS):
                     cpu_mb.append(cpu_of(mb_cmd(s, m, tol_mb))[3])
                     cpu_ap.append(cpu_of(ap_cmd(s, eps, tol_ap))[3])
-                a, b = statistics.median(cpu_mb), statistics.median(cpu_ap)
-                rows.append((name, target, label, tol_mb, err_mb[m][tol_mb], a, tol_ap, err_ap[tol_ap], b))
+                    cpu_0.append(cpu_of([EMPTY])[3])
+                a, b, z = statistics.median(cpu_mb), statistics.median(cpu_ap), statistics.median(cpu_0)
+                rows.append((name, target, label, tol_mb, err_mb[m][tol_mb], a, tol_ap, err_ap[tol_ap], b, z))
                 print(f"{name} | {target:.0e} | {label} rtol {tol_mb:.1e} err {err_mb[m][tol_mb]:.1e} "
                       f"CPU {a * 1e3:.2f} ms | APECSS tol {tol_ap:.1e} err {err_ap[tol_ap]:.1e} "
-                      f"CPU {b * 1e3:.2f} ms | ratio {a / b:.2f}", flush=True)
-    print("\n| case | error | magbubble method | magbubble CPU [ms] | APECSS CPU [ms] | ratio |")
-    print("|---|---|---|---|---|---|")
-    for name, target, label, tm, em, a, ta, ea, b in rows:
-        print(f"| {name} | {target:.0e} | {label} (rtol {tm:.0e}) | {a * 1e3:.2f} | {b * 1e3:.2f} (tol {ta:.0e}) | {a / b:.2f}× |")
+                      f"CPU {b * 1e3:.2f} ms | ratio {a / b:.2f} | empty process {z * 1e3:.2f} ms", flush=True)
+    print("\n| case | error | magbubble method | magbubble CPU [ms] | APECSS CPU [ms] | ratio | empty process [ms] | floor |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, target, label, tm, em, a, ta, ea, b, z in rows:
+        print(f"| {name} | {target:.0e} | {label} (rtol {tm:.0e}) | {a * 1e3:.2f} | {b * 1e3:.2f} (tol {ta:.0e}) "
+              f"| {a / b:.2f}× | {z * 1e3:.2f} | {z / b:.2f}× |")
 
 
 main()

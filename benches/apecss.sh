@@ -9,7 +9,8 @@
 # and src/ are extracted). Compiled with gcc -O3 together with scripts/peer/apecss_driver.c (no
 # cmake). CASE: a substring of a case name to run only some ("free", "MR", "Marmottant").
 # Environment: REPS (default 7) interleaved pairs per row; WORK (default /tmp/magbubble-apecss);
-# MAGBUBBLE (default: cargo build --release, target/release/magbubble).
+# MAGBUBBLE (default: cargo build --release, target/release/magbubble). Also times an empty C
+# program beside each pair: the process floor of this machine (apecss.py's docstring).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 src=${1:?usage: benches/apecss.sh APECSS_CHECKOUT_OR_GIT_DIR [CASE ...]}
@@ -31,9 +32,12 @@ else
   exit 1
 fi
 gcc -O3 -I"$tree/include" "$tree"/src/*.c "$root/scripts/peer/apecss_driver.c" -lm -o "$work/apecss_driver"
+# the floor: a process that does nothing (exec, loader, exit)
+printf 'int main(void) { return 0; }\n' > "$work/empty.c"
+gcc -O2 "$work/empty.c" -o "$work/empty"
 
 if [ -z "${MAGBUBBLE:-}" ]; then
   (cd "$root" && cargo build --release --quiet)
   MAGBUBBLE=$root/target/release/magbubble
 fi
-exec python3 "$root/benches/apecss.py" "$work" "$MAGBUBBLE" "$work/apecss_driver" "$reps" "$@"
+exec python3 "$root/benches/apecss.py" "$work" "$MAGBUBBLE" "$work/apecss_driver" "$work/empty" "$reps" "$@"

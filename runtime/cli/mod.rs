@@ -70,8 +70,9 @@ pub enum Command {
 /// A closed stdout (`| head`) ends the command quietly with status 141 (128 + SIGPIPE, what a
 /// shell reports for a program killed by a broken pipe); any other write error is an error.
 pub fn main_entry() -> ExitCode {
-    let cli = Cli::parse();
-    let result = dispatch(cli.command).and_then(|()| Ok(crate::output::flush_out()?));
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let command = parse_run(&args).unwrap_or_else(|| Cli::parse_from(&args).command);
+    let result = dispatch(command).and_then(|()| Ok(crate::output::flush_out()?));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
@@ -85,6 +86,23 @@ pub fn main_entry() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// `magbubble run …` parsed by a command tree holding `run`'s arguments alone; `None` for any
+/// other command and for anything `run`'s parser refuses or answers itself (`--help`, an unknown
+/// or missing argument), which the whole tree then parses, so its messages are the ones shown.
+/// Building the whole tree (every subcommand's arguments) is 0.36 M instructions, a third of a
+/// one-step run (issue 34, docs/performance.md "Start-up"); `run` is the command scripts call
+/// thousands of times. tests: `cli::tests::run_fast_path_is_the_full_parse`.
+fn parse_run(args: &[std::ffi::OsString]) -> Option<Command> {
+    use clap::{Args as _, FromArgMatches as _};
+    if args.get(1).is_none_or(|a| a != "run") {
+        return None;
+    }
+    let tree = clap::Command::new("magbubble").subcommand(run::RunArgs::augment_args(clap::Command::new("run")));
+    let matches = tree.try_get_matches_from(args).ok()?;
+    let (_, sub) = matches.subcommand()?;
+    run::RunArgs::from_arg_matches(sub).ok().map(Command::Run)
 }
 
 /// `error: …` and one `caused by:` line per cause that adds something (a cause whose text is
@@ -121,5 +139,39 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Population(a) => population::run_population(&a),
         Command::Attenuation(a) => population::run_attenuation(&a),
         Command::Fit(a) => fit::run(&a),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `run` fast path gives what the whole tree parses, or leaves the case to it.
+    #[test]
+    fn run_fast_path_is_the_full_parse() {
+        let cases: &[&[&str]] = &[
+            &["magbubble", "run", "a.toml"],
+            &["magbubble", "run", "a.toml", "--out", "o", "--set", "drive.amplitude=0.3", "--set", "run.duration=1e-6"],
+            &["magbubble", "run", "--plot", "a.toml", "--set=x=1"],
+            &["magbubble", "run", "--", "--odd.toml"],
+        ];
+        for argv in cases {
+            let args: Vec<std::ffi::OsString> = argv.iter().map(Into::into).collect();
+            let fast = parse_run(&args).unwrap_or_else(|| panic!("{argv:?}: the fast path declined"));
+            let full = Cli::try_parse_from(&args).unwrap().command;
+            assert_eq!(format!("{fast:?}"), format!("{full:?}"), "{argv:?}");
+        }
+        let declined: &[&[&str]] = &[
+            &["magbubble"],
+            &["magbubble", "run"],
+            &["magbubble", "run", "--help"],
+            &["magbubble", "run", "a.toml", "--bogus"],
+            &["magbubble", "modes", "a.toml"],
+            &["magbubble", "--version"],
+        ];
+        for argv in declined {
+            let args: Vec<std::ffi::OsString> = argv.iter().map(Into::into).collect();
+            assert!(parse_run(&args).is_none(), "{argv:?}");
+        }
     }
 }

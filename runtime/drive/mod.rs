@@ -134,8 +134,15 @@ impl Waveform {
 
     /// (p_a(t), dp_a/dt), the piece holding t decided from t itself (right-continuous at an
     /// edge: a burst is closed at its start and open at its end).
+    #[inline]
     pub fn pressure_and_rate(&self, t: f64) -> (f64, f64) {
         match self {
+            // `pressure` and `rate`'s expressions, with one sincos
+            Waveform::Tones { p_ref, tones, burst: None } if tones.len() == 1 => {
+                let w = tones[0];
+                let (sin, cos) = sin_cos(w.omega * t + w.phase);
+                (w.amplitude * p_ref * cos, -(w.amplitude * p_ref) * w.omega * sin)
+            }
             Waveform::File(s) => s.at(t),
             Waveform::Tones { p_ref, tones, burst } => match burst {
                 None => tones_at(*p_ref, tones, t, 1.0, 0.0),
@@ -237,10 +244,33 @@ fn tones_at(p_ref: f64, tones: &[Tone], tau: f64, w: f64, dw: f64) -> (f64, f64)
     for tone in tones {
         let a = tone.amplitude * p_ref;
         let x = tone.omega * tau + tone.phase;
-        s += a * x.cos();
-        ds -= a * tone.omega * x.sin();
+        let (sin, cos) = sin_cos(x);
+        s += a * cos;
+        ds -= a * tone.omega * sin;
     }
     (w * s, dw * s + w * ds)
+}
+
+/// (sin x, cos x) in one call: glibc's `sincos` shares the argument reduction of the two and
+/// returns the same bits as `sin` and `cos` (tested over 10^5 arguments in drive/tests.rs); a
+/// Keller–Miksis rhs needs both for p∞ and dp∞/dt (issue 34: 98 + 94 instructions apart,
+/// docs/performance.md "Radial runs against APECSS"). Elsewhere the two calls.
+#[inline]
+pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        extern "C" {
+            fn sincos(x: f64, sin: *mut f64, cos: *mut f64);
+        }
+        let (mut s, mut c) = (0.0, 0.0);
+        // SAFETY: glibc's libm (linked by std) writes the two f64 through the valid pointers.
+        unsafe { sincos(x, &mut s, &mut c) };
+        (s, c)
+    }
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    {
+        (x.sin(), x.cos())
+    }
 }
 
 impl Burst {

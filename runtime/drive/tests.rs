@@ -50,6 +50,31 @@ fn single_tone_fast_path() {
     }
 }
 
+/// `sin_cos` returns sin and cos to the bit (glibc's sincos on Linux), over arguments from 1e-8
+/// to 1e6 rad of both signs (a drive's phase ω t reaches 2π·1e4 at 1 MHz after 10 ms); and the
+/// single-tone pressure and rate are the general `pressure_and_rate` to the bit, which the far
+/// field's one-call `add_with_rate` relies on.
+#[test]
+fn sin_cos_is_sin_and_cos() {
+    let mut x = 1e-8_f64;
+    let mut n = 0;
+    while x < 1e6 {
+        for v in [x, -x, x * 1.000_000_1] {
+            let (s, c) = sin_cos(v);
+            assert_eq!((s.to_bits(), c.to_bits()), (v.sin().to_bits(), v.cos().to_bits()), "x = {v:e}");
+            n += 1;
+        }
+        x *= 1.000_5;
+    }
+    assert!(n > 100_000, "{n} arguments");
+    let d = tones(None, &[]);
+    for i in 0..2000 {
+        let t = i as f64 * 3.7e-8 + 1e-10;
+        let (p, r) = d.pressure_and_rate(t);
+        assert_eq!((d.pressure(t).to_bits(), d.rate(t).to_bits()), (p.to_bits(), r.to_bits()), "t = {t:e}");
+    }
+}
+
 /// Zero outside the bursts, the edges as stop times, a train repeats.
 #[test]
 fn bursts_edges_and_trains() {

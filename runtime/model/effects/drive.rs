@@ -51,4 +51,20 @@ impl Term for FarField {
         rate.q -= self.p_inf_dt(at.t);
         true
     }
+    /// p∞ and dp∞/dt from one evaluation of the waveform (one sincos for a tone: issue 34);
+    /// the same expressions as [`add`](Term::add) and [`add_rate`](Term::add_rate), so the same
+    /// bits (the single-tone `pressure` and `rate` are `tones_at`'s sums without the zeros).
+    #[inline]
+    fn add_with_rate(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) -> bool {
+        let (p, dp) = match &self.wave {
+            None => (0.0, 0.0),
+            Some(w) => match self.piece.inside() {
+                None => w.pressure_and_rate(at.t),
+                Some(s) => w.pressure_and_rate_on(at.t, s),
+            },
+        };
+        loads.pressure -= if self.wave.is_some() { self.p0 + p } else { self.p0 };
+        rate.q -= dp;
+        true
+    }
 }
