@@ -63,7 +63,7 @@ impl AtomicFile {
             .map_err(|e| e.into_error())
             .and_then(|file| {
                 drop(file);
-                replace(&self.tmp, &self.path)
+                fs::rename(&self.tmp, &self.path)
             });
         if let Err(e) = result {
             let _ = fs::remove_file(&self.tmp);
@@ -71,30 +71,6 @@ impl AtomicFile {
         }
         Ok(())
     }
-}
-
-/// Moves `tmp` to `path`. Over an existing regular file on Linux: the two exchanged atomically
-/// (`renameat2(RENAME_EXCHANGE)`), then the previous file, now at `tmp`, removed. A reader sees
-/// the old file or the whole new one either way; the exchange skips ext4's `auto_da_alloc`
-/// write-back that a rename over an existing file starts, and the wait for that write-back when
-/// the next run replaces the file again (issue 34, docs/performance.md "Start-up and the step,
-/// measured again"). What that write-back gave is a re-written file's old-or-new contents after
-/// an operating-system crash or power loss; a first write never had it (as with the missing
-/// `fsync` above). Elsewhere: `rename`.
-fn replace(tmp: &Path, path: &Path) -> io::Result<()> {
-    #[cfg(target_os = "linux")]
-    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_file()) {
-        use std::os::unix::ffi::OsStrExt as _;
-        let c = |p: &Path| std::ffi::CString::new(p.as_os_str().as_bytes()).map_err(io::Error::other);
-        let (from, to) = (c(tmp)?, c(path)?);
-        // SAFETY: two NUL-terminated paths that outlive the call.
-        let rc = unsafe { libc::renameat2(libc::AT_FDCWD, from.as_ptr(), libc::AT_FDCWD, to.as_ptr(), libc::RENAME_EXCHANGE) };
-        if rc == 0 {
-            return fs::remove_file(tmp);
-        }
-        // a filesystem without the exchange (EINVAL), or `path` gone meanwhile: the plain rename
-    }
-    fs::rename(tmp, path)
 }
 
 impl Write for AtomicFile {
@@ -215,21 +191,6 @@ mod tests {
         drop(AtomicFile::create(&fresh).unwrap());
         assert!(!fresh.exists());
         assert_eq!(names(dir.path()), ["summary.json"]);
-    }
-
-    /// Over an existing file (the exchange path on Linux) and over none: the new contents, no
-    /// temp file, the previous file gone.
-    #[test]
-    fn commit_replaces_an_existing_file_and_creates_a_new_one() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("series.csv");
-        for text in ["first", "second, longer than the first", "3"] {
-            let mut f = AtomicFile::create(&path).unwrap();
-            f.write_all(text.as_bytes()).unwrap();
-            f.commit().unwrap();
-            assert_eq!(fs::read_to_string(&path).unwrap(), text);
-            assert_eq!(names(dir.path()), ["series.csv"]);
-        }
     }
 
     #[test]
