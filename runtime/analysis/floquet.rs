@@ -245,7 +245,6 @@ pub fn monodromy(
     check_blocks(n, &blocks)?;
     let mut x: Vec<DMatrix<f64>> =
         blocks.iter().map(|b| DMatrix::identity(b.len(), b.len())).collect();
-    let h = period / steps as f64;
     let c = 3f64.sqrt() / 6.0;
     let mut a1: Vec<DMatrix<f64>> = blocks.iter().map(|b| DMatrix::zeros(b.len(), b.len())).collect();
     let mut a2 = a1.clone();
@@ -264,7 +263,34 @@ pub fn monodromy(
         }
         Ok(())
     };
-    let breaks = break_times(sys, t0, period);
+    split_steps(t0, period, steps, &break_times(&sys.breaks(), t0, period), &mut step)?;
+    for (b, m) in x.iter().enumerate() {
+        if m.iter().any(|v| !v.is_finite()) {
+            return Err(FloquetError::NonFiniteMonodromy { block: b });
+        }
+    }
+    Ok(Monodromy { dim: n, blocks, matrices: x })
+}
+
+/// Break times ([`LinearPeriodic::breaks`], reduced mod `period`) as times in (t0, t0 + period),
+/// sorted.
+pub(crate) fn break_times(breaks: &[f64], t0: f64, period: f64) -> Vec<f64> {
+    let mut b: Vec<f64> = breaks.iter().map(|&tb| t0 + (tb - t0).rem_euclid(period)).filter(|&tb| tb > t0).collect();
+    b.sort_by(f64::total_cmp);
+    b
+}
+
+/// The `steps` uniform steps (t, h) from t0 over `period`, each one holding break times (sorted,
+/// from [`break_times`]) taken in parts between them; `step(t, h)` for each. Without breaks
+/// the steps are t0 + s·h, h = period/steps, exactly.
+pub(crate) fn split_steps<E>(
+    t0: f64,
+    period: f64,
+    steps: usize,
+    breaks: &[f64],
+    step: &mut dyn FnMut(f64, f64) -> Result<(), E>,
+) -> Result<(), E> {
+    let h = period / steps as f64;
     let mut next = 0;
     for s in 0..steps {
         let t = t0 + s as f64 * h;
@@ -283,19 +309,7 @@ pub fn monodromy(
             step(ta, t + h - ta)?;
         }
     }
-    for (b, m) in x.iter().enumerate() {
-        if m.iter().any(|v| !v.is_finite()) {
-            return Err(FloquetError::NonFiniteMonodromy { block: b });
-        }
-    }
-    Ok(Monodromy { dim: n, blocks, matrices: x })
-}
-
-/// The system's [`LinearPeriodic::breaks`] as times in [t0, t0 + period), sorted.
-pub(crate) fn break_times(sys: &dyn LinearPeriodic, t0: f64, period: f64) -> Vec<f64> {
-    let mut b: Vec<f64> = sys.breaks().iter().map(|&tb| t0 + (tb - t0).rem_euclid(period)).filter(|&tb| tb > t0).collect();
-    b.sort_by(f64::total_cmp);
-    b
+    Ok(())
 }
 
 /// Whether every entry is finite: x − x is 0 for a finite x and NaN otherwise, summed in eight

@@ -391,7 +391,14 @@ impl Prepared<'_> {
                     let (r, rd, _) = (self.shape.radial)(t);
                     (r, rd)
                 };
-                Ok(full.monodromy(&radial, 0.0, self.period, steps)?.spectrum())
+                use super::floquet::LinearPeriodic;
+                let breaks = self.shape.breaks();
+                let on_branch = |t: f64, f: &mut dyn FnMut()| {
+                    let _on = self.shape.enter(t);
+                    f()
+                };
+                let orbit = super::floquet_full::Orbit { radial: &radial, breaks: &breaks, on_branch: &on_branch };
+                Ok(full.monodromy_on(&orbit, 0.0, self.period, steps)?.spectrum())
             }
         }
     }

@@ -241,7 +241,7 @@ impl BranchTimes {
 }
 
 /// The branch `code` set on `sw` while the guard lives, the previous one restored on drop.
-struct OnBranch<'a> {
+pub(super) struct OnBranch<'a> {
     sw: &'a dyn Switching,
     saved: u8,
 }
@@ -286,7 +286,7 @@ impl<'a> ShapeSystem<'a> {
     }
 
     /// The law on the orbit's branch at t while the guard lives (`None`: a smooth law).
-    fn enter(&self, t: f64) -> Option<OnBranch<'a>> {
+    pub(super) fn enter(&self, t: f64) -> Option<OnBranch<'a>> {
         self.branches.as_ref().map(|(sw, times)| OnBranch::new(*sw, times.at(t)))
     }
 }
