@@ -29,6 +29,11 @@ pub trait LinearPeriodic {
     fn dim(&self) -> usize;
     /// Writes A(t) into `a` (n × n, already sized; overwrite every entry).
     fn matrix(&self, t: f64, a: &mut DMatrix<f64>);
+    /// The instants where A(t) jumps (a kinked law's branch switches along the orbit), as times
+    /// reduced to [0, T) (t mod T); [`monodromy`] splits its steps there. Default: none.
+    fn breaks(&self) -> Vec<f64> {
+        Vec::new()
+    }
     /// Groups of state indices that A(t) never couples, for every t (each index in exactly one
     /// group). Default: a single group holding the whole state.
     fn blocks(&self) -> Vec<Vec<usize>> {
@@ -224,7 +229,10 @@ pub(crate) fn check_period_and_steps(period: f64, steps: usize) -> Result<(), Fl
 
 /// Monodromy X(t0 + T) of x' = A(t) x, X(t0) = I, with `steps` fourth-order Magnus steps.
 ///
-/// The error is O(h⁴) in the smooth parts of A(t); the result is exact for constant A.
+/// The error is O(h⁴) in the smooth parts of A(t); the result is exact for constant A. A step
+/// holding one of the system's [`LinearPeriodic::breaks`] is taken as two (or more) Magnus steps
+/// split there, so no step straddles a jump of A (issue 31: the Gauss nodes of a straddling step
+/// sample both sides, and the order falls to 1 there).
 pub fn monodromy(
     sys: &dyn LinearPeriodic,
     t0: f64,
@@ -237,13 +245,11 @@ pub fn monodromy(
     check_blocks(n, &blocks)?;
     let mut x: Vec<DMatrix<f64>> =
         blocks.iter().map(|b| DMatrix::identity(b.len(), b.len())).collect();
-    let h = period / steps as f64;
     let c = 3f64.sqrt() / 6.0;
     let mut a1: Vec<DMatrix<f64>> = blocks.iter().map(|b| DMatrix::zeros(b.len(), b.len())).collect();
     let mut a2 = a1.clone();
     let mut dense: Vec<Option<DenseStep>> = blocks.iter().map(|b| (b.len() > 3).then(|| DenseStep::new(b.len()))).collect();
-    for s in 0..steps {
-        let t = t0 + s as f64 * h;
+    let mut step = |t: f64, h: f64| -> Result<(), FloquetError> {
         let (ta, tb) = (t + (0.5 - c) * h, t + (0.5 + c) * h);
         sys.block_matrices(ta, &blocks, &mut a1);
         check_finite(&a1, &blocks, ta)?;
@@ -255,13 +261,55 @@ pub fn monodromy(
                 None => step_block(&a1[b], &a2[b], h, &mut x[b]),
             }
         }
-    }
+        Ok(())
+    };
+    split_steps(t0, period, steps, &break_times(&sys.breaks(), t0, period), &mut step)?;
     for (b, m) in x.iter().enumerate() {
         if m.iter().any(|v| !v.is_finite()) {
             return Err(FloquetError::NonFiniteMonodromy { block: b });
         }
     }
     Ok(Monodromy { dim: n, blocks, matrices: x })
+}
+
+/// Break times ([`LinearPeriodic::breaks`], reduced mod `period`) as times in (t0, t0 + period),
+/// sorted.
+pub(crate) fn break_times(breaks: &[f64], t0: f64, period: f64) -> Vec<f64> {
+    let mut b: Vec<f64> = breaks.iter().map(|&tb| t0 + (tb - t0).rem_euclid(period)).filter(|&tb| tb > t0).collect();
+    b.sort_by(f64::total_cmp);
+    b
+}
+
+/// The `steps` uniform steps (t, h) from t0 over `period`, each one holding break times (sorted,
+/// from [`break_times`]) taken in parts between them; `step(t, h)` for each. Without breaks
+/// the steps are t0 + s·h, h = period/steps, exactly.
+pub(crate) fn split_steps<E>(
+    t0: f64,
+    period: f64,
+    steps: usize,
+    breaks: &[f64],
+    step: &mut dyn FnMut(f64, f64) -> Result<(), E>,
+) -> Result<(), E> {
+    let h = period / steps as f64;
+    let mut next = 0;
+    for s in 0..steps {
+        let t = t0 + s as f64 * h;
+        // the breaks inside (t, t + h): the step in parts between them
+        let mut ta = t;
+        while next < breaks.len() && breaks[next] < t + h {
+            if breaks[next] > ta {
+                step(ta, breaks[next] - ta)?;
+                ta = breaks[next];
+            }
+            next += 1;
+        }
+        if ta == t {
+            step(t, h)?;
+        } else {
+            step(ta, t + h - ta)?;
+        }
+    }
+    Ok(())
 }
 
 /// Whether every entry is finite: x − x is 0 for a finite x and NaN otherwise, summed in eight

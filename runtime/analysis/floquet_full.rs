@@ -88,17 +88,25 @@ impl FullShape<'_> {
         period: f64,
         steps: usize,
     ) -> Result<Monodromy, FloquetError> {
+        self.monodromy_on(&Orbit { radial, breaks: &[], on_branch: &|_, f| f() }, t0, period, steps)
+    }
+
+    /// [`FullShape::monodromy`] along an orbit with a kinked law's branch switches: the SDIRK
+    /// steps split at `orbit.breaks` (times mod period, [`super::floquet::LinearPeriodic::breaks`])
+    /// and each part's stage Jacobians evaluated on the orbit's branch at its midpoint
+    /// (docs/stability.md, "Floquet on a kinked law").
+    pub fn monodromy_on(&self, orbit: &Orbit<'_>, t0: f64, period: f64, steps: usize) -> Result<Monodromy, FloquetError> {
         super::floquet::check_period_and_steps(period, steps)?;
         let blocks = self.blocks();
         let matrices = if self.coupled {
             let sys = Monolithic::new(&self.coupling, self.grid.clone());
-            vec![propagate(&sys, radial, t0, period, steps)?]
+            vec![propagate(&sys, orbit, t0, period, steps)?]
         } else {
             (0..self.coupling_orders())
                 .map(|m| {
                     let one = OneMode::new(&self.coupling, m);
                     let sys = Monolithic::new(&one, self.grid.clone());
-                    propagate(&sys, radial, t0, period, steps)
+                    propagate(&sys, orbit, t0, period, steps)
                 })
                 .collect::<Result<Vec<_>, _>>()?
         };
@@ -111,10 +119,19 @@ impl FullShape<'_> {
     }
 }
 
+/// The radial orbit the full shape system runs along: (R, Ṙ) at t, the times where A(t) jumps
+/// (reduced mod the period; empty for a smooth law), and `on_branch(t, f)`: `f` run with the
+/// law on the orbit's branch at t.
+pub struct Orbit<'o> {
+    pub radial: &'o dyn Fn(f64) -> (f64, f64),
+    pub breaks: &'o [f64],
+    pub on_branch: &'o dyn Fn(f64, &mut dyn FnMut()),
+}
+
 /// X(t0 + period) over the whole shape state of `sys` (every mode it holds), X(t0) = I.
 fn propagate(
     sys: &Monolithic<'_>,
-    radial: &dyn Fn(f64) -> (f64, f64),
+    orbit: &Orbit<'_>,
     t0: f64,
     period: f64,
     steps: usize,
@@ -123,26 +140,33 @@ fn propagate(
     let s0 = lay.shape().start; // shape state = monolithic state without R, Ṙ
     let ns = lay.shape().len();
     let mut x = DMatrix::<f64>::identity(ns, ns);
-    let h = period / steps as f64;
-    let sigma = 1.0 / (h * GAMMA);
     let mut y = vec![0.0; n];
     let (mut w, mut u) = (vec![0.0; n], vec![0.0; n]);
     let mut k = vec![vec![0.0; n]; 5];
     let mut lus: Vec<StructuredLu<f64>> = Vec::with_capacity(5);
-    for s in 0..steps {
-        let t = t0 + s as f64 * h;
+    let breaks = super::floquet::break_times(orbit.breaks, t0, period);
+    let mut step = |t: f64, h: f64| -> Result<(), FloquetError> {
+        let sigma = 1.0 / (h * GAMMA);
         lus.clear();
-        for c in C {
-            let tc = t + c * h;
-            let (r, rd) = radial(tc);
-            if !(r.is_finite() && rd.is_finite()) {
-                return Err(FloquetError::NonFiniteMatrix { t: tc, row: 0, col: 1 });
-            }
-            y[lay.r()] = r;
-            y[lay.rdot()] = rd;
-            let jac = StructuredJacobian::shape_only(sys, tc, &y);
-            lus.push(jac.factor(sigma).ok_or(FloquetError::SingularStage { t: tc })?);
-        }
+        // the stages on one branch: the part's (its last stage lies on its end, a switch)
+        let mut stages = Ok(());
+        (orbit.on_branch)(t + 0.5 * h, &mut || {
+            stages = (|| {
+                for c in C {
+                    let tc = t + c * h;
+                    let (r, rd) = (orbit.radial)(tc);
+                    if !(r.is_finite() && rd.is_finite()) {
+                        return Err(FloquetError::NonFiniteMatrix { t: tc, row: 0, col: 1 });
+                    }
+                    y[lay.r()] = r;
+                    y[lay.rdot()] = rd;
+                    let jac = StructuredJacobian::shape_only(sys, tc, &y);
+                    lus.push(jac.factor(sigma).ok_or(FloquetError::SingularStage { t: tc })?);
+                }
+                Ok(())
+            })();
+        });
+        stages?;
         for col in 0..ns {
             let xn = x.column(col);
             for (st, lu) in lus.iter().enumerate() {
@@ -165,7 +189,9 @@ fn propagate(
                 x[(i, col)] = w[s0 + i];
             }
         }
-    }
+        Ok(())
+    };
+    super::floquet::split_steps(t0, period, steps, &breaks, &mut step)?;
     Ok(x)
 }
 

@@ -18,7 +18,7 @@
 //! The multiples `multiples` (default 1, 2, 4, 8) are tried in order; the first stable orbit is
 //! returned with its minimal multiple. The error lists every attempt with its multipliers.
 
-use super::periodic::{PeriodicError, RkFlow};
+use super::periodic::{PeriodicError, RkFlow, Switch, Switching};
 use crate::integrate::{self, Control, Method, OdeSystem, Output};
 use nalgebra::{Complex, DMatrix, DVector};
 
@@ -71,6 +71,10 @@ pub struct PeriodicOrbit {
     /// multiple·steps, of the map evaluation that converged: the orbit sampled on the grid
     /// (stability.rs reads it instead of integrating the orbit once more).
     pub grid: Vec<f64>,
+    /// On a kinked law ([`find_orbit_switched`]): the branch at t0 ([`Switching::branch`]; 0
+    /// without) and the branch switches located over the period, in time order.
+    pub start_branch: u8,
+    pub switches: Vec<Switch>,
 }
 
 impl PeriodicOrbit {
@@ -106,10 +110,24 @@ pub fn find_orbit(
     drive_period: f64,
     opts: &ShootingOptions,
 ) -> Result<PeriodicOrbit, PeriodicError> {
+    find_orbit_switched(sys, None, t0, y0, drive_period, opts)
+}
+
+/// [`find_orbit`] for a right-hand side with branch switches (a kinked law): the period map's
+/// steps split at the located switches ([`RkFlow::switching`]; the transient only seeds Newton
+/// and runs as before).
+pub fn find_orbit_switched(
+    sys: &dyn OdeSystem,
+    switching: Option<&dyn Switching>,
+    t0: f64,
+    y0: &[f64],
+    drive_period: f64,
+    opts: &ShootingOptions,
+) -> Result<PeriodicOrbit, PeriodicError> {
     if !(drive_period.is_finite() && drive_period > 0.0) {
         return Err(PeriodicError::BadPeriod { period: drive_period });
     }
-    let flow = RkFlow { sys, period: drive_period, steps_per_period: opts.steps_per_period.max(1) };
+    let flow = RkFlow { sys, period: drive_period, steps_per_period: opts.steps_per_period.max(1), switching };
     let (t_start, y) = transient(sys, t0, y0, drive_period, opts)?;
     let mut known: Vec<Found> = Vec::new();
     let mut attempts = Vec::new();
@@ -254,7 +272,7 @@ impl Shot<'_, '_> {
         if !deflate.is_empty() || coarse_steps < COARSE_MIN_STEPS {
             return self.newton_on(y_start, deflate);
         }
-        let coarse = RkFlow { sys: flow.sys, period: flow.period, steps_per_period: coarse_steps };
+        let coarse = RkFlow { steps_per_period: coarse_steps, ..*flow };
         let coarse_opts = ShootingOptions { tol: self.opts.tol.max(COARSE_TOL), ..self.opts.clone() };
         match (Shot { flow: &coarse, opts: &coarse_opts, ..*self }).newton_on(y_start, deflate) {
             Ok(f) => self.chord_then_newton(&f).or_else(|_| self.newton_on(y_start, deflate)),
@@ -293,7 +311,9 @@ impl Shot<'_, '_> {
         let Shot { flow, t0, m, opts } = *self;
         let n = y_start.len();
         // P_m(y), DP_m(y) and the grid of the evaluation ([`PeriodicOrbit::grid`])
-        let eval = |y: &[f64]| -> Result<(Vec<f64>, DMatrix<f64>, Vec<f64>), PeriodicError> {
+        // (and the branch at t0 and the switches, on a kinked law)
+        type Eval = (Vec<f64>, DMatrix<f64>, (Vec<f64>, u8, Vec<Switch>));
+        let eval = |y: &[f64]| -> Result<Eval, PeriodicError> {
             let mut z = y.to_vec();
             let mut phi = DMatrix::identity(n, n);
             let mut grid = Vec::with_capacity(2 * n * (m * flow.steps_per_period + 1));
@@ -301,8 +321,17 @@ impl Shot<'_, '_> {
                 grid.extend_from_slice(y);
                 grid.extend_from_slice(f);
             };
-            flow.advance_variational_observed(t0, &mut z, &mut phi, m, Some(&mut record))?;
-            Ok((z, phi, grid))
+            let mut switches = Vec::new();
+            let mut start = 0;
+            if let Some(sw) = flow.switching {
+                // the branch the flow enters at t0 (Switching::enter), read back as its code
+                let saved = sw.branch();
+                sw.enter(t0, y);
+                start = sw.branch();
+                sw.set_branch(saved);
+            }
+            flow.advance_variational_observed(t0, &mut z, &mut phi, m, Some(&mut record), Some(&mut switches))?;
+            Ok((z, phi, (grid, start, switches)))
         };
         // η(y) = Π (1/d_i² + 1), d_i = ‖y − y_i‖₂ / scale; the merit is η‖G‖∞.
         let d2 = |y: &[f64], yi: &[f64]| {
@@ -335,7 +364,9 @@ impl Shot<'_, '_> {
                     residual: r,
                     multipliers,
                     found_by: String::new(),
-                    grid,
+                    grid: grid.0,
+                    start_branch: grid.1,
+                    switches: grid.2,
                 };
                 return Ok(Found { orbit, jac, points });
             }
@@ -406,7 +437,7 @@ mod tests {
     fn flip_restart_from_the_unstable_orbit() {
         let period = 2.0 * PI / 1.2;
         let opts = ShootingOptions { transient_periods: 0, ..ShootingOptions::default() };
-        let flow = RkFlow { sys: &Duffing(0.28), period, steps_per_period: opts.steps_per_period };
+        let flow = RkFlow { sys: &Duffing(0.28), period, steps_per_period: opts.steps_per_period, switching: None };
         // The unstable period-1 orbit (a multiplier < −1) …
         let one = Shot { flow: &flow, t0: 0.0, m: 1, opts: &opts }.newton(&[1.0, 0.0], &[]).unwrap();
         let (mu, v) = flip_direction(&one.jac).expect("a flip multiplier");

@@ -310,11 +310,15 @@ pub fn prepare_on<'a>(
             if gamma.is_finite() && gamma > 0.0 {
                 shooting.transient_time = opts.transient_decay_times / gamma;
             }
+            // a kinked law: its branch switches located in the orbit's steps and the Magnus steps
+            // (docs/stability.md, "Floquet on a kinked law")
+            let switching: Option<&dyn periodic::Switching> = (!model.branch_events().is_empty()).then_some(model);
             let orbit = match known {
                 Some(o) => o.clone(),
-                None => periodic::find_orbit(&radial, 0.0, y0, tp, &shooting)?,
+                None => periodic::find_orbit_switched(&radial, switching, 0.0, y0, tp, &shooting)?,
             };
-            let sampled = SampledOrbit::new(&radial, &orbit, shooting.steps_per_period)?;
+            let sampled = SampledOrbit::new(&radial, switching, &orbit, shooting.steps_per_period)?;
+            let branches = sampled.branch_times().zip(switching);
             let r_range = sampled.y.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y[0]), hi.max(y[0])));
             let transient = (shooting.transient_periods as f64 * tp).max((shooting.transient_time / tp).ceil() * tp);
             let f = move |t: f64| {
@@ -322,9 +326,13 @@ pub fn prepare_on<'a>(
                 let rdd = radial.at_rest_shape(&[r, rd], |z| bl.radial_acceleration(t, z)).unwrap_or(f64::NAN);
                 (r, rd, rdd)
             };
+            let mut shape = ShapeSystem::new(bl, n, Box::new(f));
+            if let Some((times, sw)) = branches {
+                shape = shape.on_branches(sw, times);
+            }
             Ok(Prepared {
                 model,
-                shape: ShapeSystem::new(bl, n, Box::new(f)),
+                shape,
                 full: full_shape,
                 period: orbit.period(),
                 multiple: orbit.multiple,
@@ -384,7 +392,14 @@ impl Prepared<'_> {
                     let (r, rd, _) = (self.shape.radial)(t);
                     (r, rd)
                 };
-                Ok(full.monodromy(&radial, 0.0, self.period, steps)?.spectrum())
+                use super::floquet::LinearPeriodic;
+                let breaks = self.shape.breaks();
+                let on_branch = |t: f64, f: &mut dyn FnMut()| {
+                    let _on = self.shape.enter(t);
+                    f()
+                };
+                let orbit = super::floquet_full::Orbit { radial: &radial, breaks: &breaks, on_branch: &on_branch };
+                Ok(full.monodromy_on(&orbit, 0.0, self.period, steps)?.spectrum())
             }
         }
     }

@@ -59,6 +59,7 @@ pub mod sensitivity;
 
 pub use driver::{drive, solve, stepper, Stepper};
 pub use explicit::{rk4_step, ExplicitRk, Rk4, Rk4Workspace};
+pub(crate) use explicit::hermite;
 pub use radau::Radau5;
 pub use rosenbrock::Rosenbrock23;
 pub use variational::Variational;

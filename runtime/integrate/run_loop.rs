@@ -50,7 +50,7 @@ pub enum Direction {
 
 impl Direction {
     /// Whether g went through zero in this direction from `before` to `now`.
-    fn crossed(self, before: f64, now: f64) -> bool {
+    pub fn crossed(self, before: f64, now: f64) -> bool {
         // `!(before > 0)`: a NaN before counts as not crossed yet
         let rise = !(before > 0.0) && now > 0.0;
         let fall = !(before < 0.0) && now < 0.0;
@@ -343,19 +343,8 @@ fn first_event(
         if !e.direction().crossed(g_last[index], g_now[index]) {
             continue;
         }
-        // bisection: lo on g_last's side, hi crossed
-        let (mut lo, mut hi) = (t_left, t_pt);
-        let tol = e.tolerance() * hi.abs().max(schedule.t_end);
         let mut zm = z.to_vec();
-        while hi - lo > tol {
-            let mid = 0.5 * (lo + hi);
-            view.dense(st, mid, &mut zm);
-            if e.direction().crossed(g_last[index], e.g(mid, &zm)) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
+        let hi = locate(*e, g_last[index], t_left, t_pt, schedule.t_end, &mut zm, |t, z| view.dense(st, t, z));
         if found.as_ref().is_none_or(|f| hi < f.t) {
             found = Some(Located { index, t: hi });
         }
@@ -364,6 +353,34 @@ fn first_event(
         view.dense(st, f.t, z);
     }
     found
+}
+
+/// The crossing of event `e` between `lo` (where g was `g_before`) and `hi` (crossed), bisected
+/// on the dense output `dense(t, z)` (the observed components at t into `z`) to
+/// `e.tolerance() · max(|hi|, t_end)`; returns the end of the final bracket on the crossed side
+/// (`z` is left at some point of the bisection). The run loop's locator, also used by the fixed-step
+/// period map of the Floquet analysis (`analysis::periodic`) on a kinked law.
+pub fn locate(
+    e: &dyn Event,
+    g_before: f64,
+    lo: f64,
+    hi: f64,
+    t_end: f64,
+    z: &mut [f64],
+    mut dense: impl FnMut(f64, &mut [f64]),
+) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    let tol = e.tolerance() * hi.abs().max(t_end);
+    while hi - lo > tol {
+        let mid = 0.5 * (lo + hi);
+        dense(mid, z);
+        if e.direction().crossed(g_before, e.g(mid, z)) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
 }
 
 /// A located event: its index and time.

@@ -115,12 +115,29 @@ impl Model {
     /// [`Model::start_branches`] sets at t0 and each switch updates.
     pub fn events(&self) -> Vec<Box<dyn Event + '_>> {
         let mut v: Vec<Box<dyn Event + '_>> = vec![Box::new(BlowUpEvent { model: self })];
-        if let Some((law, clock)) = &self.kinked {
-            for which in 0..law.event_count() {
-                v.push(Box::new(BranchEvent { law, which, clock }));
-            }
-        }
+        v.extend(self.branch_events());
         v
+    }
+
+    /// The branch switches of [`Model::events`] alone (empty without a kinked law): they read
+    /// R = z[0] only, so they also serve the radial state [R, Ṙ] of the Floquet analysis's
+    /// period map (analysis/periodic, docs/stability.md "Floquet on a kinked law").
+    pub fn branch_events(&self) -> Vec<Box<dyn Event + '_>> {
+        let Some((law, clock)) = &self.kinked else { return Vec::new() };
+        (0..law.event_count()).map(|which| Box::new(BranchEvent { law, which, clock }) as Box<dyn Event + '_>).collect()
+    }
+
+    /// The kinked law's branch the equations are evaluated on, as an opaque code (0: none set,
+    /// R's branch at each evaluation; always 0 without a kinked law).
+    pub fn branch_code(&self) -> u8 {
+        self.kinked.as_ref().map_or(0, |(law, _)| law.branch.code())
+    }
+
+    /// Sets the branch [`Model::branch_code`] returned (no-op without a kinked law).
+    pub fn set_branch_code(&self, code: u8) {
+        if let Some((law, _)) = &self.kinked {
+            law.branch.set_code(code);
+        }
     }
 
     /// The events of [`Model::events`] without the branch switches: the law re-decides its

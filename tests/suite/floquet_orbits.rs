@@ -98,7 +98,7 @@ fn radial_multipliers_satisfy_liouville() {
         let (l1, l2) = (orbit.multipliers[0], orbit.multipliers[1]);
         assert!(l1.im.abs() > 1e-3 && (l1 - l2.conj()).norm() < 1e-12, "a complex pair: {l1} {l2}");
         // ∮ tr J dt by Simpson's rule on the same grid (tr J by a central difference in Ṙ).
-        let flow = RkFlow { sys: &radial, period: tp, steps_per_period: 4000 };
+        let flow = RkFlow { sys: &radial, period: tp, steps_per_period: 4000, switching: None };
         let mut tr = Vec::new();
         let mut y = orbit.y0.clone();
         flow.advance_observed(orbit.t0, &mut y, 1, |t, y, _| {

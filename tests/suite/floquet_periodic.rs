@@ -27,7 +27,7 @@ impl OdeSystem for Duffing {
 fn brute_force_multiple(gamma: f64) -> Option<usize> {
     let sys = Duffing { gamma };
     let period = 2.0 * PI / OMEGA;
-    let flow = RkFlow { sys: &sys, period, steps_per_period: 1000 };
+    let flow = RkFlow { sys: &sys, period, steps_per_period: 1000, switching: None };
     let mut y = vec![1.0, 0.0];
     let t = flow.advance(0.0, &mut y, 600).unwrap();
     let mut z = y.clone();
@@ -53,7 +53,7 @@ fn detects_period_one_and_period_two() {
         assert!(orbit.residual <= 1e-9);
         assert!(orbit.max_multiplier() < 1.0);
         // The orbit really closes: integrate it once more.
-        let flow = RkFlow { sys: &Duffing { gamma }, period, steps_per_period: 1000 };
+        let flow = RkFlow { sys: &Duffing { gamma }, period, steps_per_period: 1000, switching: None };
         let mut y = orbit.y0.clone();
         flow.advance(orbit.t0, &mut y, orbit.multiple).unwrap();
         assert!((y[0] - orbit.y0[0]).abs() < 1e-8 && (y[1] - orbit.y0[1]).abs() < 1e-8);

@@ -22,6 +22,7 @@ mod population;
 mod equations_jacobian;
 mod marmottant;
 mod marmottant_events;
+mod floquet_kinked;
 mod stability_cutoff;
 mod tension_curve;
 mod hard_lipid;

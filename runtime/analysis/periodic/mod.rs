@@ -18,14 +18,21 @@
 //! ([`RkFlow::advance_variational`]), i.e. the derivative of the discrete map itself — not a
 //! finite difference of P_m, whose step on a small component (Ṙ ≈ 0) cost 2–5e-5 in the radial
 //! multipliers (issue 13 part 2).
+//!
+//! **Kinked laws** ([`Switching`], issue 31): where the right-hand side switches branch at
+//! state-dependent events (the kinked Marmottant law's R_b and R_r, a tension curve's knots), a
+//! grid step that crosses one is split at the located crossing, as the run loop does
+//! (switches.rs; docs/stability.md, "Floquet on a kinked law"); the grid itself is unchanged.
 
 use crate::integrate::OdeSystem;
 use nalgebra::DMatrix;
 
+mod switches;
 mod tangent;
+pub use switches::{Switch, Switching};
 use tangent::{Buf, DynTangent, FixedTangent, NoTangent, Tangent, NODES};
 
-pub use super::shooting::{find_orbit, PeriodicOrbit, ShootingOptions};
+pub use super::shooting::{find_orbit, find_orbit_switched, PeriodicOrbit, ShootingOptions};
 
 /// Errors of the orbit search. They carry the numbers that went wrong.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -48,17 +55,23 @@ pub enum PeriodicError {
     BadFrequency { value: f64 },
 }
 
+/// What the period map calls at every grid point: (t, y, f(t, y)).
+pub type Observer<'o> = dyn FnMut(f64, &[f64], &[f64]) + 'o;
+
 /// Fixed-step classical RK4 flow of an [`OdeSystem`], `steps_per_period` steps per `period`.
 pub struct RkFlow<'a> {
     pub sys: &'a dyn OdeSystem,
     pub period: f64,
     pub steps_per_period: usize,
+    /// The branch switches of a kinked law, located inside the steps (`None`: a smooth system,
+    /// the plain grid).
+    pub switching: Option<&'a dyn Switching>,
 }
 
 impl RkFlow<'_> {
     /// Advances `y` from t0 over `periods` whole periods; returns the final time.
     pub fn advance(&self, t0: f64, y: &mut [f64], periods: usize) -> Result<f64, PeriodicError> {
-        self.integrate_any(t0, y, &mut NoTangent, periods, None)
+        self.integrate_any(t0, y, &mut NoTangent, periods, None, None)
     }
 
     /// As [`advance`](Self::advance), calling `obs(t, y, f(t, y))` at every grid point
@@ -70,7 +83,20 @@ impl RkFlow<'_> {
         periods: usize,
         mut obs: impl FnMut(f64, &[f64], &[f64]),
     ) -> Result<f64, PeriodicError> {
-        self.integrate_any(t0, y, &mut NoTangent, periods, Some(&mut obs))
+        self.integrate_any(t0, y, &mut NoTangent, periods, Some(&mut obs), None)
+    }
+
+    /// As [`advance_observed`](Self::advance_observed), also appending every located branch
+    /// switch to `log` (nothing without [`RkFlow::switching`]).
+    pub fn advance_recorded(
+        &self,
+        t0: f64,
+        y: &mut [f64],
+        periods: usize,
+        mut obs: impl FnMut(f64, &[f64], &[f64]),
+        log: &mut Vec<Switch>,
+    ) -> Result<f64, PeriodicError> {
+        self.integrate_any(t0, y, &mut NoTangent, periods, Some(&mut obs), Some(log))
     }
 
     /// As [`advance`](Self::advance), also propagating Φ (n × n) by the variational equations
@@ -84,31 +110,35 @@ impl RkFlow<'_> {
         phi: &mut DMatrix<f64>,
         periods: usize,
     ) -> Result<f64, PeriodicError> {
-        self.advance_variational_observed(t0, y, phi, periods, None)
+        self.advance_variational_observed(t0, y, phi, periods, None, None)
     }
 
     /// As [`advance_variational`](Self::advance_variational), calling `obs(t, y, f(t, y))` at
     /// every grid point (including the first and the last) as [`advance_observed`](Self::advance_observed)
-    /// does: the same RK4 steps, so the same values.
+    /// does: the same RK4 steps, so the same values; every located branch switch appended to
+    /// `log`. At a switch Φ is continued without a saltation term: the switches of the laws
+    /// behind [`Switching`] leave f continuous (a kink of τ(R), not a jump), so f⁺ = f⁻ and the
+    /// saltation matrix is I (integrate/run_loop.rs).
     pub fn advance_variational_observed(
         &self,
         t0: f64,
         y: &mut [f64],
         phi: &mut DMatrix<f64>,
         periods: usize,
-        obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+        obs: Option<&mut Observer<'_>>,
+        log: Option<&mut Vec<Switch>>,
     ) -> Result<f64, PeriodicError> {
         let n = y.len();
         if n == 2 {
             // the radial orbit search: Φ on stack arrays (the 2 × 2 products through `DMatrix`
             // were about a quarter of its variational cost)
             let mut tan = FixedTangent::<2>::new(phi);
-            let r = self.integrate::<_, [f64; 2]>(t0, y, &mut tan, periods, obs);
+            let r = self.integrate::<_, [f64; 2]>(t0, y, &mut tan, periods, obs, log);
             tan.store(phi);
             return r;
         }
         let mut tan = DynTangent::new(phi);
-        self.integrate::<_, Vec<f64>>(t0, y, &mut tan, periods, obs)
+        self.integrate::<_, Vec<f64>>(t0, y, &mut tan, periods, obs, log)
     }
 
     /// [`integrate`](Self::integrate) with the stage buffers on the stack for the radial orbit
@@ -119,23 +149,26 @@ impl RkFlow<'_> {
         y: &mut [f64],
         tan: &mut T,
         periods: usize,
-        obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+        obs: Option<&mut Observer<'_>>,
+        log: Option<&mut Vec<Switch>>,
     ) -> Result<f64, PeriodicError> {
         match y.len() {
-            2 => self.integrate::<T, [f64; 2]>(t0, y, tan, periods, obs),
-            _ => self.integrate::<T, Vec<f64>>(t0, y, tan, periods, obs),
+            2 => self.integrate::<T, [f64; 2]>(t0, y, tan, periods, obs, log),
+            _ => self.integrate::<T, Vec<f64>>(t0, y, tan, periods, obs, log),
         }
     }
 
     /// The one RK4 loop of the period map: y by the classical stages, the tangent `tan` (none,
-    /// or Φ) by the same stages with the Jacobian at each stage point, `obs` at every grid point.
+    /// or Φ) by the same stages with the Jacobian at each stage point, `obs` at every grid point;
+    /// on a kinked law the grid steps split at the switches (switches.rs), each logged.
     fn integrate<T: Tangent, B: Buf>(
         &self,
         t0: f64,
         y_io: &mut [f64],
         tan: &mut T,
         periods: usize,
-        mut obs: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+        mut obs: Option<&mut Observer<'_>>,
+        log: Option<&mut Vec<Switch>>,
     ) -> Result<f64, PeriodicError> {
         let n = y_io.len();
         let h = self.period / self.steps_per_period as f64;
@@ -144,46 +177,76 @@ impl RkFlow<'_> {
         y.as_mut().copy_from_slice(y_io);
         let mut ky: [B; 4] = std::array::from_fn(|_| B::zeros(n));
         let mut tmp = B::zeros(n);
+        if let Some(sw) = self.switching {
+            // the law on the branch the steps are on, as in a run; back to what it was after
+            let saved = sw.branch();
+            let r = self.integrate_switched(sw, t0, &mut y, tan, total, h, &mut ky, &mut tmp, obs.as_deref_mut(), log);
+            y_io.copy_from_slice(y.as_ref());
+            let r = r.map(|()| self.last_point(t0 + total as f64 * h, y_io, ky[0].as_mut(), obs));
+            sw.set_branch(saved);
+            return r;
+        }
         for s in 0..total {
             let t = t0 + s as f64 * h;
-            for (st, &(c, from)) in NODES.iter().enumerate() {
-                if st == 0 {
-                    tmp.as_mut().copy_from_slice(y.as_ref());
-                } else {
-                    for ((x, &yi), &k) in tmp.as_mut().iter_mut().zip(y.as_ref()).zip(ky[from].as_ref()) {
-                        *x = yi + c * h * k;
-                    }
-                }
-                tan.stage(st, c * h, from);
-                // the Jacobian first: a system whose exact Jacobian computes f too may keep it
-                // for the rhs call at the same point (stability::Radial)
-                tan.jacobian(self.sys, t + c * h, tmp.as_ref());
-                self.sys.rhs(t + c * h, tmp.as_ref(), ky[st].as_mut());
-                tan.product(st);
-                if st == 0 {
-                    if let Some(o) = obs.as_mut() {
-                        o(t, y.as_ref(), ky[0].as_ref());
-                    }
-                }
-            }
-            let [k0, k1, k2, k3] = &ky;
-            let ks = k0.as_ref().iter().zip(k1.as_ref()).zip(k2.as_ref()).zip(k3.as_ref());
-            for (yi, (((a, b), c), d)) in y.as_mut().iter_mut().zip(ks) {
-                *yi += h / 6.0 * (a + 2.0 * b + 2.0 * c + d);
-            }
-            tan.accumulate(h);
+            self.rk4_step(t, h, &mut y, &mut ky, &mut tmp, tan, obs.as_deref_mut());
             if y.as_ref().iter().any(|v| !v.is_finite()) || !tan.is_finite() {
                 y_io.copy_from_slice(y.as_ref());
                 return Err(PeriodicError::NonFinite { t: t + h });
             }
         }
         y_io.copy_from_slice(y.as_ref());
-        let t = t0 + total as f64 * h;
-        if let Some(o) = obs.as_mut() {
-            self.sys.rhs(t, y_io, ky[0].as_mut());
-            o(t, y_io, ky[0].as_ref());
+        Ok(self.last_point(t0 + total as f64 * h, y_io, ky[0].as_mut(), obs))
+    }
+
+    /// `obs` at the last grid point t (its f into `f`); returns t.
+    fn last_point(&self, t: f64, y: &[f64], f: &mut [f64], obs: Option<&mut Observer<'_>>) -> f64 {
+        if let Some(o) = obs {
+            self.sys.rhs(t, y, f);
+            o(t, y, f);
         }
-        Ok(t)
+        t
+    }
+
+    /// One classical RK4 step of y (and the tangent) from t by h; `obs(t, y, f(t, y))` after
+    /// the first stage. The slopes stay in `ky`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn rk4_step<T: Tangent, B: Buf>(
+        &self,
+        t: f64,
+        h: f64,
+        y: &mut B,
+        ky: &mut [B; 4],
+        tmp: &mut B,
+        tan: &mut T,
+        mut obs: Option<&mut Observer<'_>>,
+    ) {
+        for (st, &(c, from)) in NODES.iter().enumerate() {
+            if st == 0 {
+                tmp.as_mut().copy_from_slice(y.as_ref());
+            } else {
+                for ((x, &yi), &k) in tmp.as_mut().iter_mut().zip(y.as_ref()).zip(ky[from].as_ref()) {
+                    *x = yi + c * h * k;
+                }
+            }
+            tan.stage(st, c * h, from);
+            // the Jacobian first: a system whose exact Jacobian computes f too may keep it
+            // for the rhs call at the same point (stability::Radial)
+            tan.jacobian(self.sys, t + c * h, tmp.as_ref());
+            self.sys.rhs(t + c * h, tmp.as_ref(), ky[st].as_mut());
+            tan.product(st);
+            if st == 0 {
+                if let Some(o) = obs.as_mut() {
+                    o(t, y.as_ref(), ky[0].as_ref());
+                }
+            }
+        }
+        let [k0, k1, k2, k3] = &*ky;
+        let ks = k0.as_ref().iter().zip(k1.as_ref()).zip(k2.as_ref()).zip(k3.as_ref());
+        for (yi, (((a, b), c), d)) in y.as_mut().iter_mut().zip(ks) {
+            *yi += h / 6.0 * (a + 2.0 * b + 2.0 * c + d);
+        }
+        tan.accumulate(h);
     }
 }
 

@@ -38,6 +38,9 @@ pub(super) trait Tangent {
     /// Φ += h/6 (K_0 + 2K_1 + 2K_2 + K_3).
     fn accumulate(&mut self, h: f64);
     fn is_finite(&self) -> bool;
+    /// Keeps Φ, to [`restore`](Self::restore) it (a step redone up to a branch switch).
+    fn save(&mut self);
+    fn restore(&mut self);
 }
 
 /// The period map alone.
@@ -51,6 +54,8 @@ impl Tangent for NoTangent {
     fn is_finite(&self) -> bool {
         true
     }
+    fn save(&mut self) {}
+    fn restore(&mut self) {}
 }
 
 /// Φ as a `DMatrix` (n × n), the products by `gemm`.
@@ -59,12 +64,13 @@ pub(super) struct DynTangent<'p> {
     kp: [DMatrix<f64>; 4],
     ptmp: DMatrix<f64>,
     ws: VarWork,
+    saved: Option<DMatrix<f64>>,
 }
 
 impl<'p> DynTangent<'p> {
     pub(super) fn new(phi: &'p mut DMatrix<f64>) -> Self {
         let n = phi.nrows();
-        Self { kp: std::array::from_fn(|_| DMatrix::zeros(n, n)), ptmp: DMatrix::zeros(n, n), ws: VarWork::new(n), phi }
+        Self { kp: std::array::from_fn(|_| DMatrix::zeros(n, n)), ptmp: DMatrix::zeros(n, n), ws: VarWork::new(n), phi, saved: None }
     }
 }
 
@@ -89,12 +95,24 @@ impl Tangent for DynTangent<'_> {
     fn is_finite(&self) -> bool {
         self.phi.iter().all(|v| v.is_finite())
     }
+    fn save(&mut self) {
+        match &mut self.saved {
+            Some(m) => m.copy_from(self.phi),
+            None => self.saved = Some(self.phi.clone()),
+        }
+    }
+    fn restore(&mut self) {
+        if let Some(m) = &self.saved {
+            self.phi.copy_from(m);
+        }
+    }
 }
 
 /// Φ for N state components on stack arrays; the same stages and sums as [`DynTangent`], Φ to
 /// rounding (the products' summation order).
 pub(super) struct FixedTangent<const N: usize> {
     p: [[f64; N]; N],
+    saved: [[f64; N]; N],
     pt: [[f64; N]; N],
     kp: [[[f64; N]; N]; 4],
     jac: [[f64; N]; N],
@@ -104,7 +122,7 @@ pub(super) struct FixedTangent<const N: usize> {
 impl<const N: usize> FixedTangent<N> {
     pub(super) fn new(phi: &DMatrix<f64>) -> Self {
         let p = std::array::from_fn(|i| std::array::from_fn(|j| phi[(i, j)]));
-        Self { p, pt: p, kp: [[[0.0; N]; N]; 4], jac: [[0.0; N]; N], ws: VarWork::new(N) }
+        Self { p, saved: p, pt: p, kp: [[[0.0; N]; N]; 4], jac: [[0.0; N]; N], ws: VarWork::new(N) }
     }
     pub(super) fn store(&self, phi: &mut DMatrix<f64>) {
         for i in 0..N {
@@ -147,6 +165,12 @@ impl<const N: usize> Tangent for FixedTangent<N> {
     }
     fn is_finite(&self) -> bool {
         self.p.as_flattened().iter().all(|v| v.is_finite())
+    }
+    fn save(&mut self) {
+        self.saved = self.p;
+    }
+    fn restore(&mut self) {
+        self.p = self.saved;
     }
 }
 

@@ -69,6 +69,20 @@ impl BranchState {
         self.0.store(b.map_or(0, Branch::code), Ordering::Relaxed);
     }
 
+    /// The raw branch (an opaque code: 0 = none set, R's branch at each evaluation; a
+    /// Marmottant branch or a tension curve's segment otherwise), to restore it with
+    /// [`BranchState::set_code`] (the Floquet analysis on a kinked law, analysis/periodic).
+    #[inline]
+    pub fn code(&self) -> u8 {
+        self.0.load(Ordering::Relaxed)
+    }
+
+    /// Sets the raw branch [`BranchState::code`] returned.
+    #[inline]
+    pub fn set_code(&self, code: u8) {
+        self.0.store(code, Ordering::Relaxed);
+    }
+
     /// The segment of a tension curve set by the run (its code − 1), if any.
     #[inline]
     fn segment(&self) -> Option<usize> {
