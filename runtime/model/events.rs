@@ -28,14 +28,9 @@ impl Event for BlowUpEvent<'_> {
     }
 }
 
-/// The relative time tolerance of a branch switch: located to `BRANCH_TOLERANCE · t_end` on the
-/// dense output, so |R(t_switch) − R_b| ≤ |Ṙ| · 1e-12 · t_end plus the dense output's error
-/// (tests/suite/marmottant_events.rs measures it).
-pub const BRANCH_TOLERANCE: f64 = 1e-12;
-
 /// A branch switch of the kinked Marmottant law (issue 31; docs/model.md, "Branch switches"):
 /// g = R − R_b (`which` = 0) or R − R_r (1), either direction, located on the dense output to
-/// [`BRANCH_TOLERANCE`]; at the crossing the run's branch becomes R's there and the stepper
+/// the last representable time ([`crate::integrate::run_loop::locate`]); at the crossing the run's branch becomes R's there and the stepper
 /// restarts, so no step straddles a kink of τ(R) and the law inside each step is the smooth
 /// formula of one branch. Both layouts the executor runs (boundary layer, monolithic) start
 /// with [R, Ṙ].
@@ -51,9 +46,6 @@ impl Event for BranchEvent<'_> {
     }
     fn direction(&self) -> Direction {
         Direction::Either
-    }
-    fn tolerance(&self) -> f64 {
-        BRANCH_TOLERANCE
     }
     fn action(&self) -> Action {
         Action::Restart

@@ -10,7 +10,8 @@
 //! Sampling: rows at t0 + i·Δ (dense output, not a step constraint, unless the stepper asks to
 //! land on them) and at t_end. Stop times and events are the model's ([`Model::stop_times`],
 //! [`Model::events`]): by default the blow-up threshold alone, located on the dense output to
-//! 1e-13 relative, so the reported time does not depend on `run.sample_interval`; the last row
+//! the last representable time, so the reported time does not depend on `run.sample_interval`
+//! ([`crate::integrate::run_loop::locate`]); the last row
 //! is the state at the crossing.
 
 use super::simulate::{Failure, RunStatus};

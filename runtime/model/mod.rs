@@ -32,7 +32,7 @@ pub mod stiffness;
 pub mod vorticity;
 
 pub use boundary_layer::BoundaryLayerSystem;
-pub use events::{BlowUpEvent, BranchEvent, BranchFractions, BRANCH_TOLERANCE};
+pub use events::{BlowUpEvent, BranchEvent, BranchFractions};
 pub use equations::Equations;
 pub use linearize::JacobianPattern;
 pub use params::{Groups, Params, Scales};

@@ -101,7 +101,6 @@ impl RkFlow<'_> {
     ) -> Result<(), PeriodicError> {
         let n = y.as_ref().len();
         let events = sw.events();
-        let t_end = t0 + total as f64 * h;
         sw.enter(t0, y.as_ref());
         let mut g: Vec<f64> = events.iter().map(|e| e.g(t0, y.as_ref())).collect();
         let mut g_new = g.clone();
@@ -141,7 +140,7 @@ impl RkFlow<'_> {
                 let dense = |tq: f64, out: &mut [f64]| crate::integrate::hermite(tc, hc, y0, f0, y1, f1, tq, out);
                 let (mut first, mut ts) = (0, f64::INFINITY);
                 for i in (0..events.len()).filter(|&i| crossed(i)) {
-                    let ti = run_loop::locate(&*events[i], g[i], tc, te, t_end, z, dense);
+                    let ti = run_loop::locate(&*events[i], g[i], tc, te, z, dense);
                     if ti < ts {
                         (first, ts) = (i, ti);
                     }
