@@ -14,7 +14,8 @@
 //! rungs still differ) takes the Richardson value of n/4 and n/2, whose distance to the n-step
 //! value is ≈ d/240 (from the O(h⁴) error; measured at 0.5 MHz near ε_c: 2e-8 with the coil at k ≤ 16, 2.2e-7 without a field at k ≤ 32).
 //! The margin ln max|μ| feeds the regula-falsi bracket search. The multipliers reported at the
-//! two ends of the final bracket are computed further (on the orbit already found) when
+//! two ends of the final bracket are computed further (on the orbit already found, continuing
+//! from the rungs the verdict computed: [`ladder::climb_with`]) when
 //! their estimated distance to the n-step value exceeds 1e-7 (d·r, or for a value kept at n/4
 //! or n/2 steps the three-rung estimate of [`kept_error`]): up the ladder to the first rung
 //! with that estimate ≤ 1e-7, or with n steps where no rung can reach it ([`end_judge`]), so

@@ -12,7 +12,9 @@
 //! * [`verdict`]: the critical search's rule (critical.rs `floquet_eval`): the first rung where
 //!   |max|μ| − 1| > 8d (≈ 120 × the estimated error) and d < 1e-3 max|μ|, else the pair n/4,
 //!   n/2 if d < 1e-3 max|μ| there, else the n-step value (a pair that far apart is not in the
-//!   O(h⁴) regime: its Richardson value can even be negative). The 6-step rung decides the points far from the threshold (the stable-throughout high
+//!   O(h⁴) regime: its Richardson value can even be negative) — unless the pair's exponents
+//!   decide ([`log_decided`]: |ln μ| > 8 |Δ ln μ|, the same rule on ln μ, accepted with the
+//!   Richardson value of ln μ, [`Next::AcceptLog`]). The 6-step rung decides the points far from the threshold (the stable-throughout high
 //!   frequencies, where 6 and 12 steps agree to ~1e-8) at half the cost of the 12/25 pair;
 //! * [`converged`]: the figures' max-multiplier panel: the first Richardson value whose
 //!   estimated error d·r is ≤ [`MULTIPLIER_TOLERANCE`] relative; where the rungs up to n/2
