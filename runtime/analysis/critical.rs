@@ -14,7 +14,8 @@
 //! rungs still differ) takes the Richardson value of n/4 and n/2, whose distance to the n-step
 //! value is ≈ d/240 (from the O(h⁴) error; measured at 0.5 MHz near ε_c: 2e-8 with the coil at k ≤ 16, 2.2e-7 without a field at k ≤ 32).
 //! The margin ln max|μ| feeds the regula-falsi bracket search. The multipliers reported at the
-//! two ends of the final bracket are computed further (on the orbit already found) when
+//! two ends of the final bracket are computed further (on the orbit already found, continuing
+//! from the rungs the verdict computed: [`ladder::climb_with`]) when
 //! their estimated distance to the n-step value exceeds 1e-7 (d·r, or for a value kept at n/4
 //! or n/2 steps the three-rung estimate of [`kept_error`]): up the ladder to the first rung
 //! with that estimate ≤ 1e-7, or with n steps where no rung can reach it ([`end_judge`]), so
@@ -168,8 +169,10 @@ struct Seen {
     mu_error: f64,
     multiple: usize,
     note: String,
-    /// The radial orbit, reused when the multipliers of a bracket end are recomputed.
+    /// The radial orbit and the ladder's spectra on it, reused when the multipliers of a
+    /// bracket end are computed further.
     orbit: Option<PeriodicOrbit>,
+    rungs: ladder::Computed,
 }
 
 /// Floquet verdict at one scene with the cheap-first step counts of the module doc.
@@ -178,14 +181,15 @@ fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, S
     let prep = match prepare(&model, scene, opts) {
         Ok(prep) => prep,
         Err(StabilityError::Orbit(e)) => {
-            let seen = Seen { p, mode: String::new(), mu: f64::NAN, mu_error: 0.0, multiple: 0, note: format!("at {p:.6e}: {e}"), orbit: None };
+            let seen = Seen { p, mode: String::new(), mu: f64::NAN, mu_error: 0.0, multiple: 0, note: format!("at {p:.6e}: {e}"), orbit: None, rungs: Vec::new() };
             return Ok((Eval { verdict: Verdict::Undefined, margin: None }, seen));
         }
         Err(e) => return Err(e),
     };
     let n = opts.magnus_steps.max(1);
     // the ladder n/64, …, n/2 with the verdict judge, shared with the figures (ladder.rs)
-    let rung = ladder::climb(&prep, n, ladder::verdict(n))?;
+    let mut rungs = Vec::new();
+    let rung = ladder::climb_with(&prep, n, ladder::verdict(n), &mut rungs)?;
     let mu = rung.value;
     let mu_error = if rung.steps == n {
         0.0
@@ -196,7 +200,7 @@ fn floquet_eval(scene: &Scene, opts: &FloquetOptions, p: f64) -> Result<(Eval, S
     let report = prep.report(&spec, n, None, opts.variant);
     let verdict = if mu > 1.0 { Verdict::Unstable } else { Verdict::Stable };
     let orbit = prep.orbit().cloned();
-    let seen = Seen { p, mode: format!("a{}", report.mode), mu, mu_error, multiple: report.orbit_multiple, note: String::new(), orbit };
+    let seen = Seen { p, mode: format!("a{}", report.mode), mu, mu_error, multiple: report.orbit_multiple, note: String::new(), orbit, rungs };
     Ok((Eval { verdict, margin: Some(mu.ln()) }, seen))
 }
 
@@ -231,7 +235,7 @@ pub fn critical_point(
                 }
                 let v = series_unstable(&scene, &so)?;
                 let note = if v.reason.starts_with("failed") { v.reason.clone() } else { String::new() };
-                let s = Seen { p, mode: v.mode, mu: f64::NAN, mu_error: 0.0, multiple: 0, note, orbit: None };
+                let s = Seen { p, mode: v.mode, mu: f64::NAN, mu_error: 0.0, multiple: 0, note, orbit: None, rungs: Vec::new() };
                 (Eval::from_bool(v.unstable), s)
             }
         };
@@ -260,7 +264,7 @@ pub fn critical_point(
             let model = base_model(&scene)?;
             let prep = prepare_on(&model, &scene, &opts.floquet, e.orbit.as_ref())?;
             let n = opts.floquet.magnus_steps.max(1);
-            mu = ladder::climb(&prep, n, end_judge(n))?.value;
+            mu = ladder::climb_with(&prep, n, end_judge(n), &mut e.rungs.clone())?.value;
         }
         Ok(Some((e.mode.clone(), mu, e.multiple)))
     };

@@ -12,7 +12,9 @@
 //! * [`verdict`]: the critical search's rule (critical.rs `floquet_eval`): the first rung where
 //!   |max|μ| − 1| > 8d (≈ 120 × the estimated error) and d < 1e-3 max|μ|, else the pair n/4,
 //!   n/2 if d < 1e-3 max|μ| there, else the n-step value (a pair that far apart is not in the
-//!   O(h⁴) regime: its Richardson value can even be negative). The 6-step rung decides the points far from the threshold (the stable-throughout high
+//!   O(h⁴) regime: its Richardson value can even be negative) — unless the pair's exponents
+//!   decide ([`log_decided`]: |ln μ| > 8 |Δ ln μ|, the same rule on ln μ, accepted with the
+//!   Richardson value of ln μ, [`Next::AcceptLog`]). The 6-step rung decides the points far from the threshold (the stable-throughout high
 //!   frequencies, where 6 and 12 steps agree to ~1e-8) at half the cost of the 12/25 pair;
 //! * [`converged`]: the figures' max-multiplier panel: the first Richardson value whose
 //!   estimated error d·r is ≤ [`MULTIPLIER_TOLERANCE`] relative; where the rungs up to n/2
@@ -45,6 +47,8 @@ pub struct Rung {
     pub previous: usize,
     /// The spectrum at `steps`.
     pub spectrum: Spectrum,
+    /// max|μ| at `previous` (the spectrum's own at the n-step computation).
+    pub coarse: f64,
     /// |μ(steps) − μ(previous)|.
     pub difference: f64,
     /// The Richardson value μ(m) + (μ(m) − μ(m′))·r.
@@ -61,6 +65,9 @@ pub struct Rung {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Next {
     Accept,
+    /// Accept the Richardson value of ln max|μ| instead of max|μ|'s ([`verdict`]: a pair too far
+    /// apart relative to μ, whose exponent is decided).
+    AcceptLog,
     Climb,
     /// Skip the remaining rungs: compute n steps.
     Full,
@@ -78,15 +85,36 @@ pub fn rungs(n: usize) -> Vec<usize> {
     r
 }
 
+/// The spectra already computed on one prepared orbit, by step count (`None`: the monodromy
+/// overflowed), for [`climb_with`].
+pub type Computed = Vec<(usize, Option<Spectrum>)>;
+
 /// Climbs the ladder on `prep` until `judge` accepts a rung; the n-step spectrum (error 0) when
 /// it asks for it or no rung is accepted. A rung whose monodromy overflows (a coarse step on a
 /// fast-growing system) is skipped, and the next one starts a new pair.
 pub fn climb(prep: &Prepared, n: usize, judge: impl Fn(&Rung) -> Next) -> Result<Rung, StabilityError> {
+    climb_with(prep, n, judge, &mut Vec::new())
+}
+
+/// [`climb`] with the spectra of `computed` (of the same orbit and step counts: the monodromy is
+/// deterministic, so a rung taken from it is the one computed again) and the ones it computes
+/// added to it. The critical search keeps those of each evaluation, so that the climb of a bracket
+/// end to its reporting tolerance (critical.rs `end_judge`) continues where the verdict's climb
+/// stopped instead of starting again from the first rung.
+pub fn climb_with(prep: &Prepared, n: usize, judge: impl Fn(&Rung) -> Next, computed: &mut Computed) -> Result<Rung, StabilityError> {
+    let mut spectrum = |m: usize| -> Option<Spectrum> {
+        if let Some((_, s)) = computed.iter().find(|c| c.0 == m) {
+            return s.clone();
+        }
+        let s = prep.spectrum(m).ok();
+        computed.push((m, s.clone()));
+        s
+    };
     let ladder = rungs(n);
     let mut coarse: Option<(usize, Spectrum)> = None;
     let mut before: Option<(usize, f64)> = None;
     for &m in &ladder {
-        let Ok(fine) = prep.spectrum(m) else {
+        let Some(fine) = spectrum(m) else {
             (coarse, before) = (None, None);
             continue;
         };
@@ -94,17 +122,32 @@ pub fn climb(prep: &Prepared, n: usize, judge: impl Fn(&Rung) -> Next) -> Result
         let d = (fine.max_modulus - coarse_spec.max_modulus).abs();
         let r = 1.0 / ((m as f64 / mc as f64).powi(4) - 1.0);
         let value = fine.max_modulus + (fine.max_modulus - coarse_spec.max_modulus) * r;
-        let rung = Rung { steps: m, previous: mc, spectrum: fine, difference: d, value, error: d * r, before: before.filter(|b| b.0 == mc) };
+        let coarse_mu = coarse_spec.max_modulus;
+        let rung = Rung { steps: m, previous: mc, spectrum: fine, coarse: coarse_mu, difference: d, value, error: d * r, before: before.filter(|b| b.0 == mc) };
         match judge(&rung) {
             Next::Accept => return Ok(rung),
+            Next::AcceptLog => {
+                // ln μ(m) + (ln μ(m) − ln μ(m'))·r, and the distance of μ(m) to it as the error
+                let (l, lc) = (rung.spectrum.max_modulus.ln(), coarse_mu.ln());
+                let value = (l + (l - lc) * r).exp();
+                let error = (value - rung.spectrum.max_modulus).abs();
+                return Ok(Rung { value, error, ..rung });
+            }
             Next::Climb => before = Some((m, value)),
             Next::Full => break,
         }
     }
     let n = n.max(1);
-    let spectrum = prep.spectrum(n)?;
+    let spectrum = match computed.iter().find(|c| c.0 == n) {
+        Some((_, Some(s))) => s.clone(),
+        _ => {
+            let s = prep.spectrum(n)?;
+            computed.push((n, Some(s.clone())));
+            s
+        }
+    };
     let value = spectrum.max_modulus;
-    Ok(Rung { steps: n, previous: n, spectrum, difference: 0.0, value, error: 0.0, before: None })
+    Ok(Rung { steps: n, previous: n, spectrum, coarse: value, difference: 0.0, value, error: 0.0, before: None })
 }
 
 /// The critical search's judge (module doc; critical.rs `floquet_eval`).
@@ -115,6 +158,8 @@ pub fn verdict(n: usize) -> impl Fn(&Rung) -> Next {
         let decided = (mu - 1.0).abs() > 8.0 * r.difference && asymptotic;
         if decided || (r.steps == n / 2 && asymptotic) {
             Next::Accept
+        } else if !asymptotic && log_decided(mu, r.coarse) {
+            Next::AcceptLog
         } else if r.steps >= n / 2 {
             // the pair n/4, n/2 still far apart (a fast-growing mode on a violent orbit: 1e38
             // against 1e33): its Richardson value can have any sign, so the n-step value decides
@@ -123,6 +168,20 @@ pub fn verdict(n: usize) -> impl Fn(&Rung) -> Next {
             Next::Climb
         }
     }
+}
+
+/// The same rule on the exponent: |ln μ| > 8 |ln μ − ln μ'| for the rungs' μ = μ(m), μ' = μ(m')
+/// (both > 0). ln μ's error is μ's relative error, O(h⁴) like μ's; a pair whose exponents
+/// agree to an eighth of the exponent's distance from 0 decides the verdict even when μ
+/// itself is far from the O(h⁴) regime (μ ≫ 1: 1.2e30 after 2.0e31 at 200/100 steps, whose
+/// linear Richardson value is negative; the log-Richardson value keeps the sign of ln μ, since
+/// the correction (ln μ − ln μ')·r is below |ln μ|/120).
+fn log_decided(mu: f64, coarse: f64) -> bool {
+    if !(mu > 0.0 && coarse > 0.0 && mu.is_finite() && coarse.is_finite()) {
+        return false;
+    }
+    let (l, lc) = (mu.ln(), coarse.ln());
+    l.abs() > 8.0 * (l - lc).abs()
 }
 
 /// The max-multiplier panel's judge (module doc), relative tolerance `tol`.
@@ -203,7 +262,7 @@ mod tests {
     fn rung(steps: usize, previous: usize, mu: f64, difference: f64) -> Rung {
         let r = 1.0 / ((steps as f64 / previous as f64).powi(4) - 1.0);
         let spectrum = Spectrum { multipliers: vec![Complex::new(mu, 0.0)], max_modulus: mu, block: 0, components: vec![(0, 1.0)] };
-        Rung { steps, previous, spectrum, difference, value: mu + difference * r, error: difference * r, before: None }
+        Rung { steps, previous, spectrum, coarse: mu - difference, difference, value: mu + difference * r, error: difference * r, before: None }
     }
 
     #[test]
@@ -219,8 +278,13 @@ mod tests {
         assert_eq!(judge(&rung(12, 6, 0.6, 1e-8)), Next::Accept);
         // |μ − 1| = 1e-4 < 8d: climb
         assert_eq!(judge(&rung(12, 6, 1.0001, 1e-4)), Next::Climb);
-        // far from 1 but the rungs still differ by more than 1e-3 of μ: climb
-        assert_eq!(judge(&rung(25, 12, 1e6, 1e4)), Next::Climb);
+        // far from 1 but the rungs still differ by more than 1e-3 of μ: decided on the exponent
+        // when the exponents agree (13.816 after 13.806) …
+        assert_eq!(judge(&rung(25, 12, 1e6, 1e4)), Next::AcceptLog);
+        // … climb when they do not (13.8 after 20.7)
+        let mut far = rung(25, 12, 1e6, 1e9 - 1e6);
+        far.coarse = 1e9;
+        assert_eq!(judge(&far), Next::Climb);
         // the last rung decides whatever the margin, when its pair is asymptotic
         assert_eq!(judge(&rung(200, 100, 1.0001, 1e-4)), Next::Accept);
         // … and when it is not, the n-step value does: 9.7e32 after 1.2e38 has a Richardson
@@ -228,8 +292,45 @@ mod tests {
         // ε_p 1: `stability` said stable_throughout with max|μ| 4.9e32 at the bracket's top)
         let mut wild = rung(200, 100, 9.7e32, 1.15e38);
         wild.value = 9.7e32 + (9.7e32 - 1.15e38) / 15.0; // μ(n/2) + (μ(n/2) − μ(n/4))·r
+        wild.coarse = 1.15e38;
         assert!(wild.value < 0.0);
         assert_eq!(judge(&wild), Next::Full);
+    }
+
+    #[test]
+    fn a_pair_far_apart_in_mu_decides_on_its_exponent() {
+        let judge = verdict(400);
+        // the window check at ε_p = 1 (benches/population.toml, R0 9.5 µm, 500 kHz): 2.05e31 at
+        // 100 steps, 1.22e30 at 200: the linear Richardson value is negative, the exponents
+        // 71.99 and 69.28 agree to 2.7 < 69.3/8
+        let mut r = rung(200, 100, 1.2216299351e30, 2.0473535288e31 - 1.2216299351e30);
+        r.coarse = 2.0473535288e31;
+        r.value = r.spectrum.max_modulus - r.difference / 15.0;
+        assert!(r.value < 0.0);
+        assert_eq!(judge(&r), Next::AcceptLog);
+        // 4.6e39 at 50, 2.0e31 at 100: exponents 91.3 and 72.0 do not agree to 72/8: climb
+        let mut r = rung(100, 50, 2.0473535288e31, 4.6257149339e39 - 2.0473535288e31);
+        r.coarse = 4.6257149339e39;
+        assert_eq!(judge(&r), Next::Climb);
+        // a strongly stable point: 1e-12 after 1.1e-12 (exponents −27.6, −27.5)
+        let mut r = rung(12, 6, 1e-12, 1e-13);
+        r.coarse = 1.1e-12;
+        assert_eq!(judge(&r), Next::AcceptLog);
+        // near the threshold the exponent rule adds nothing: 1.5 after 1.52 is decided by μ's
+        // own rule once the pair is asymptotic, and 1.02 after 1.2 (exponents 0.0198, 0.182) is not decided
+        let mut r = rung(25, 12, 1.02, 0.18);
+        r.coarse = 1.2;
+        assert_eq!(judge(&r), Next::Climb);
+    }
+
+    /// climb with AcceptLog returns the log-Richardson value, of the sign of ln μ(m).
+    #[test]
+    fn the_log_richardson_value_keeps_the_verdict() {
+        let (mu, coarse) = (1.2216299351e30f64, 2.0473535288e31f64);
+        let r = 1.0 / 15.0;
+        let value = (mu.ln() + (mu.ln() - coarse.ln()) * r).exp();
+        assert!(value > 1.0 && value < mu, "{value:e}");
+        assert!(log_decided(mu, coarse) && !log_decided(mu, 1e40) && !log_decided(f64::NAN, 1.0) && !log_decided(1.0, 0.0));
     }
 
     #[test]
