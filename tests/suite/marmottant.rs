@@ -5,7 +5,7 @@
 use crate::common;
 use crate::common::water::*;
 use magbubble::analysis::frequencies::natural_frequencies;
-use magbubble::model::{simulate, RunStatus};
+use magbubble::model::simulate;
 use magbubble::scene::{load_str, Lipid, Scene, ShellLaw};
 
 /// A BR14-type monolayer (Marmottant 2005 fit an SF6 bubble with χ = 0.54 N/m, κ_s = 7.2e-9 kg/s;
@@ -65,15 +65,7 @@ fn radial_error(eps: f64, f_hz: f64, l: Lipid, rtol: f64) -> (f64, usize) {
     let mut s = scene(0, eps, f_hz, l);
     s.run.duration = 3.0 / f_hz;
     s.run.sample_interval = 0.02 / f_hz;
-    s.run.integrator.rtol = rtol;
-    s.run.integrator.atol = 1e-14;
-    let (mut ts, mut rs) = (vec![], vec![]);
-    let rep = simulate(&s, &mut |t, row| {
-        ts.push(t);
-        rs.push(row[0]);
-    })
-    .unwrap();
-    assert!(matches!(rep.status, RunStatus::Completed), "{:?}", rep.status);
+    let (ts, rs) = common::radial_series(&s, rtol);
     let (rref, switches) = reference(eps, f_hz, &l, &ts, 2e-11);
     let err = rs.iter().zip(&rref).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / common::R0;
     (err, switches)

@@ -107,6 +107,22 @@ pub fn rk4_at_times(f: &dyn Fn(f64, [f64; 2]) -> [f64; 2], y0: [f64; 2], ts: &[f
     out
 }
 
+/// The sample times and R of a run of `s` at `rtol` (atol 1e-14), asserted completed.
+pub fn radial_series(s: &Scene, rtol: f64) -> (Vec<f64>, Vec<f64>) {
+    use magbubble::model::{simulate, RunStatus};
+    let mut s = s.clone();
+    s.run.integrator.rtol = rtol;
+    s.run.integrator.atol = 1e-14;
+    let (mut ts, mut rs) = (vec![], vec![]);
+    let rep = simulate(&s, &mut |t, row| {
+        ts.push(t);
+        rs.push(row[0]);
+    })
+    .unwrap();
+    assert!(matches!(rep.status, RunStatus::Completed), "{:?}", rep.status);
+    (ts, rs)
+}
+
 /// Runs `scene(ε_p)` for each ε_p of `eps` at rtol 1e-12 (duration, sample interval given) and
 /// asserts its R(t) within 1e-8 R0 of `reference(ε_p, sample times)` (the published equation
 /// integrated in the test): the radial check of every shell law written from its paper.
@@ -117,20 +133,11 @@ pub fn assert_radial_matches_reference(
     scene: &dyn Fn(f64) -> magbubble::scene::Scene,
     reference: &dyn Fn(f64, &[f64]) -> Vec<f64>,
 ) {
-    use magbubble::model::{simulate, RunStatus};
     for &e in eps {
         let mut s = scene(e);
         s.run.duration = duration;
         s.run.sample_interval = sample_interval;
-        s.run.integrator.rtol = 1e-12;
-        s.run.integrator.atol = 1e-14;
-        let (mut ts, mut rs) = (vec![], vec![]);
-        let rep = simulate(&s, &mut |t, row| {
-            ts.push(t);
-            rs.push(row[0]);
-        })
-        .unwrap();
-        assert!(matches!(rep.status, RunStatus::Completed), "{:?}", rep.status);
+        let (ts, rs) = radial_series(&s, 1e-12);
         let rref = reference(e, &ts);
         let err = rs.iter().zip(&rref).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / R0;
         let span = rs.iter().fold(0.0f64, |m, r| m.max((r - R0).abs())) / R0;
