@@ -31,23 +31,7 @@
 //! term (p_b is the non-condensable gas's pressure).
 
 use super::{At, LoadJacobian, Loads, PressureRate, Term};
-
-/// A complex number (re, im) for Ψ's few operations.
-#[derive(Debug, Clone, Copy)]
-struct C(f64, f64);
-
-impl C {
-    fn add(self, o: C) -> C {
-        C(self.0 + o.0, self.1 + o.1)
-    }
-    fn mul(self, o: C) -> C {
-        C(self.0 * o.0 - self.1 * o.1, self.0 * o.1 + self.1 * o.0)
-    }
-    fn inv(self) -> C {
-        let d = self.0 * self.0 + self.1 * self.1;
-        C(self.0 / d, -self.1 / d)
-    }
-}
+use nalgebra::Complex;
 
 /// Below this Pe, Ψ from the series of z coth z (z² = iPe): the closed form's G = z coth z − 1
 /// and 1/G − 3/(iPe) cancel there (the isothermal limit, D → ∞).
@@ -60,30 +44,23 @@ pub fn transfer(pe: f64) -> (f64, f64) {
         // z coth z = Σ c_n wⁿ, c_n = 2²ⁿB₂ₙ/(2n)!, w = z² = iPe. With G = (w/3)(1 − r),
         // r/w = −3 Σ_{n≥2} c_n w^{n−2}, and Ψ = 1/(1/G − 3/w) = (1 − r)/(3 r/w): no cancellation.
         const B: [f64; 8] = [-1.0 / 30.0, 1.0 / 42.0, -1.0 / 30.0, 5.0 / 66.0, -691.0 / 2730.0, 7.0 / 6.0, -3617.0 / 510.0, 43867.0 / 798.0];
-        let w = C(0.0, pe);
-        let (mut rw, mut wn) = (C(0.0, 0.0), C(1.0, 0.0));
+        let w = Complex::new(0.0, pe);
+        let (mut rw, mut wn) = (Complex::new(0.0, 0.0), Complex::new(1.0, 0.0));
         let mut fact = 24.0; // (2n)! from n = 2
         for (i, b) in B.iter().enumerate() {
             let n = i + 2;
             let c = 4f64.powi(n as i32) * b / fact;
-            rw = rw.add(C(-3.0 * c * wn.0, -3.0 * c * wn.1));
-            wn = wn.mul(w);
+            rw += wn * (-3.0 * c);
+            wn *= w;
             fact *= ((2 * n + 1) * (2 * n + 2)) as f64;
         }
-        let r = rw.mul(w);
-        let psi = C(1.0 - r.0, -r.1).mul(C(3.0 * rw.0, 3.0 * rw.1).inv());
-        return (psi.0, psi.1);
+        let psi = (1.0 - rw * w) / (3.0 * rw);
+        return (psi.re, psi.im);
     }
-    // z = √(iPe) = (1 + i)√(Pe/2); z coth z with coth z = (1 + e^{−2z})/(1 − e^{−2z})
-    let s = (0.5 * pe).sqrt();
-    let (m, ang) = ((-2.0 * s).exp(), -2.0 * s);
-    let e = C(m * ang.cos(), m * ang.sin());
-    let coth = C(1.0 + e.0, e.1).mul(C(1.0 - e.0, -e.1).inv());
-    let zc = C(s, s).mul(coth);
-    // 1/G − 3/(iPe) = 1/G + 3i/Pe, G = z coth z − 1
-    let h = C(zc.0 - 1.0, zc.1).inv().add(C(0.0, 3.0 / pe));
-    let psi = h.inv();
-    (psi.0, psi.1)
+    // 1/G − 3/(iPe) = 1/G + 3i/Pe, G = z coth z − 1 (the same G as Prosperetti's Φ)
+    let g = super::thermal_damping::z_coth_z_minus_one(pe);
+    let psi = 1.0 / (1.0 / g + Complex::new(0.0, 3.0 / pe));
+    (psi.re, psi.im)
 }
 
 /// The reduced gas (module doc), model units.

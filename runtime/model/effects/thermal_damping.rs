@@ -15,40 +15,28 @@
 //! κ_eff goes into the gas term ([`super::gas::PolytropicGas`]); −4μ_th Ṙ/R is [`ThermalDamping`].
 
 use super::{At, LoadJacobian, Loads, PressureRate, Term};
+use nalgebra::Complex;
 
-/// A complex number (re, im): the few operations Φ needs.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct C(f64, f64);
-
-impl C {
-    fn mul(self, o: C) -> C {
-        C(self.0 * o.0 - self.1 * o.1, self.0 * o.1 + self.1 * o.0)
-    }
-    fn div(self, o: C) -> C {
-        let d = o.0 * o.0 + o.1 * o.1;
-        C((self.0 * o.0 + self.1 * o.1) / d, (self.1 * o.0 - self.0 * o.1) / d)
-    }
-    fn exp(self) -> C {
-        let m = self.0.exp();
-        C(m * self.1.cos(), m * self.1.sin())
-    }
+/// G(Pe) = z coth z − 1 with z = √(iPe) = (1 + i)√(Pe/2), Pe = ωR0²/D: the transfer function
+/// of the linearised heat equation in the gas that Prosperetti's Φ (below) and the reduced
+/// model's Ψ ([`super::reduced_gas::transfer`]) are both made of. coth z = (1 + e^{−2z})/(1 −
+/// e^{−2z}), stable for Re z > 0.
+pub(crate) fn z_coth_z_minus_one(pe: f64) -> Complex<f64> {
+    let s = (0.5 * pe).sqrt();
+    let z = Complex::new(s, s);
+    let e = (-2.0 * z).exp();
+    let coth = (1.0 + e) / (1.0 - e);
+    z * coth - 1.0
 }
 
 /// Φ(ω) of Prosperetti's linear theory (module doc): D [m²/s], γ, ω [rad/s], R0 [m] (any
 /// consistent units: only χ = D/(ωR0²) enters).
 pub fn prosperetti_phi(omega: f64, r0: f64, diffusivity: f64, gamma: f64) -> (f64, f64) {
     let chi = diffusivity / (omega * r0 * r0);
-    // z = √(i/χ) = (1 + i)/√(2χ); coth z = (1 + e^{−2z})/(1 − e^{−2z}), stable for Re z > 0
-    let s = (0.5 / chi).sqrt();
-    let z = C(s, s);
-    let e = C(-2.0 * z.0, -2.0 * z.1).exp();
-    let coth = C(1.0 + e.0, e.1).div(C(1.0 - e.0, -e.1));
-    let zc = z.mul(coth);
     // iχ (z coth z − 1)
-    let w = C(0.0, chi).mul(C(zc.0 - 1.0, zc.1));
-    let den = C(1.0 - 3.0 * (gamma - 1.0) * w.0, -3.0 * (gamma - 1.0) * w.1);
-    let phi = C(3.0 * gamma, 0.0).div(den);
-    (phi.0, phi.1)
+    let w = Complex::new(0.0, chi) * z_coth_z_minus_one(1.0 / chi);
+    let phi = Complex::new(3.0 * gamma, 0.0) / (1.0 - 3.0 * (gamma - 1.0) * w);
+    (phi.re, phi.im)
 }
 
 /// κ_eff = Re Φ/3 and μ_th = p_g0 Im Φ/(4ω) at ω (units of p_g0 / ω).
