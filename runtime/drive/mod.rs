@@ -137,12 +137,6 @@ impl Waveform {
     #[inline]
     pub fn pressure_and_rate(&self, t: f64) -> (f64, f64) {
         match self {
-            // `pressure` and `rate`'s expressions, with one sincos
-            Waveform::Tones { p_ref, tones, burst: None } if tones.len() == 1 => {
-                let w = tones[0];
-                let (sin, cos) = sin_cos(w.omega * t + w.phase);
-                (w.amplitude * p_ref * cos, -(w.amplitude * p_ref) * w.omega * sin)
-            }
             Waveform::File(s) => s.at(t),
             Waveform::Tones { p_ref, tones, burst } => match burst {
                 None => tones_at(*p_ref, tones, t, 1.0, 0.0),
