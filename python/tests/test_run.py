@@ -22,6 +22,8 @@ def _read_csv(path):
         ("scenes/radial_only.toml", {"run.duration": 20e-6}),
         ("scenes/coil_static.toml", {"run.duration": 5e-6, "modes.max_order": 6}),
         ("scenes/hard/reduced_collapse.toml", {"run.duration": 5e-6}),
+        # the reduced thermal model with shape modes: p_b after the a_k, b_k columns
+        ("scenes/coil_static.toml", {"run.duration": 5e-6, "modes.max_order": 4, "gas.thermal": "reduced"}),
     ],
 )
 def test_series_and_summary_equal_the_cli(cli, tmp_path, scene, sets):

@@ -94,7 +94,8 @@ impl Model {
             effects::thermal_damping::assemble(scene, &scales, &mut params, &mut terms, i)?;
         }
         // issue 31 part 2: the reduced thermal model, p_b in the gas slot after the mode blocks
-        // (radial only: validation refuses shape modes with it)
+        // (with shape modes: the boundary-layer linear coupling; validation refuses the
+        // quadratic coupling and the vorticity model with it)
         let lay = match scene.gas.thermal {
             crate::scene::Thermal::Reduced { .. } => layout::StateLayout::reduced(orders.len()).with_gas(),
             _ => layout::StateLayout::reduced(orders.len()),
@@ -103,11 +104,11 @@ impl Model {
             Some(i) => effects::thermal_damping::assemble_reduced(scene, &scales, &mut params, &mut terms, i)?,
             None => None,
         };
-        if reduced_gas.is_some() && !orders.is_empty() {
+        if reduced_gas.is_some() && scene.modes.coupling == Coupling::Quadratic && !orders.is_empty() {
             return Err(ModelError::Unsupported {
                 key: "gas.thermal",
                 value: "\"reduced\"".into(),
-                reason: "radial only: the shape systems do not carry the gas slot p_b (set modes.max_order = 0)",
+                reason: effects::reduced_gas::WITH_QUADRATIC,
             });
         }
         // issue 12: the quadratic coupling, a second-pass term (nothing is assembled for `linear`)
@@ -181,7 +182,7 @@ impl Model {
                 })
                 .collect();
             effects.push(format!("shape modes k=2..{} (boundary layer)", scene.modes.max_order));
-            let mut bl = BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes, shape_weights: Vec::new() };
+            let mut bl = BoundaryLayerSystem { bdot_radial: eq.needs_bdot(), bdot_loads: eq.has_bdot_loads(), eq, modes, shape_weights: Vec::new(), gas: reduced_gas.as_ref().map(|g| g.0) };
             let forced = thermal::static_response(&bl);
             bl.shape_weights = thermal::weights(scene, thermal_seed.as_ref(), scales.time, &forced);
             System::BoundaryLayer(bl)

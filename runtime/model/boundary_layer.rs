@@ -96,6 +96,11 @@ pub struct BoundaryLayerSystem {
     /// The absolute-tolerance weight of each mode's (a_k, ȧ_k, b_k) ([`crate::integrate::OdeSystem::error_scale`],
     /// docs/integrators.md "Error weights"); R and Ṙ have weight 1.
     pub(crate) shape_weights: Vec<f64>,
+    /// The reduced thermal model's ṗ_b (`gas.thermal = "reduced"`, docs/model.md "Reduced
+    /// thermal model"): p_b in the gas slot after the mode blocks
+    /// ([`StateLayout::with_gas`]); it enters R̈ through P (the gas term) and the mode rows only
+    /// through R̈. `None` for every other gas.
+    pub(crate) gas: Option<super::effects::reduced_gas::ReducedGas>,
 }
 
 /// Per mode, what [`BoundaryLayerSystem::apply_bdot_loads`] found: the coefficients
@@ -121,10 +126,23 @@ impl BoundaryLayerSystem {
         &self.modes
     }
 
-    /// The state layout, y = [R, Ṙ, (a_k, ȧ_k, b_k)_k].
+    /// The state layout, y = [R, Ṙ, (a_k, ȧ_k, b_k)_k] (then p_b with the reduced thermal model).
     #[inline]
     pub fn layout(&self) -> StateLayout {
-        StateLayout::reduced(self.modes.len())
+        let l = StateLayout::reduced(self.modes.len());
+        if self.gas.is_some() {
+            l.with_gas()
+        } else {
+            l
+        }
+    }
+
+    /// ṗ_b into its slot of `dy` (the reduced thermal model; no-op without it).
+    #[inline]
+    fn gas_rate(&self, y: &[f64], dy: &mut [f64]) {
+        if let Some(g) = &self.gas {
+            dy[g.index] = g.rate(y[0], y[1], y[g.index]);
+        }
     }
 
     /// Writes (ȧ_k, ä_k, ḃ_k) for every mode into `dy[2..]`, for given R, Ṙ, R̈ and loads G_n,k,
@@ -292,6 +310,7 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        self.gas_rate(y, dy);
         if self.eq.has_second_order() {
             return self.rhs_with_second_order(t, y, dy);
         }
@@ -329,6 +348,10 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
         for &s in &self.shape_weights {
             w.extend([s, s, s]);
         }
+        if self.gas.is_some() {
+            // p_b (in units of the model's pressure scale, O(1) like R and Ṙ)
+            w.push(1.0);
+        }
         Some(w)
     }
 
@@ -343,13 +366,14 @@ impl crate::integrate::OdeSystem for BoundaryLayerSystem {
     /// caller's dense LU) when J is not finite.
     fn structured_jacobian(&self, t: f64, y: &[f64]) -> Option<Box<dyn crate::integrate::linear::StructuredJacobian>> {
         use crate::integrate::{bordered::BorderedBand, linear::StructuredJacobian, reduced::PositionRows};
-        let (n, l) = (y.len(), StateLayout::reduced_of_dim(y.len()));
+        let (n, l) = (y.len(), self.layout());
         let band = self.jacobian_pattern().band;
         // the border: R, Ṙ and the `band` lowest modes; the half-width: a mode row reaches
         // `band` blocks away, from its a to the last b (3·band + 2)
         let border = l.blocks(0..band).end;
         let w = l.b(band) - l.a(0);
-        let bordered_pays = border < n && n - border > 2 * w + 1;
+        // (the gas slot's column is full: p_b enters R̈, and R̈ every mode row)
+        let bordered_pays = self.gas.is_none() && border < n && n - border > 2 * w + 1;
         let mut jac = vec![0.0; n * n];
         self.jacobian_into(t, y, &mut jac);
         if !bordered_pays || l.modes() <= POSITION_ROWS_MAX_MODES {

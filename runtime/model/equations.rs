@@ -205,7 +205,8 @@ impl Equations {
         if !self.form.needs_rate() {
             return false;
         }
-        let z = vec![1.0; StateLayout::reduced(self.orders.len()).dim()];
+        // (with the gas slot: the reduced thermal model's rate reads p_b)
+        let z = vec![1.0; StateLayout::reduced(self.orders.len()).with_gas().dim()];
         self.rate(0.0, &z, &mut ShapeRate::default()).0.has_bdot()
     }
 
@@ -273,6 +274,24 @@ impl Equations {
                 }
             }
         }
+    }
+
+    /// ∂R̈/∂p_b of [`acceleration_with`](Self::acceleration_with) with the reduced thermal model
+    /// (docs/model.md, "Reduced thermal model"): p_b enters P with ∂P/∂p_b = 1 and, for a form
+    /// that needs the rate (Keller–Miksis), the rate's q through ṗ_b, whose ∂ṗ_b/∂p_b is
+    /// `dpb_rate`. `bdot` as in [`acceleration_with`](Self::acceleration_with) (empty: the shape
+    /// frozen). The radial and the boundary-layer Jacobians' p_b column.
+    pub fn acceleration_gas_partial(&self, t: f64, z: &[f64], pressure: f64, bdot: &[f64], dpb_rate: f64) -> f64 {
+        if !self.form.needs_rate() {
+            return self.form.partials(self.params.rho, z[0], z[1], pressure).2;
+        }
+        let mut shape = ShapeRate::default();
+        let (mut rate, _) = self.rate(t, z, &mut shape);
+        for (m, x) in bdot.iter().enumerate() {
+            rate.q += rate.db(m) * x;
+        }
+        let d = self.form.partials_rate(self.params.rho, z[0], z[1], pressure, &rate);
+        d[2] + d[3] * dpb_rate
     }
 
     /// Exact ∂P/∂z, ∂G_n/∂z, ∂G_t/∂z at (t, z) for `jac.modes()` modes (overwritten).

@@ -62,11 +62,29 @@ struct RowForm {
     idx: [usize; 3],
 }
 
+impl RowForm {
+    /// The rows' response to a change x of R̈ alone (no load, no state column): the gas slot's
+    /// column, whose p_b reaches the mode rows only through R̈ — the product's row applied to
+    /// that direction ([`BoundaryLayerSystem::jacobian_product_into`]).
+    fn through_rdd(&self, x: f64) -> (f64, f64) {
+        let (mut va, mut vb) = (self.da[var::RDD] * x, self.db[var::RDD] * x);
+        if let Some(c) = self.c {
+            vb /= 1.0 - self.db[var::GN] * c[0] - self.db[var::GT] * c[1];
+            va += (self.da[var::GN] * c[0] + self.da[var::GT] * c[1]) * vb;
+        }
+        (va, vb)
+    }
+}
+
 /// Scratch-free helpers: the gradient of the loads and of R̈ at (t, y).
 struct Lin {
     lj: LoadJacobian,
     rdd: f64,
+    /// ∂R̈/∂z over the load columns (R, Ṙ and the mode blocks: the layout without the gas slot).
     drdd: Vec<f64>,
+    /// ∂R̈/∂p_b with the reduced thermal model (0 without it): the gas slot's column, which the
+    /// loads do not have ([`crate::model::Equations::acceleration_gas_partial`]).
+    drdd_pb: f64,
     gn: [f64; MAX_MODES],
     gt: [f64; MAX_MODES],
     /// The ḃ_k loads per mode when there are any ([`BoundaryLayerSystem::apply_bdot_loads`];
@@ -84,7 +102,9 @@ impl BoundaryLayerSystem {
 
     fn lin(&self, t: f64, y: &[f64], rdd: Option<f64>) -> Lin {
         let m = self.modes.len();
-        let (n, lay) = (self.layout().dim(), self.layout());
+        // the load columns (no gas slot: p_b enters R̈ alone, through `drdd_pb`)
+        let (n, lay) = (StateLayout::reduced(m).dim(), self.layout());
+        let dpb_rate = self.gas.map(|g| g.rate_partials(y[0], y[1], y[g.index]).1[2]);
         let mut lj = LoadJacobian::new(m);
         self.eq.load_jacobian(t, y, &mut lj);
         let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
@@ -97,7 +117,7 @@ impl BoundaryLayerSystem {
             Some(v) => v,
             None if self.bdot_radial => {
                 // ḃ and its rows first (they do not depend on R̈), then R̈ with them
-                let mut l = Lin { lj, rdd: 0.0, drdd, gn, gt, bdot };
+                let mut l = Lin { lj, rdd: 0.0, drdd, drdd_pb: 0.0, gn, gt, bdot };
                 let mut dy = vec![0.0; n];
                 self.mode_rates(y[0], y[1], 0.0, &gn[..m], &gt[..m], y, &mut dy);
                 let bd: Vec<f64> = (0..m).map(|j| dy[lay.b(j)]).collect();
@@ -109,6 +129,7 @@ impl BoundaryLayerSystem {
                 self.eq.acceleration_gradient_with(t, y, p, &l.lj.pressure, Some((&bd, &dbd)), &mut g);
                 l.drdd = g;
                 l.rdd = self.eq.acceleration_with(t, y, p, &bd);
+                l.drdd_pb = dpb_rate.map_or(0.0, |d| self.eq.acceleration_gas_partial(t, y, p, &bd, d));
                 return l;
             }
             None => {
@@ -116,7 +137,11 @@ impl BoundaryLayerSystem {
                 self.eq.acceleration_at(t, y, p)
             }
         };
-        let l = Lin { lj, rdd, drdd, gn, gt, bdot };
+        let drdd_pb = match (prescribed, dpb_rate) {
+            (false, Some(d)) => self.eq.acceleration_gas_partial(t, y, p, &[], d),
+            _ => 0.0,
+        };
+        let l = Lin { lj, rdd, drdd, drdd_pb, gn, gt, bdot };
         if self.eq.has_second_order() && !prescribed {
             return self.second_pass(t, y, p, l);
         }
@@ -162,8 +187,9 @@ impl BoundaryLayerSystem {
     }
 
     /// Rows of (ä, ḃ) of mode index m as gradients over y (length n): `out_a`, `out_b`.
+    /// Over the load columns (the gas slot's column: [`RowForm::through_rdd`]).
     fn mode_rows(&self, y: &[f64], l: &Lin, m: usize, out_a: &mut [f64], out_b: &mut [f64]) {
-        self.mode_rows_in(y, l, m, 0..y.len(), out_a, out_b)
+        self.mode_rows_in(y, l, m, 0..l.drdd.len(), out_a, out_b)
     }
 
     /// The linear form of mode m's (ä, ḃ) rows over the gradients they combine (the partials
@@ -230,8 +256,14 @@ impl BoundaryLayerSystem {
         let l = self.lin(t, y, None);
         let dot = |g: &[f64], v: &[f64]| g.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         let forms: Vec<RowForm> = (0..self.modes.len()).map(|m| self.row_form(y, &l, m)).collect();
+        let gas = self.gas.map(|g| (g.index, g.rate_partials(y[0], y[1], y[g.index]).1));
         for (sj, oj) in s.chunks_exact(n).zip(out.chunks_exact_mut(n)) {
-            let rdd = dot(&l.drdd, sj);
+            // (the loads' rows stop before the gas slot: `dot` over their length)
+            let mut rdd = dot(&l.drdd, sj);
+            if let Some((i, d)) = gas {
+                rdd += l.drdd_pb * sj[i];
+                oj[i] = d[0] * sj[0] + d[1] * sj[1] + d[2] * sj[i];
+            }
             oj[0] = sj[1];
             oj[1] = rdd;
             for (m, f) in forms.iter().enumerate() {
@@ -258,13 +290,27 @@ impl BoundaryLayerSystem {
         let l = self.lin(t, y, None);
         jac[..n * n].fill(0.0);
         jac[1] = 1.0;
-        jac[n..2 * n].copy_from_slice(&l.drdd);
+        jac[n..n + l.drdd.len()].copy_from_slice(&l.drdd);
         let lay = self.layout();
         for m in 0..self.modes.len() {
             // a' = ȧ; the ä and ḃ rows (adjacent) from mode_rows
             jac[lay.a(m) * n + lay.adot(m)] = 1.0;
             let (ra, rest) = jac[lay.adot(m) * n..(lay.b(m) + 1) * n].split_at_mut(n);
             self.mode_rows(y, &l, m, ra, rest);
+        }
+        // the gas slot: its column (R̈'s, and the mode rows' through R̈) and ṗ_b's row
+        if let Some(g) = &self.gas {
+            let i = g.index;
+            let (_, d) = g.rate_partials(y[0], y[1], y[i]);
+            jac[n + i] = l.drdd_pb;
+            for m in 0..self.modes.len() {
+                let (va, vb) = self.row_form(y, &l, m).through_rdd(l.drdd_pb);
+                jac[lay.adot(m) * n + i] = va;
+                jac[lay.b(m) * n + i] = vb;
+            }
+            jac[i * n] = d[0];
+            jac[i * n + 1] = d[1];
+            jac[i * n + i] = d[2];
         }
     }
 

@@ -90,22 +90,15 @@ impl OdeSystem for RadialSystem {
         let mut lj = super::effects::LoadJacobian::new(0);
         self.eq.load_jacobian(t, y, &mut lj);
         let p = self.eq.loads(t, y, &mut [], &mut []);
+        let mut g = [0.0; 2];
+        self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut g);
         let Some(gas) = &self.gas else {
-            let mut g = [0.0; 2];
-            self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut g);
             jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
             return true;
         };
-        let mut g = [0.0; 3];
-        self.eq.acceleration_gradient_at(t, y, p, &[lj.pressure[0], lj.pressure[1], 1.0], &mut g);
         let (_, d) = gas.rate_partials(y[0], y[1], y[2]);
-        if self.eq.form.needs_rate() {
-            // ∂R̈/∂q · ∂ṗ_b/∂p_b: the rate's p_b part (its (R, Ṙ) part is in g already)
-            let rate = self.eq.radial_rate(t, y);
-            let dq = self.eq.form.partials_rate(self.eq.params.rho, y[0], y[1], p, &rate)[3];
-            g[2] += dq * d[2];
-        }
-        jac[..9].copy_from_slice(&[0.0, 1.0, 0.0, g[0], g[1], g[2], d[0], d[1], d[2]]);
+        let g2 = self.eq.acceleration_gas_partial(t, y, p, &[], d[2]);
+        jac[..9].copy_from_slice(&[0.0, 1.0, 0.0, g[0], g[1], g2, d[0], d[1], d[2]]);
         true
     }
 }

@@ -312,8 +312,8 @@ pub static SCHEMA: &[Param] = &[
        heat_capacity_ratio (docs/model.md, \"Thermal damping\"); `reduced` = the nonlinear reduced \
        heat-transfer model of Preston, Colonius & Brennen 2007: the bubble pressure p_b is a state \
        variable (a p_b column in series.csv) with a heat flux whose small-amplitude limit is \
-       Prosperetti's at the same frequency (docs/model.md, \"Reduced thermal model\"); radial only \
-       (modes.max_order = 0)."),
+       Prosperetti's at the same frequency (docs/model.md, \"Reduced thermal model\"); with shape modes \
+       the boundary-layer closure and the linear coupling."),
     p("gas.thermal_diffusivity", K::Float, "m^2/s", D::Derived("2.0e-5 (air at 20 C, 1 atm)"), Rg::Positive, "D_g",
       "Thermal diffusivity K/(rho_g c_p) of the gas at rest (gas.thermal = \"prosperetti\" or \"reduced\" only)."),
     p("gas.heat_capacity_ratio", K::Float, "", D::Derived("1.4 (air)"), Rg::Positive, "gamma",

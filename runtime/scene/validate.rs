@@ -190,7 +190,7 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
         reference_pressure: c.float_or("gas.reference_pressure", rg.reference_pressure, equilibrium),
         reference_pressure_given: rg.reference_pressure.is_some(),
         vapour_pressure,
-        thermal: thermal(c, &rg, modes.max_order),
+        thermal: thermal(c, &rg, &modes),
     };
     if !gas.reference_pressure_given && !(equilibrium > 0.0) && vapour_pressure.is_finite() {
         c.push(
@@ -274,20 +274,21 @@ fn build(c: &mut Check, raw: RawScene) -> Scene {
 }
 
 /// `gas.thermal` and its keys (issue 31 part 2): a thermal key under the polytropic gas is an
-/// error naming it; `reduced` is radial only (modes.max_order > 0 refused, with the reason).
-fn thermal(c: &mut Check, rg: &super::raw::RawGas, max_order: usize) -> Thermal {
+/// error naming it; `reduced` with shape modes takes the boundary-layer closure and the linear
+/// coupling (the quadratic coupling and the vorticity model refused, with the reason).
+fn thermal(c: &mut Check, rg: &super::raw::RawGas, modes: &Modes) -> Thermal {
+    use crate::model::effects::reduced_gas::{WITH_QUADRATIC, WITH_VORTICITY};
     let name = c.choice("gas.thermal", rg.thermal.as_deref());
     let d = c.float_or("gas.thermal_diffusivity", rg.thermal_diffusivity, 2.0e-5);
     let g = c.float_or("gas.heat_capacity_ratio", rg.heat_capacity_ratio, 1.4);
     match name {
         "prosperetti" => Thermal::Prosperetti { thermal_diffusivity: d, heat_capacity_ratio: g },
         "reduced" => {
-            if max_order > 0 {
-                c.push(
-                    "modes.max_order",
-                    Some(max_order.to_string()),
-                    "gas.thermal = \"reduced\" is radial only in this version: its p_b enters the shape modes' normal-stress balance as a uniform pressure (no k >= 2 part), but the shape systems (boundary layer, vorticity) do not carry the gas slot of the state yet; set modes.max_order = 0, or use gas.thermal = \"prosperetti\"",
-                );
+            if modes.max_order > 0 && modes.coupling == Coupling::Quadratic {
+                c.push("modes.coupling", Some("\"quadratic\"".into()), WITH_QUADRATIC);
+            }
+            if modes.max_order > 0 && modes.viscous == Viscous::Vorticity {
+                c.push("modes.viscous", Some("\"vorticity\"".into()), WITH_VORTICITY);
             }
             Thermal::Reduced { thermal_diffusivity: d, heat_capacity_ratio: g }
         }

@@ -28,6 +28,7 @@ mod tension_curve;
 mod hard_lipid;
 mod thermal_damping;
 mod thermal_reduced;
+mod thermal_reduced_shapes;
 mod sarkar;
 mod church_hoff;
 mod pressure_gradient;

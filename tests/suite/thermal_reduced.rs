@@ -288,9 +288,10 @@ fn the_adiabatic_and_isothermal_limits_are_the_polytropic_runs() {
 fn bad_reduced_input_is_refused_naming_the_key() {
     let base = "[bubble]\nradius = 5e-6\n[shell]\nc1 = 0.0\nc2 = 0.0\n[gas]\n";
     let err = |text: &str| load_str(&format!("{base}{text}"), "test", &[] as &[&str]).unwrap_err().to_string();
-    // shape modes: radial only, with the reason
-    let e = err("thermal = \"reduced\"\n[modes]\nmax_order = 4\n");
-    assert!(e.contains("modes.max_order") && e.contains("reduced") && e.contains("gas slot"), "{e}");
+    // shape modes: the boundary-layer closure with the linear coupling (the refusals of the
+    // quadratic coupling and the vorticity model: tests/suite/thermal_reduced_shapes.rs)
+    let e = err("thermal = \"reduced\"\n[modes]\nmax_order = 4\ncoupling = \"quadratic\"\n");
+    assert!(e.contains("modes.coupling") && e.contains("reduced"), "{e}");
     let e = err("thermal = \"reduced\"\nthermal_diffusivity = 0.0\n[modes]\nmax_order = 0\n");
     assert!(e.contains("gas.thermal_diffusivity"), "{e}");
     let e = err("heat_capacity_ratio = 1.67\n[modes]\nmax_order = 0\n");

@@ -47,8 +47,9 @@ use super::layout::StateLayout;
 /// Largest number of shape modes (k = 2, 4, …, KMAX); bounds the stack buffers of a rhs.
 pub const MAX_MODES: usize = crate::coefficients::KMAX / 2 + 1;
 
-/// Largest boundary-layer state, 2 + 3·[`MAX_MODES`]; bounds the stack buffers of a state.
-pub const MAX_DIM: usize = StateLayout::reduced(MAX_MODES).dim();
+/// Largest boundary-layer state, 2 + 3·[`MAX_MODES`] and the reduced thermal model's gas slot
+/// ([`StateLayout::with_gas`]); bounds the stack buffers of a state.
+pub const MAX_DIM: usize = StateLayout::reduced(MAX_MODES).with_gas().dim();
 
 /// `buf` filled with zeros, as a slice of f64: a stack buffer of a rhs zeroed only where it is
 /// used (not its whole MAX_MODES capacity).

@@ -37,6 +37,14 @@ use nalgebra::Complex;
 /// and 1/G − 3/(iPe) cancel there (the isothermal limit, D → ∞).
 const SERIES_BELOW: f64 = 0.1;
 
+/// Why the quadratic coupling is refused with the reduced gas (validation and assembly): its
+/// second-order terms use the polytropic gas pressure p_g0 (R0/R)^{3κ} and its κ
+/// (runtime/model/effects/quadratic.rs), which a state p_b does not provide.
+pub const WITH_QUADRATIC: &str = "gas.thermal = \"reduced\" with modes.coupling = \"quadratic\": the quadratic coupling's second-order terms use the polytropic gas pressure p_g0 (R0/R)^(3 kappa), not the reduced model's state p_b; use modes.coupling = \"linear\", or gas.thermal = \"prosperetti\" or \"polytropic\"";
+
+/// Why the vorticity model is refused with the reduced gas (validation and the full model).
+pub const WITH_VORTICITY: &str = "gas.thermal = \"reduced\" with modes.viscous = \"vorticity\": the vorticity model's state does not carry the gas slot p_b; use modes.viscous = \"boundary-layer\"";
+
 /// Ψ(Pe) = (Re, Im) of the module doc, Pe = ωR0²/D (> 0). Ψ → 5 + iPe/7 as Pe → 0 (isothermal),
 /// Ψ → √(iPe) + 2 as Pe → ∞ (adiabatic).
 pub fn transfer(pe: f64) -> (f64, f64) {

@@ -203,6 +203,7 @@ impl FullModel {
         if scene.modes.max_order == 0 {
             return Err(FullModelError::NoModes);
         }
+        crate::model::refuse_reduced_thermal(scene, crate::model::effects::reduced_gas::WITH_VORTICITY)?;
         let mut bl_scene = scene.clone();
         bl_scene.modes.viscous = Viscous::BoundaryLayer;
         let model = Model::from_scene(&bl_scene)?;
