@@ -34,11 +34,6 @@ impl Control {
         }
     }
 
-    /// Whether the caller asked the work to stop.
-    pub fn cancelled(&self) -> bool {
-        self.cancelled.load(Ordering::Relaxed)
-    }
-
     /// The cancel flag itself (for the library's sweeps, which poll it).
     pub fn flag(&self) -> &AtomicBool {
         &self.cancelled
@@ -72,7 +67,7 @@ impl Control {
 /// Runs `work` on a worker thread, the GIL released; `progress(done, total)` (a Python
 /// callable, optional) is called from this thread while it runs and once at the end.
 /// A KeyboardInterrupt, or an exception raised by `progress`, cancels the work (through
-/// [`Control::cancelled`]) and is raised once the worker has stopped.
+/// [`Control::flag`], which the library polls) and is raised once the worker has stopped.
 pub fn run<T, F>(py: Python<'_>, progress: Option<&Bound<'_, PyAny>>, work: F) -> PyResult<T>
 where
     T: Send,
