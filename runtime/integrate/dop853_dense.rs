@@ -13,8 +13,13 @@
 /// Nodes of the three extra stages (c14, c15, c16).
 pub(super) const C: [f64; 3] = [0.1, 0.2, 0.777777777777777777777777777778];
 
-/// Rows of the three extra stages over k0 … k14 (zero where `dop853.f` has no term).
-pub(super) fn extra_rows() -> [Vec<f64>; 3] {
+/// Rows of the three extra stages over k0 … k14 (zero where `dop853.f` has no term), built once.
+pub(super) fn extra_rows() -> &'static [Vec<f64>; 3] {
+    static ROWS: std::sync::OnceLock<[Vec<f64>; 3]> = std::sync::OnceLock::new();
+    ROWS.get_or_init(build_extra_rows)
+}
+
+fn build_extra_rows() -> [Vec<f64>; 3] {
     let row = |len: usize, terms: &[(usize, f64)]| {
         let mut r = vec![0.0; len];
         for &(j, a) in terms {

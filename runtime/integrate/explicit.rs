@@ -512,38 +512,38 @@ impl super::Stepper for ExplicitRk {
             return;
         }
         let (n, h) = (self.y.len(), self.h_last);
-        // k_j, j = 0 … 15: k1 = f_prev, the step's stages, k13 = f(t, y) (now k[0]), the extras
+        // k_j, j = 0 … 15: k1 = f_prev, the step's stages, k13 = f(t, y) (now k[0]), the extras.
+        // Per component the sums are those of a component-by-component loop (from 0, the terms
+        // with a non-zero coefficient in stage order), formed stage by stage over the vector.
+        fn stage<'a>(j: usize, f_prev: &'a [f64], k: &'a [Vec<f64>], extra: &'a [Vec<f64>]) -> &'a [f64] {
+            match j {
+                0 => f_prev,
+                12 => &k[0],
+                13.. => &extra[j - 13],
+                _ => &k[j],
+            }
+        }
+        fn sum_into(acc: &mut [f64], coef: &[f64], f_prev: &[f64], k: &[Vec<f64>], extra: &[Vec<f64>]) {
+            acc.iter_mut().for_each(|a| *a = 0.0);
+            for (j, &c) in coef.iter().enumerate() {
+                if c != 0.0 {
+                    for (a, kj) in acc.iter_mut().zip(stage(j, f_prev, k, extra)) {
+                        *a += c * kj;
+                    }
+                }
+            }
+        }
         let rows = super::dop853_dense::extra_rows();
         for e in 0..3 {
             let (done, rest) = self.extra.split_at_mut(e);
-            let kj = |j: usize| -> &[f64] {
-                match j {
-                    0 => &self.f_prev,
-                    12 => &self.k[0],
-                    13.. => &done[j - 13],
-                    _ => &self.k[j],
-                }
-            };
-            for m in 0..n {
-                let mut acc = 0.0;
-                for (j, &a) in rows[e].iter().enumerate() {
-                    if a != 0.0 {
-                        acc += a * kj(j)[m];
-                    }
-                }
-                self.arg[m] = self.y_prev[m] + h * acc;
+            let arg = &mut self.arg[..n];
+            sum_into(arg, &rows[e], &self.f_prev, &self.k, done);
+            for (a, y) in arg.iter_mut().zip(&self.y_prev) {
+                *a = y + h * *a;
             }
             sys.rhs(self.t_prev + super::dop853_dense::C[e] * h, &self.arg, &mut rest[0]);
         }
         self.stats.rhs_evals += 3;
-        let kj = |j: usize| -> &[f64] {
-            match j {
-                0 => &self.f_prev,
-                12 => &self.k[0],
-                13.. => &self.extra[j - 13],
-                _ => &self.k[j],
-            }
-        };
         let mut rc = std::mem::take(&mut self.rcont);
         for m in 0..n {
             let dy = self.y[m] - self.y_prev[m];
@@ -552,15 +552,11 @@ impl super::Stepper for ExplicitRk {
             rc[1][m] = dy;
             rc[2][m] = bspl;
             rc[3][m] = dy - h * self.k[0][m] - bspl;
-            for (r, d) in super::dop853_dense::D.iter().enumerate() {
-                let mut acc = 0.0;
-                for (j, &dj) in d.iter().enumerate() {
-                    if dj != 0.0 {
-                        acc += dj * kj(j)[m];
-                    }
-                }
-                rc[4 + r][m] = h * acc;
-            }
+        }
+        for (r, d) in super::dop853_dense::D.iter().enumerate() {
+            let out = &mut rc[4 + r][..n];
+            sum_into(out, d, &self.f_prev, &self.k, &self.extra);
+            out.iter_mut().for_each(|a| *a *= h);
         }
         self.rcont = rc;
         self.dense_ready = true;

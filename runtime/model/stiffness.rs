@@ -9,8 +9,10 @@
 //! - h_exp: the step an explicit method takes for the requested tolerance, measured (docs/
 //!   performance.md, "Automatic integrator choice"): DOP853 takes about [`DOP853_STEPS`]
 //!   steps per period of the fastest forcing at rtol 1e-6, scaled as rtol^(1/8).
-//! - `auto`: non-stiff when ρ·h_exp ≤ [`DOP853_STABILITY`] (the stability bound Hairer's
-//!   DOP853 tests against) → DOP853; otherwise Radau5.
+//! - `auto`: DOP853 when ρ·h_exp ≤ [`RADAU5_PAYS`], otherwise Radau5. Above
+//!   [`DOP853_STABILITY`] (the stability bound Hairer's DOP853 tests against) the explicit step
+//!   is limited by stability, but Radau5 costs more per unit time: it pays only once the limit
+//!   shrinks DOP853's step by more than that factor (measured, [`RADAU5_PAYS`]).
 //! - `rk4` without `run.integrator.dt`: Δt = min(1e−3 t*, [`RK4_MARGIN`]·2.785/ρ), inside
 //!   RK4's stability interval with a margin of 2 (the state's stiffness grows as R shrinks).
 //!
@@ -25,6 +27,14 @@ use serde::Serialize;
 /// |hλ| on DOP853's stability boundary along the negative real axis (Hairer's DOP853 flags
 /// stiffness at h·ρ > 6.1).
 pub const DOP853_STABILITY: f64 = 6.1;
+/// ρ·h_exp above which Radau5 is cheaper than a stability-limited DOP853: 2.5 × [`DOP853_STABILITY`].
+/// Measured (callgrind instructions of whole runs, DOP853 ÷ Radau5, docs/performance.md
+/// "Automatic integrator choice"): on the shipped scenes with 6.1 < ρh ≤ 41 the ratio is 0.65 at
+/// ρh 8.0 (supplementary/r1um), 0.93 at 14.5 (hard/reduced_collapse), 1.16 at 18.0
+/// (hard/dual_frequency_modes), 2.04 / 1.22 / 2.46 at 30.0 / 37.7 / 41.3; read as
+/// (ρh/6.1)/F, Radau5's cost per unit time is F ≈ 2.0–2.8 times DOP853's unlimited one
+/// (hann_burst, stiff only in its burst, 5.0). No shipped scene lies between 5.0 and 7.9.
+pub const RADAU5_PAYS: f64 = 2.5 * DOP853_STABILITY;
 /// RK4's stability interval on the negative real axis, [−2.785, 0].
 pub const RK4_STABILITY: f64 = 2.785;
 /// Fraction of RK4's stability interval a default Δt uses.
@@ -164,14 +174,16 @@ impl Model {
                 let w = forcing_rate(self, self.initial_state());
                 let h = 2.0 * std::f64::consts::PI / w / DOP853_STEPS * (s.rtol / 1e-6).powf(1.0 / 8.0);
                 let ratio = rho * h;
-                let stiff = !(ratio <= DOP853_STABILITY);
+                let stiff = !(ratio <= RADAU5_PAYS);
                 let (m, verdict) = if stiff {
-                    (Method::Radau5 { rtol: s.rtol, atol: s.atol }, "stiff: the explicit step would be limited by stability, Radau5")
+                    (Method::Radau5 { rtol: s.rtol, atol: s.atol }, "stiff: the explicit step would be cut by stability more than Radau5 costs, Radau5")
+                } else if ratio > DOP853_STABILITY {
+                    (Method::Dop853 { rtol: s.rtol, atol: s.atol }, "mildly stiff: stability cuts the explicit step by less than Radau5 costs, DOP853")
                 } else {
                     (Method::Dop853 { rtol: s.rtol, atol: s.atol }, "non-stiff: DOP853")
                 };
                 let reason = format!(
-                    "spectral radius {:.3e} /s × DOP853's step for rtol {:e} ({:.3e} s) = {:.3} {} {DOP853_STABILITY} (DOP853's stability bound) → {verdict}",
+                    "spectral radius {:.3e} /s × DOP853's step for rtol {:e} ({:.3e} s) = {:.3} {} {RADAU5_PAYS} (DOP853's stability bound {DOP853_STABILITY} × 2.5, Radau5's measured cost per unit time) → {verdict}",
                     rho / ts,
                     s.rtol,
                     h * ts,
