@@ -227,12 +227,15 @@ impl Equations {
     /// ∂R̈/∂z (length of `grad`) at (t, z) given P and its gradient: the chain rule through P and,
     /// for a form that needs it, through the rate (q, s); the shape frozen (ḃ = 0, as
     /// [`acceleration_at`](Self::acceleration_at)).
-    pub fn acceleration_gradient_at(&self, t: f64, z: &[f64], pressure: f64, dp: &[f64], grad: &mut [f64]) {
+    /// Returns the radial form's partials ∂R̈/∂(R, Ṙ, P, q, s) at (t, z), the chain rule's factors
+    /// (q, s: the pressure's rate; zero for a form without it).
+    pub fn acceleration_gradient_at(&self, t: f64, z: &[f64], pressure: f64, dp: &[f64], grad: &mut [f64]) -> [f64; 5] {
         self.acceleration_gradient_with(t, z, pressure, dp, None, grad)
     }
 
     /// ∂R̈/∂z of [`acceleration_with`](Self::acceleration_with): with `bdot = Some((ḃ, ∂ḃ/∂z))`
     /// (∂ḃ_m/∂z_j at `dbdot[m * n + j]`, n = z.len()) the ḃ part's chain rule is included.
+    /// Returns the radial form's partials, as [`acceleration_gradient_at`](Self::acceleration_gradient_at).
     pub fn acceleration_gradient_with(
         &self,
         t: f64,
@@ -241,9 +244,10 @@ impl Equations {
         dp: &[f64],
         bdot: Option<(&[f64], &[f64])>,
         grad: &mut [f64],
-    ) {
+    ) -> [f64; 5] {
         if !self.form.needs_rate() {
-            return self.acceleration_gradient(z[0], z[1], pressure, dp, grad);
+            let (a, b, c) = self.acceleration_gradient(z[0], z[1], pressure, dp, grad);
+            return [a, b, c, 0.0, 0.0];
         }
         let mut shape = ShapeRate::default();
         let (mut rate, _) = self.rate(t, z, &mut shape);
@@ -273,6 +277,7 @@ impl Equations {
                 }
             }
         }
+        d
     }
 
     /// Exact ∂P/∂z, ∂G_n/∂z, ∂G_t/∂z at (t, z) for `jac.modes()` modes (overwritten).
@@ -284,14 +289,16 @@ impl Equations {
         }
     }
 
-    /// ∂R̈/∂z (length of `grad`) given P and its gradient (radial form's chain rule).
-    pub fn acceleration_gradient(&self, r: f64, rd: f64, pressure: f64, dp: &[f64], grad: &mut [f64]) {
+    /// ∂R̈/∂z (length of `grad`) given P and its gradient (radial form's chain rule); returns the
+    /// form's partials (∂R̈/∂R, ∂R̈/∂Ṙ, ∂R̈/∂P).
+    pub fn acceleration_gradient(&self, r: f64, rd: f64, pressure: f64, dp: &[f64], grad: &mut [f64]) -> (f64, f64, f64) {
         let (d_r, d_rd, d_p) = self.form.partials(self.params.rho, r, rd, pressure);
         for (g, d) in grad.iter_mut().zip(dp) {
             *g = d_p * d;
         }
         grad[0] += d_r;
         grad[1] += d_rd;
+        (d_r, d_rd, d_p)
     }
 
     /// Number of evaluations a counting term made (the magnetic field: one per rhs).
