@@ -237,6 +237,21 @@ impl super::Stepper for Rk4 {
     }
 }
 
+/// acc = Σ_j w_j k_j over the `(w_j, k_j)` in their order, zero weights skipped: for each
+/// component the additions `0 + w_1 k_1[m] + w_2 k_2[m] + …` of a component-by-component loop,
+/// in the same order (the same bits), made stage by stage over contiguous slices.
+#[inline]
+fn combine<'k>(acc: &mut [f64], terms: impl Iterator<Item = (f64, &'k [f64])>) {
+    acc.fill(0.0);
+    for (w, k) in terms {
+        if w != 0.0 {
+            for (a, &x) in acc.iter_mut().zip(k) {
+                *a += w * x;
+            }
+        }
+    }
+}
+
 /// Adaptive explicit Runge–Kutta with an embedded error estimate (Dopri5, Dop853).
 #[derive(Debug, Clone)]
 pub struct ExplicitRk {
@@ -512,8 +527,12 @@ impl super::Stepper for ExplicitRk {
             return;
         }
         let (n, h) = (self.y.len(), self.h_last);
-        // k_j, j = 0 … 15: k1 = f_prev, the step's stages, k13 = f(t, y) (now k[0]), the extras
+        // k_j, j = 0 … 15: k1 = f_prev, the step's stages, k13 = f(t, y) (now k[0]), the extras.
+        // The sums run stage by stage over all components (`combine`: per component the same
+        // additions in the same order as a component-by-component loop, so the same bits, but
+        // in loops over contiguous slices)
         let rows = super::dop853_dense::extra_rows();
+        let mut acc = std::mem::take(&mut self.y_new);
         for e in 0..3 {
             let (done, rest) = self.extra.split_at_mut(e);
             let kj = |j: usize| -> &[f64] {
@@ -524,14 +543,9 @@ impl super::Stepper for ExplicitRk {
                     _ => &self.k[j],
                 }
             };
-            for m in 0..n {
-                let mut acc = 0.0;
-                for (j, &a) in rows[e].iter().enumerate() {
-                    if a != 0.0 {
-                        acc += a * kj(j)[m];
-                    }
-                }
-                self.arg[m] = self.y_prev[m] + h * acc;
+            combine(&mut acc, rows[e].iter().enumerate().map(|(j, &a)| (a, kj(j))));
+            for ((x, &y0), &a) in self.arg.iter_mut().zip(&self.y_prev).zip(&acc) {
+                *x = y0 + h * a;
             }
             sys.rhs(self.t_prev + super::dop853_dense::C[e] * h, &self.arg, &mut rest[0]);
         }
@@ -552,17 +566,15 @@ impl super::Stepper for ExplicitRk {
             rc[1][m] = dy;
             rc[2][m] = bspl;
             rc[3][m] = dy - h * self.k[0][m] - bspl;
-            for (r, d) in super::dop853_dense::D.iter().enumerate() {
-                let mut acc = 0.0;
-                for (j, &dj) in d.iter().enumerate() {
-                    if dj != 0.0 {
-                        acc += dj * kj(j)[m];
-                    }
-                }
-                rc[4 + r][m] = h * acc;
+        }
+        for (r, d) in super::dop853_dense::D.iter().enumerate() {
+            combine(&mut acc, d.iter().enumerate().map(|(j, &dj)| (dj, kj(j))));
+            for (o, &a) in rc[4 + r].iter_mut().zip(&acc) {
+                *o = h * a;
             }
         }
         self.rcont = rc;
+        self.y_new = acc;
         self.dense_ready = true;
     }
 
