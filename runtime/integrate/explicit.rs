@@ -353,29 +353,21 @@ impl ExplicitRk {
     fn attempt(&mut self, sys: &dyn OdeSystem, h: f64) -> f64 {
         let n = self.y.len();
         let s = self.tab.stages();
+        // the stage sums stage by stage over all components (`combine`: the same bits as a
+        // component-by-component loop), y_new the sums' buffer until it receives y_new
         for i in 1..s {
             let (done, rest) = self.k.split_at_mut(i);
             let row = &self.tab.a[i];
-            for m in 0..n {
-                let mut acc = 0.0;
-                for (j, &a) in row.iter().enumerate() {
-                    if a != 0.0 {
-                        acc += a * done[j][m];
-                    }
-                }
-                self.arg[m] = self.y[m] + h * acc;
+            combine(&mut self.y_new, row.iter().zip(done.iter()).map(|(&a, k)| (a, k.as_slice())));
+            for ((x, &y), &a) in self.arg.iter_mut().zip(&self.y).zip(&self.y_new) {
+                *x = y + h * a;
             }
             sys.rhs(self.t + self.tab.c[i] * h, &self.arg, &mut rest[0]);
         }
         self.stats.rhs_evals += (s - 1) as u64;
-        for m in 0..n {
-            let mut acc = 0.0;
-            for (j, &b) in self.tab.b.iter().enumerate() {
-                if b != 0.0 {
-                    acc += b * self.k[j][m];
-                }
-            }
-            self.y_new[m] = self.y[m] + h * acc;
+        combine(&mut self.y_new, self.tab.b.iter().zip(self.k.iter()).map(|(&b, k)| (b, k.as_slice())));
+        for (x, &y) in self.y_new.iter_mut().zip(&self.y) {
+            *x = y + h * *x;
         }
         let sc = |m: usize, y: &[f64], y_new: &[f64], rtol: f64, atol: &[f64]| atol[m] + rtol * y[m].abs().max(y_new[m].abs());
         match self.tab.error.as_ref().expect("checked in new") {
