@@ -205,6 +205,14 @@ impl<'a> ModelRates<'a> {
     }
 }
 
+impl ModelRates<'_> {
+    /// Whether ∂f/∂θ_j is formed from the loads of the terms that hold parameter j (in the
+    /// one-pass rhs) rather than from a whole rhs of a changed model.
+    pub fn from_terms(&self, j: usize) -> bool {
+        matches!(self.rates[j], Rate::Terms { .. })
+    }
+}
+
 /// The probe states of [`affine_at_probes`]: the initial state and three states away from it,
 /// at t = 0 and inside the run.
 fn probes(base: &Model) -> Vec<(f64, Vec<f64>)> {

@@ -16,8 +16,9 @@
 //! [`BoundaryLayerSystem::fused_sensitivities`] holds: no second-pass terms and no ḃ in R̈.
 
 use super::boundary_layer::BoundaryLayerSystem;
-use super::effects::{At, BdotLoads, Loads, PressureRate, Term, MAX_MODES};
+use super::effects::{zeroed, At, BdotLoads, Loads, PressureRate, Term, MAX_MODES};
 use super::equations::{var, Equations};
+use super::layout::StateLayout;
 use super::linearize::{Lin, RowForm};
 
 /// ∂/∂θ of the loads at fixed state (t, z): P, the rate's (q, s) (compressible form), G_n, G_t
@@ -55,50 +56,46 @@ impl LoadRate {
     /// rounding for a term affine in the parameter (`plus` is the term at θ + dθ).
     pub fn add_difference(&mut self, eq: &Equations, plus: &dyn Term, base: &dyn Term, at: &At<'_>, dtheta: f64) {
         let m = eq.orders().len();
-        let (a, b) = (Share::of(eq, plus, at, m), Share::of(eq, base, at, m));
+        // the two shares' per-mode loads (G_n, G_t, cn, ct each) in one stack block, zeroed
+        // only where used
+        let mut block = [std::mem::MaybeUninit::<f64>::uninit(); 8 * MAX_MODES];
+        let z = zeroed(&mut block[..8 * m]);
+        let (a, b) = z.split_at_mut(4 * m);
+        let ra = share(eq, plus, at, m, a);
+        let rb = share(eq, base, at, m, b);
         let d = |x: f64, y: f64| (x - y) / dtheta;
-        self.pressure += d(a.p, b.p);
-        self.q += d(a.q, b.q);
-        self.s += d(a.s, b.s);
-        for j in 0..m {
-            self.gn[j] += d(a.gn[j], b.gn[j]);
-            self.gt[j] += d(a.gt[j], b.gt[j]);
-            self.cn[j] += d(a.cn[j], b.cn[j]);
-            self.ct[j] += d(a.ct[j], b.ct[j]);
+        self.pressure += d(ra[0], rb[0]);
+        self.q += d(ra[1], rb[1]);
+        self.s += d(ra[2], rb[2]);
+        for (k, out) in [&mut self.gn, &mut self.gt, &mut self.cn, &mut self.ct].into_iter().enumerate() {
+            let (x, y) = (&a[k * m..(k + 1) * m], &b[k * m..(k + 1) * m]);
+            for j in 0..m {
+                out[j] += d(x[j], y[j]);
+            }
         }
     }
 }
 
-/// One term's share of the loads at (t, z).
-struct Share {
-    p: f64,
-    q: f64,
-    s: f64,
-    gn: [f64; MAX_MODES],
-    gt: [f64; MAX_MODES],
-    cn: [f64; MAX_MODES],
-    ct: [f64; MAX_MODES],
-}
-
-impl Share {
-    fn of(eq: &Equations, term: &dyn Term, at: &At<'_>, m: usize) -> Share {
-        let z = [0.0; MAX_MODES];
-        let mut s = Share { p: 0.0, q: 0.0, s: 0.0, gn: z, gt: z, cn: z, ct: z };
-        let mut l = Loads { pressure: 0.0, gn: &mut s.gn[..m], gt: &mut s.gt[..m] };
-        term.add(at, &mut l);
-        s.p = l.pressure;
-        if eq.form().needs_rate() {
-            let mut rate = PressureRate::default();
-            term.add_rate(at, &mut rate);
-            (s.q, s.s) = (rate.q, rate.s);
-        }
-        if term.has_bdot_loads() {
-            let (mut cn_r, mut ct_r) = (z, z);
-            let mut c = BdotLoads { cn: &mut s.cn[..m], ct: &mut s.ct[..m], cn_r: &mut cn_r[..m], ct_r: &mut ct_r[..m] };
-            term.add_bdot_loads(at, &mut c);
-        }
-        s
+/// One term's share of the loads at (t, z): [P, q, s] returned, G_n, G_t, cn, ct into the four
+/// consecutive blocks of length m of `buf` (zero on entry).
+fn share(eq: &Equations, term: &dyn Term, at: &At<'_>, m: usize, buf: &mut [f64]) -> [f64; 3] {
+    let (gn, rest) = buf.split_at_mut(m);
+    let (gt, rest) = rest.split_at_mut(m);
+    let (cn, ct) = rest.split_at_mut(m);
+    let mut l = Loads { pressure: 0.0, gn, gt };
+    term.add(at, &mut l);
+    let mut out = [l.pressure, 0.0, 0.0];
+    if eq.form().needs_rate() {
+        let mut rate = PressureRate::default();
+        term.add_rate(at, &mut rate);
+        (out[1], out[2]) = (rate.q, rate.s);
     }
+    if term.has_bdot_loads() {
+        let (mut cn_r, mut ct_r) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
+        let mut c = BdotLoads { cn, ct, cn_r: &mut cn_r[..m], ct_r: &mut ct_r[..m] };
+        term.add_bdot_loads(at, &mut c);
+    }
+    out
 }
 
 /// The buffers of [`BoundaryLayerSystem::sensitivity_rhs`], reused from call to call.
@@ -148,10 +145,27 @@ impl BoundaryLayerSystem {
     pub(super) fn apply_product(&self, l: &Lin, forms: &[RowForm], s: &[f64], rates: &[Option<LoadRate>], out: &mut [f64]) {
         use var::*;
         let n = l.drdd.len();
-        let dot = |g: &[f64], v: &[f64]| g.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        // the gradients' products over their non-zero columns only ([`super::JacobianPattern`]):
+        // R̈'s over R, Ṙ and the modes the radial loads see, G_k's over R, Ṙ and the modes of
+        // the band around k (the same sums as over all columns, less the zero terms)
+        let (pat, lay) = (self.jacobian_pattern(), self.layout());
+        let radial = 0..lay.blocks(0..pat.radial).end;
+        let band = |m: usize| lay.blocks(m.saturating_sub(pat.band)..(m + pat.band + 1).min(forms.len()));
+        let dot = |g: &[f64], v: &[f64], cols: std::ops::Range<usize>| {
+            let mut acc = 0.0;
+            if cols.start >= StateLayout::RADIAL {
+                acc += g[0] * v[0];
+                acc += g[1] * v[1];
+            }
+            let (g, v) = (&g[cols.clone()], &v[cols]);
+            for c in 0..g.len().min(v.len()) {
+                acc += g[c] * v[c];
+            }
+            acc
+        };
         for (j, (sj, oj)) in s.chunks_exact(n).zip(out.chunks_exact_mut(n)).enumerate() {
             let rate = rates.get(j).and_then(Option::as_ref);
-            let mut rdd = dot(&l.drdd, sj);
+            let mut rdd = dot(&l.drdd, sj, radial.clone());
             if let Some(r) = rate {
                 rdd += l.form[2] * r.pressure + l.form[3] * r.q + l.form[4] * r.s;
             }
@@ -159,7 +173,7 @@ impl BoundaryLayerSystem {
             oj[1] = rdd;
             for (m, f) in forms.iter().enumerate() {
                 let [ia, iad, ib] = f.idx;
-                let (mut gn, mut gt) = (dot(l.lj.gn_row(m), sj), dot(l.lj.gt_row(m), sj));
+                let (mut gn, mut gt) = (dot(l.lj.gn_row(m), sj, band(m)), dot(l.lj.gt_row(m), sj, band(m)));
                 if let Some(r) = rate {
                     // at fixed ḃ the ḃ loads change by (∂cn/∂θ, ∂ct/∂θ)·ḃ
                     let bd = f.c.map_or(0.0, |c| c[4]);
