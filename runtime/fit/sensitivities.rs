@@ -14,7 +14,12 @@
 //!   radial run, the drive amplitude …): a forward difference quotient with a large step is
 //!   exact up to rounding. Affinity is decided per scene from the physics' structure and checked
 //!   numerically at probe states (a second difference at h = p/2 below 1e-9 of the first); a key
-//!   that fails the check falls back to differences;
+//!   that fails the check falls back to differences. For the boundary-layer system the quotient
+//!   is taken of the loads of the terms that hold the parameter alone, not of a whole rhs: the
+//!   model at p + h is built in the base model's units, its terms that differ from the base's
+//!   at the probes are the parameter's, and ∂f/∂p is the chain rule of their loads' quotient
+//!   ([`crate::model::sensitivity`], one pass with f and J·S) — confirmed at the probes against
+//!   the whole rhs's quotient (1e-9), else the whole rhs's quotient is kept;
 //! * **finite differences** otherwise (the gas exponent, R0 through p_g0, the boundary layer's
 //!   ω-dependent thickness …): central differences at h = 1e-3 |p| and h/2, Richardson
 //!   extrapolated (error O(h⁴)).
@@ -24,9 +29,12 @@
 //! p_j = p_j⁰ + s_j θ_j, s_j = |p_j⁰| (1 when p_j⁰ = 0): S_j has the size of the state.
 
 use crate::integrate::sensitivity::ParameterRates;
-use crate::model::{layout::StateLayout, Model};
+use crate::model::effects::At;
+use crate::model::sensitivity::{LoadRate, ProductWork};
+use crate::model::{layout::StateLayout, BoundaryLayerSystem, Model, Scales};
 use crate::scene::SceneTemplate;
 use serde::Serialize;
+use std::cell::RefCell;
 
 /// How ∂f/∂p of one parameter was formed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -84,18 +92,33 @@ impl Converted {
 enum Rate {
     /// F at p + h (θ-step `dtheta`): (F⁺ − f0)/dθ.
     Forward { plus: Converted, dtheta: f64 },
+    /// The loads of the terms `terms` (indices into the model's terms) at p + h (the model
+    /// `plus`, in base units) against the base's: [`LoadRate::add_difference`].
+    Terms { plus: Model, terms: Vec<usize>, dtheta: f64 },
     /// F at p ± h, p ± h/2 (θ-step `dtheta` = h/s): Richardson.
     Central { at: [Converted; 4], dtheta: f64 },
 }
 
-/// The model's [`ParameterRates`] at the current values, and the initial sensitivities.
-pub struct ModelRates {
+/// The model's [`ParameterRates`] at the current values, and the initial sensitivities. Its
+/// [`ParameterRates::augmented_rhs`] evaluates the base model's system: give the base model's
+/// system to the sensitivity system it serves (fit/solve.rs does).
+pub struct ModelRates<'a> {
     rates: Vec<Rate>,
     /// ∂Y0/∂θ_j.
     pub s0: Vec<Vec<f64>>,
     /// How each ∂f/∂p_j is formed.
     pub derivative: Vec<Derivative>,
-    work: std::cell::RefCell<Vec<f64>>,
+    work: RefCell<Vec<f64>>,
+    /// The base's boundary-layer system when its sensitivity rhs is one pass
+    /// ([`BoundaryLayerSystem::fused_sensitivities`]), with that pass's buffers.
+    fused: Option<(&'a BoundaryLayerSystem, RefCell<FusedWork>)>,
+}
+
+/// The one-pass rhs's buffers: the product's, the loads' derivatives per parameter, ∂f/∂θ.
+struct FusedWork {
+    product: ProductWork,
+    loads: Vec<Option<LoadRate>>,
+    dp: Vec<f64>,
 }
 
 /// Keys whose loads are linear in the value (the structure of the terms, model/effects/): the
@@ -123,10 +146,10 @@ pub fn scale_of(p: f64) -> f64 {
     if p == 0.0 { 1.0 } else { p.abs() }
 }
 
-impl ModelRates {
+impl<'a> ModelRates<'a> {
     /// The rates of `keys` at `values` (all fitted keys are set in every model; `base` is the model
     /// at `values`).
-    pub fn new(template: &SceneTemplate, keys: &[&str], values: &[f64], base: &Model) -> anyhow::Result<ModelRates> {
+    pub fn new(template: &SceneTemplate, keys: &[&str], values: &[f64], base: &'a Model) -> anyhow::Result<ModelRates<'a>> {
         let build = |j: usize, v: f64| -> anyhow::Result<Converted> {
             let mut set: Vec<(&str, f64)> = keys.iter().copied().zip(values.iter().copied()).collect();
             set[j].1 = v;
@@ -152,9 +175,19 @@ impl ModelRates {
             } else {
                 None
             };
+            // the same quotient from the terms that hold the parameter, when it is the same
+            let linear = linear.map(|plus| {
+                let mut set: Vec<(&str, f64)> = keys.iter().copied().zip(values.iter().copied()).collect();
+                set[j].1 = p + 0.5 * s;
+                let like = template.with(&set).ok().filter(|sc| Scales::from_scene(sc).length == base.scales().length);
+                match like.and_then(|sc| Model::from_scene_like(&sc, base).ok()).and_then(|m| term_wise(base, m, &plus, 0.5)) {
+                    Some(rate) => rate,
+                    None => Rate::Forward { plus, dtheta: 0.5 },
+                }
+            });
             match linear {
-                Some(plus) => {
-                    rates.push(Rate::Forward { plus, dtheta: 0.5 });
+                Some(rate) => {
+                    rates.push(rate);
                     derivative.push(Derivative::Exact);
                 }
                 None => {
@@ -164,7 +197,101 @@ impl ModelRates {
             }
         }
         let n = base.initial_state().len();
-        Ok(ModelRates { rates, s0, derivative, work: std::cell::RefCell::new(vec![0.0; 4 * n]) })
+        let fused = base.boundary_layer().filter(|bl| bl.fused_sensitivities()).map(|bl| {
+            let w = FusedWork { product: bl.product_work(), loads: (0..rates.len()).map(|_| None).collect(), dp: vec![0.0; n] };
+            (bl, RefCell::new(w))
+        });
+        Ok(ModelRates { rates, s0, derivative, work: RefCell::new(vec![0.0; 4 * n]), fused })
+    }
+}
+
+impl ModelRates<'_> {
+    /// Whether ∂f/∂θ_j is formed from the loads of the terms that hold parameter j (in the
+    /// one-pass rhs) rather than from a whole rhs of a changed model.
+    pub fn from_terms(&self, j: usize) -> bool {
+        matches!(self.rates[j], Rate::Terms { .. })
+    }
+}
+
+/// The probe states of [`affine_at_probes`]: the initial state and three states away from it,
+/// at t = 0 and inside the run.
+fn probes(base: &Model) -> Vec<(f64, Vec<f64>)> {
+    let y0 = base.initial_state();
+    (0..4)
+        .map(|k| {
+            let y: Vec<f64> = y0
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| if k == 0 { v } else { v * (1.0 + 0.07 * k as f64) + 0.013 * (k * (i + 1)) as f64 * if i == 0 { 0.0 } else { 1.0 } })
+                .collect();
+            (0.37 * k as f64, y)
+        })
+        .collect()
+}
+
+/// [`Rate::Terms`] for a parameter whose whole-rhs quotient `conv` (θ-step `dtheta`) is exact,
+/// from `plus`, the model at θ + dθ in base units: when the two systems differ in their terms'
+/// loads only (the same terms, liquid, closure, ḃ loads) and the terms' quotient through the
+/// chain rule equals the whole rhs's at every probe to 1e-9 (module doc). `None`: keep `conv`.
+fn term_wise(base: &Model, plus: Model, conv: &Converted, dtheta: f64) -> Option<Rate> {
+    let (b, q) = (base.boundary_layer()?, plus.boundary_layer()?);
+    let (eb, eq) = (b.equations(), q.equations());
+    let (pb, pq) = (eb.params(), eq.params());
+    let same = b.fused_sensitivities()
+        && q.fused_sensitivities()
+        && eb.terms.len() == eq.terms.len()
+        && eb.terms.iter().zip(&eq.terms).all(|(x, y)| x.name() == y.name() && x.has_bdot_loads() == y.has_bdot_loads())
+        && (pb.rho, pb.eta, pb.sound_speed) == (pq.rho, pq.eta, pq.sound_speed)
+        && b.modes().iter().zip(q.modes()).all(|(x, y)| (x.k, x.viscous_length) == (y.k, y.viscous_length));
+    if !same {
+        return None;
+    }
+    let probes = probes(base);
+    // the terms that hold the parameter: those whose share differs at a probe
+    let terms: Vec<usize> = (0..eb.terms.len())
+        .filter(|&i| {
+            probes.iter().any(|(t, y)| {
+                let mut r = LoadRate::default();
+                r.add_difference(eb, eq.terms[i].as_ref(), eb.terms[i].as_ref(), &At { t: *t, z: y }, dtheta);
+                let m = eb.orders().len();
+                [r.pressure, r.q, r.s].iter().chain(&r.gn[..m]).chain(&r.gt[..m]).chain(&r.cn[..m]).chain(&r.ct[..m]).any(|&v| v != 0.0)
+            })
+        })
+        .collect();
+    if terms.is_empty() {
+        return None;
+    }
+    let rate = Rate::Terms { plus, terms, dtheta };
+    let n = base.initial_state().len();
+    let mut w = b.product_work();
+    let (mut f, mut fp, mut d, zero) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let agree = probes.iter().all(|(t, y)| {
+        let lr = [Some(load_rate(&rate, b, *t, y))];
+        b.sensitivity_rhs(*t, y, &zero, &lr, &mut w, &mut f, &mut d);
+        conv.rhs(*t, y, &mut fp);
+        (0..n).all(|i| {
+            let quotient = (fp[i] - f[i]) / dtheta;
+            let size = f[i].abs().max(fp[i].abs());
+            quotient.is_finite() && (d[i] - quotient).abs() <= 1e-9 * quotient.abs() + 1e-13 * size
+        })
+    });
+    agree.then_some(rate)
+}
+
+/// The loads' derivatives of a [`Rate::Terms`] at (t, y) (`b`: the base's system).
+fn load_rate(rate: &Rate, b: &BoundaryLayerSystem, t: f64, y: &[f64]) -> LoadRate {
+    let mut r = LoadRate::default();
+    add_load_rate(rate, b, t, y, &mut r);
+    r
+}
+
+fn add_load_rate(rate: &Rate, b: &BoundaryLayerSystem, t: f64, y: &[f64], r: &mut LoadRate) {
+    if let Rate::Terms { plus, terms, dtheta } = rate {
+        let (eb, eq) = (b.equations(), plus.equations());
+        let at = At { t, z: y };
+        for &i in terms {
+            r.add_difference(eb, eq.terms[i].as_ref(), eb.terms[i].as_ref(), &at, *dtheta);
+        }
     }
 }
 
@@ -179,22 +306,11 @@ fn richardson(plus: &[f64], minus: &[f64], half_plus: &[f64], half_minus: &[f64]
         .collect()
 }
 
-/// Whether F is affine in the parameter at probe states (the initial state and three states
-/// away from it, at t = 0 and inside the run): the second difference F⁺ − 2F + F⁻ vanishes to
-/// 1e-9 of the first difference and 1e-13 of |F|.
+/// Whether F is affine in the parameter at the probe states ([`probes`]): the second difference
+/// F⁺ − 2F + F⁻ vanishes to 1e-9 of the first difference and 1e-13 of |F|.
 fn affine_at_probes(base: &Model, plus: &Converted, minus: &Converted) -> bool {
-    let y0 = base.initial_state();
-    let n = y0.len();
-    let probes: Vec<(f64, Vec<f64>)> = (0..4)
-        .map(|k| {
-            let y: Vec<f64> = y0
-                .iter()
-                .enumerate()
-                .map(|(i, &v)| if k == 0 { v } else { v * (1.0 + 0.07 * k as f64) + 0.013 * (k * (i + 1)) as f64 * if i == 0 { 0.0 } else { 1.0 } })
-                .collect();
-            (0.37 * k as f64, y)
-        })
-        .collect();
+    let n = base.initial_state().len();
+    let probes = probes(base);
     let (mut f, mut fp, mut fm) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     probes.iter().all(|(t, y)| {
         base.system().rhs(*t, y, &mut f);
@@ -209,13 +325,49 @@ fn affine_at_probes(base: &Model, plus: &Converted, minus: &Converted) -> bool {
     })
 }
 
-impl ParameterRates for ModelRates {
+impl ParameterRates for ModelRates<'_> {
     fn count(&self) -> usize {
         self.rates.len()
     }
 
+    /// One pass of the base's boundary-layer system ([`BoundaryLayerSystem::sensitivity_rhs`]):
+    /// f, J·S and the [`Rate::Terms`] parameters' ∂f/∂θ; the others' rates added after.
+    fn augmented_rhs(&self, t: f64, y: &[f64], s: &[f64], dy: &mut [f64], ds: &mut [f64]) -> bool {
+        let Some((b, work)) = &self.fused else {
+            return false;
+        };
+        let w = &mut *work.borrow_mut();
+        let m = b.modes().len();
+        for (rate, lr) in self.rates.iter().zip(w.loads.iter_mut()) {
+            if let Rate::Terms { .. } = rate {
+                let r = lr.get_or_insert_with(LoadRate::default);
+                r.clear(m);
+                add_load_rate(rate, b, t, y, r);
+            }
+        }
+        b.sensitivity_rhs(t, y, s, &w.loads, &mut w.product, dy, ds);
+        let n = y.len();
+        for (j, rate) in self.rates.iter().enumerate() {
+            if !matches!(rate, Rate::Terms { .. }) {
+                self.rate(j, t, y, dy, &mut w.dp);
+                ds[j * n..(j + 1) * n].iter_mut().zip(&w.dp).for_each(|(o, d)| *o += d);
+            }
+        }
+        true
+    }
+
     fn rate(&self, j: usize, t: f64, y: &[f64], f0: &[f64], out: &mut [f64]) {
         match &self.rates[j] {
+            Rate::Terms { .. } => {
+                // outside the one pass (a caller forming f and J·S itself): the chain rule at
+                // J·0, i.e. the one pass with a zero direction
+                let (b, work) = self.fused.as_ref().expect("Terms rates only with the one-pass system");
+                let w = &mut *work.borrow_mut();
+                let n = y.len();
+                let lr = [Some(load_rate(&self.rates[j], b, t, y))];
+                let mut f = vec![0.0; n];
+                b.sensitivity_rhs(t, y, &vec![0.0; n], &lr, &mut w.product, &mut f, out);
+            }
             Rate::Forward { plus, dtheta } => {
                 plus.rhs(t, y, out);
                 for (o, f) in out.iter_mut().zip(f0) {

@@ -237,6 +237,21 @@ impl super::Stepper for Rk4 {
     }
 }
 
+/// acc = Σ_j w_j k_j over the `(w_j, k_j)` in their order, zero weights skipped: for each
+/// component the additions `0 + w_1 k_1[m] + w_2 k_2[m] + …` of a component-by-component loop,
+/// in the same order (the same bits), made stage by stage over contiguous slices.
+#[inline]
+fn combine<'k>(acc: &mut [f64], terms: impl Iterator<Item = (f64, &'k [f64])>) {
+    acc.fill(0.0);
+    for (w, k) in terms {
+        if w != 0.0 {
+            for (a, &x) in acc.iter_mut().zip(k) {
+                *a += w * x;
+            }
+        }
+    }
+}
+
 /// Adaptive explicit Runge–Kutta with an embedded error estimate (Dopri5, Dop853).
 #[derive(Debug, Clone)]
 pub struct ExplicitRk {
@@ -338,29 +353,21 @@ impl ExplicitRk {
     fn attempt(&mut self, sys: &dyn OdeSystem, h: f64) -> f64 {
         let n = self.y.len();
         let s = self.tab.stages();
+        // the stage sums stage by stage over all components (`combine`: the same bits as a
+        // component-by-component loop), y_new the sums' buffer until it receives y_new
         for i in 1..s {
             let (done, rest) = self.k.split_at_mut(i);
             let row = &self.tab.a[i];
-            for m in 0..n {
-                let mut acc = 0.0;
-                for (j, &a) in row.iter().enumerate() {
-                    if a != 0.0 {
-                        acc += a * done[j][m];
-                    }
-                }
-                self.arg[m] = self.y[m] + h * acc;
+            combine(&mut self.y_new, row.iter().zip(done.iter()).map(|(&a, k)| (a, k.as_slice())));
+            for ((x, &y), &a) in self.arg.iter_mut().zip(&self.y).zip(&self.y_new) {
+                *x = y + h * a;
             }
             sys.rhs(self.t + self.tab.c[i] * h, &self.arg, &mut rest[0]);
         }
         self.stats.rhs_evals += (s - 1) as u64;
-        for m in 0..n {
-            let mut acc = 0.0;
-            for (j, &b) in self.tab.b.iter().enumerate() {
-                if b != 0.0 {
-                    acc += b * self.k[j][m];
-                }
-            }
-            self.y_new[m] = self.y[m] + h * acc;
+        combine(&mut self.y_new, self.tab.b.iter().zip(self.k.iter()).map(|(&b, k)| (b, k.as_slice())));
+        for (x, &y) in self.y_new.iter_mut().zip(&self.y) {
+            *x = y + h * *x;
         }
         let sc = |m: usize, y: &[f64], y_new: &[f64], rtol: f64, atol: &[f64]| atol[m] + rtol * y[m].abs().max(y_new[m].abs());
         match self.tab.error.as_ref().expect("checked in new") {
@@ -513,37 +520,36 @@ impl super::Stepper for ExplicitRk {
         }
         let (n, h) = (self.y.len(), self.h_last);
         // k_j, j = 0 … 15: k1 = f_prev, the step's stages, k13 = f(t, y) (now k[0]), the extras.
-        // Per component the sums are those of a component-by-component loop (from 0, the terms
-        // with a non-zero coefficient in stage order), formed stage by stage over the vector.
-        fn stage<'a>(j: usize, f_prev: &'a [f64], k: &'a [Vec<f64>], extra: &'a [Vec<f64>]) -> &'a [f64] {
-            match j {
-                0 => f_prev,
-                12 => &k[0],
-                13.. => &extra[j - 13],
-                _ => &k[j],
-            }
-        }
-        fn sum_into(acc: &mut [f64], coef: &[f64], f_prev: &[f64], k: &[Vec<f64>], extra: &[Vec<f64>]) {
-            acc.iter_mut().for_each(|a| *a = 0.0);
-            for (j, &c) in coef.iter().enumerate() {
-                if c != 0.0 {
-                    for (a, kj) in acc.iter_mut().zip(stage(j, f_prev, k, extra)) {
-                        *a += c * kj;
-                    }
-                }
-            }
-        }
+        // The sums run stage by stage over all components (`combine`: per component the same
+        // additions in the same order as a component-by-component loop, so the same bits, but
+        // in loops over contiguous slices)
         let rows = super::dop853_dense::extra_rows();
+        let mut acc = std::mem::take(&mut self.y_new);
         for e in 0..3 {
             let (done, rest) = self.extra.split_at_mut(e);
-            let arg = &mut self.arg[..n];
-            sum_into(arg, &rows[e], &self.f_prev, &self.k, done);
-            for (a, y) in arg.iter_mut().zip(&self.y_prev) {
-                *a = y + h * *a;
+            let kj = |j: usize| -> &[f64] {
+                match j {
+                    0 => &self.f_prev,
+                    12 => &self.k[0],
+                    13.. => &done[j - 13],
+                    _ => &self.k[j],
+                }
+            };
+            combine(&mut acc, rows[e].iter().enumerate().map(|(j, &a)| (a, kj(j))));
+            for ((x, &y0), &a) in self.arg.iter_mut().zip(&self.y_prev).zip(&acc) {
+                *x = y0 + h * a;
             }
             sys.rhs(self.t_prev + super::dop853_dense::C[e] * h, &self.arg, &mut rest[0]);
         }
         self.stats.rhs_evals += 3;
+        let kj = |j: usize| -> &[f64] {
+            match j {
+                0 => &self.f_prev,
+                12 => &self.k[0],
+                13.. => &self.extra[j - 13],
+                _ => &self.k[j],
+            }
+        };
         let mut rc = std::mem::take(&mut self.rcont);
         for m in 0..n {
             let dy = self.y[m] - self.y_prev[m];
@@ -554,11 +560,13 @@ impl super::Stepper for ExplicitRk {
             rc[3][m] = dy - h * self.k[0][m] - bspl;
         }
         for (r, d) in super::dop853_dense::D.iter().enumerate() {
-            let out = &mut rc[4 + r][..n];
-            sum_into(out, d, &self.f_prev, &self.k, &self.extra);
-            out.iter_mut().for_each(|a| *a *= h);
+            combine(&mut acc, d.iter().enumerate().map(|(j, &dj)| (dj, kj(j))));
+            for (o, &a) in rc[4 + r].iter_mut().zip(&acc) {
+                *o = h * a;
+            }
         }
         self.rcont = rc;
+        self.y_new = acc;
         self.dense_ready = true;
     }
 

@@ -33,6 +33,13 @@ pub trait ParameterRates {
     fn count(&self) -> usize;
     /// ∂f/∂θ_j at (t, y) into `out` (length n), with f0 = f(t, y) of the base system.
     fn rate(&self, j: usize, t: f64, y: &[f64], f0: &[f64], out: &mut [f64]);
+    /// The whole augmented rhs in one pass, when the rates can form it with the system they
+    /// belong to (the one given to [`Sensitivity::new`]): f(t, y) into `dy` and
+    /// J·S_j + ∂f/∂θ_j into the blocks of `ds`. `false` (the default): not provided, the
+    /// caller forms f, J·S and each [`rate`](Self::rate).
+    fn augmented_rhs(&self, _t: f64, _y: &[f64], _s: &[f64], _dy: &mut [f64], _ds: &mut [f64]) -> bool {
+        false
+    }
 }
 
 /// The system of dimension n·(1 + p) made of `sys` and its sensitivity equations.
@@ -89,8 +96,11 @@ impl OdeSystem for Sensitivity<'_> {
         let w = &mut *self.work.borrow_mut();
         let (x, s) = y.split_at(n);
         let (dx, ds) = dy.split_at_mut(n);
-        self.sys.rhs(t, x, dx);
         w.stats.rhs_evals += 1;
+        if self.rates.augmented_rhs(t, x, s, dx, ds) {
+            return;
+        }
+        self.sys.rhs(t, x, dx);
         // J·S: the system's own product when it has one, else through the (dense) J
         if !self.sys.jacobian_product(t, x, s, ds) {
             w.fd.evaluate(self.sys, t, x, dx, &mut w.jac, &mut w.stats);

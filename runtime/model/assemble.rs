@@ -8,7 +8,18 @@ use super::*;
 
 impl Model {
     pub fn from_scene(scene: &Scene) -> Result<Model, ModelError> {
-        let scales = Scales::from_scene(scene);
+        Self::from_scene_in(scene, Scales::from_scene(scene), crate::drive::Piece::default())
+    }
+
+    /// The model of `scene` in the units of `base` and on `base`'s drive piece (the fit's models at
+    /// changed parameter values, whose terms are compared with `base`'s: fit/sensitivities.rs).
+    /// `scene` must have `base`'s R0 (the length unit: R̄0 = 1).
+    pub(crate) fn from_scene_like(scene: &Scene, base: &Model) -> Result<Model, ModelError> {
+        debug_assert_eq!(scene.bubble.radius, base.scales.length);
+        Self::from_scene_in(scene, base.scales, base.piece.clone())
+    }
+
+    fn from_scene_in(scene: &Scene, scales: Scales, piece: crate::drive::Piece) -> Result<Model, ModelError> {
         let mut params = Params::from_scene(scene, &scales);
         let orders: Vec<usize> = scene.modes.orders().collect();
         if scene.modes.max_order > KMAX {
@@ -48,7 +59,6 @@ impl Model {
             .as_ref()
             .and_then(|d| crate::drive::Waveform::from_scene(d, scene.liquid.ambient_pressure))
             .map(|w| w.scaled(scales.time, scales.pressure));
-        let piece = crate::drive::Piece::default();
         terms.push(Box::new(effects::drive::FarField { p0: params.p0, wave: wave.clone(), piece: piece.clone() }));
         terms.push(Box::new(effects::viscosity::LiquidViscosity { eta: params.eta }));
         // issue 31 part 2: Prosperetti's thermal damping (its μ_th once the stiffness is known)

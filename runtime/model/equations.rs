@@ -228,12 +228,15 @@ impl Equations {
     /// ∂R̈/∂z (length of `grad`) at (t, z) given P and its gradient: the chain rule through P and,
     /// for a form that needs it, through the rate (q, s); the shape frozen (ḃ = 0, as
     /// [`acceleration_at`](Self::acceleration_at)).
-    pub fn acceleration_gradient_at(&self, t: f64, z: &[f64], pressure: f64, dp: &[f64], grad: &mut [f64]) {
+    /// Returns the radial form's partials ∂R̈/∂(R, Ṙ, P, q, s) at (t, z), the chain rule's factors
+    /// (q, s: the pressure's rate; zero for a form without it).
+    pub fn acceleration_gradient_at(&self, t: f64, z: &[f64], pressure: f64, dp: &[f64], grad: &mut [f64]) -> [f64; 5] {
         self.acceleration_gradient_with(t, z, pressure, dp, None, grad)
     }
 
     /// ∂R̈/∂z of [`acceleration_with`](Self::acceleration_with): with `bdot = Some((ḃ, ∂ḃ/∂z))`
     /// (∂ḃ_m/∂z_j at `dbdot[m * n + j]`, n = z.len()) the ḃ part's chain rule is included.
+    /// Returns the radial form's partials, as [`acceleration_gradient_at`](Self::acceleration_gradient_at).
     pub fn acceleration_gradient_with(
         &self,
         t: f64,
@@ -242,9 +245,10 @@ impl Equations {
         dp: &[f64],
         bdot: Option<(&[f64], &[f64])>,
         grad: &mut [f64],
-    ) {
+    ) -> [f64; 5] {
         if !self.form.needs_rate() {
-            return self.acceleration_gradient(z[0], z[1], pressure, dp, grad);
+            let (a, b, c) = self.acceleration_gradient(z[0], z[1], pressure, dp, grad);
+            return [a, b, c, 0.0, 0.0];
         }
         let mut shape = ShapeRate::default();
         let (mut rate, _) = self.rate(t, z, &mut shape);
@@ -274,24 +278,7 @@ impl Equations {
                 }
             }
         }
-    }
-
-    /// ∂R̈/∂p_b of [`acceleration_with`](Self::acceleration_with) with the reduced thermal model
-    /// (docs/model.md, "Reduced thermal model"): p_b enters P with ∂P/∂p_b = 1 and, for a form
-    /// that needs the rate (Keller–Miksis), the rate's q through ṗ_b, whose ∂ṗ_b/∂p_b is
-    /// `dpb_rate`. `bdot` as in [`acceleration_with`](Self::acceleration_with) (empty: the shape
-    /// frozen). The radial and the boundary-layer Jacobians' p_b column.
-    pub fn acceleration_gas_partial(&self, t: f64, z: &[f64], pressure: f64, bdot: &[f64], dpb_rate: f64) -> f64 {
-        if !self.form.needs_rate() {
-            return self.form.partials(self.params.rho, z[0], z[1], pressure).2;
-        }
-        let mut shape = ShapeRate::default();
-        let (mut rate, _) = self.rate(t, z, &mut shape);
-        for (m, x) in bdot.iter().enumerate() {
-            rate.q += rate.db(m) * x;
-        }
-        let d = self.form.partials_rate(self.params.rho, z[0], z[1], pressure, &rate);
-        d[2] + d[3] * dpb_rate
+        d
     }
 
     /// Exact ∂P/∂z, ∂G_n/∂z, ∂G_t/∂z at (t, z) for `jac.modes()` modes (overwritten).
@@ -303,14 +290,16 @@ impl Equations {
         }
     }
 
-    /// ∂R̈/∂z (length of `grad`) given P and its gradient (radial form's chain rule).
-    pub fn acceleration_gradient(&self, r: f64, rd: f64, pressure: f64, dp: &[f64], grad: &mut [f64]) {
+    /// ∂R̈/∂z (length of `grad`) given P and its gradient (radial form's chain rule); returns the
+    /// form's partials (∂R̈/∂R, ∂R̈/∂Ṙ, ∂R̈/∂P).
+    pub fn acceleration_gradient(&self, r: f64, rd: f64, pressure: f64, dp: &[f64], grad: &mut [f64]) -> (f64, f64, f64) {
         let (d_r, d_rd, d_p) = self.form.partials(self.params.rho, r, rd, pressure);
         for (g, d) in grad.iter_mut().zip(dp) {
             *g = d_p * d;
         }
         grad[0] += d_r;
         grad[1] += d_rd;
+        (d_r, d_rd, d_p)
     }
 
     /// Number of evaluations a counting term made (the magnetic field: one per rhs).

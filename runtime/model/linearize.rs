@@ -52,14 +52,14 @@ impl JacobianPattern {
 /// Mode m's (ä, ḃ) rows as a linear form ([`BoundaryLayerSystem::row_form`]): row =
 /// d[RDD]·∇R̈ + d[GN]·∇G_n + d[GT]·∇G_t + d[R]·e_R + d[RD]·e_Ṙ + d[A]·e_a + d[AD]·e_ȧ + d[B]·e_b
 /// (+ the ḃ loads' R column and the implicit ḃ correction when `c` is set).
-struct RowForm {
-    da: [f64; var::N],
-    db: [f64; var::N],
-    c: Option<[f64; 5]>,
-    cn_r_b: f64,
-    ct_r_b: f64,
+pub(super) struct RowForm {
+    pub(super) da: [f64; var::N],
+    pub(super) db: [f64; var::N],
+    pub(super) c: Option<[f64; 5]>,
+    pub(super) cn_r_b: f64,
+    pub(super) ct_r_b: f64,
     /// a, ȧ, b of the mode in the state.
-    idx: [usize; 3],
+    pub(super) idx: [usize; 3],
 }
 
 impl RowForm {
@@ -76,20 +76,36 @@ impl RowForm {
     }
 }
 
-/// Scratch-free helpers: the gradient of the loads and of R̈ at (t, y).
-struct Lin {
-    lj: LoadJacobian,
-    rdd: f64,
+/// The linearisation at (t, y): the loads, R̈ and their gradients. Its buffers are reused by
+/// [`BoundaryLayerSystem::lin_into`] (the sensitivity rhs, model/sensitivity.rs, keeps one).
+pub(super) struct Lin {
+    pub(super) lj: LoadJacobian,
+    /// P (the ordinary terms').
+    pub(super) p: f64,
+    pub(super) rdd: f64,
     /// ∂R̈/∂z over the load columns (R, Ṙ and the mode blocks: the layout without the gas slot).
-    drdd: Vec<f64>,
+    pub(super) drdd: Vec<f64>,
     /// ∂R̈/∂p_b with the reduced thermal model (0 without it): the gas slot's column, which the
-    /// loads do not have ([`crate::model::Equations::acceleration_gas_partial`]).
-    drdd_pb: f64,
-    gn: [f64; MAX_MODES],
-    gt: [f64; MAX_MODES],
+    /// loads do not have (the radial form's ∂R̈/∂P + ∂R̈/∂q · ∂ṗ_b/∂p_b).
+    pub(super) drdd_pb: f64,
+    /// ṗ_b's row: ∂ṗ_b/∂(R, Ṙ, p_b) (the reduced thermal model; zero without it).
+    pub(super) gas_row: [f64; 3],
+    pub(super) gn: [f64; MAX_MODES],
+    pub(super) gt: [f64; MAX_MODES],
     /// The ḃ_k loads per mode when there are any ([`BoundaryLayerSystem::apply_bdot_loads`];
     /// `gn`, `gt` then include them).
-    bdot: Option<Vec<BdotMode>>,
+    pub(super) bdot: Option<Vec<BdotMode>>,
+    /// The radial form's ∂R̈/∂(R, Ṙ, P, q, s) ([`super::equations::Equations::acceleration_gradient_at`];
+    /// zero when R̈ is prescribed or with ḃ in R̈).
+    pub(super) form: [f64; 5],
+}
+
+impl Lin {
+    /// Zero buffers for M modes.
+    pub(super) fn new(modes: usize) -> Lin {
+        let n = StateLayout::reduced(modes).dim();
+        Lin { lj: LoadJacobian::new(modes), p: 0.0, rdd: 0.0, drdd: vec![0.0; n], gn: [0.0; MAX_MODES], gt: [0.0; MAX_MODES], drdd_pb: 0.0, gas_row: [0.0; 3], bdot: None, form: [0.0; 5] }
+    }
 }
 
 impl BoundaryLayerSystem {
@@ -101,58 +117,75 @@ impl BoundaryLayerSystem {
     }
 
     fn lin(&self, t: f64, y: &[f64], rdd: Option<f64>) -> Lin {
+        let mut l = Lin::new(self.modes.len());
+        self.lin_into(t, y, rdd, &mut l);
+        l
+    }
+
+    /// The linearisation at (t, y) into `l`'s buffers (no allocation once `l` has been used,
+    /// but with ḃ in R̈: Keller–Miksis with a field); `rdd`: R̈ prescribed.
+    pub(super) fn lin_into(&self, t: f64, y: &[f64], rdd: Option<f64>, l: &mut Lin) {
         let m = self.modes.len();
         // the load columns (no gas slot: p_b enters R̈ alone, through `drdd_pb`)
         let (n, lay) = (StateLayout::reduced(m).dim(), self.layout());
-        let dpb_rate = self.gas.map(|g| g.rate_partials(y[0], y[1], y[g.index]).1[2]);
-        let mut lj = LoadJacobian::new(m);
-        self.eq.load_jacobian(t, y, &mut lj);
-        let (mut gn, mut gt) = ([0.0; MAX_MODES], [0.0; MAX_MODES]);
-        let p = self.eq.loads(t, y, &mut gn[..m], &mut gt[..m]);
-        let mut bdot = vec![[0.0; 5]; m];
-        let bdot = self.apply_bdot_loads(t, y, &mut gn[..m], &mut gt[..m], &mut bdot).then_some(bdot);
-        let mut drdd = vec![0.0; n];
+        l.gas_row = self.gas.map_or([0.0; 3], |g| g.rate_partials(y[0], y[1], y[g.index]).1);
+        let dpb_rate = self.gas.map(|_| l.gas_row[2]);
+        l.drdd_pb = 0.0;
+        self.eq.load_jacobian(t, y, &mut l.lj);
+        let p = self.eq.loads(t, y, &mut l.gn[..m], &mut l.gt[..m]);
+        l.p = p;
+        if self.bdot_loads {
+            let b = l.bdot.get_or_insert_with(|| vec![[0.0; 5]; m]);
+            self.apply_bdot_loads(t, y, &mut l.gn[..m], &mut l.gt[..m], b);
+        } else {
+            l.bdot = None;
+        }
         let prescribed = rdd.is_some();
-        let rdd = match rdd {
-            Some(v) => v,
+        match rdd {
+            Some(v) => {
+                l.rdd = v;
+                l.drdd.fill(0.0);
+                l.form = [0.0; 5];
+            }
             None if self.bdot_radial => {
                 // ḃ and its rows first (they do not depend on R̈), then R̈ with them
-                let mut l = Lin { lj, rdd: 0.0, drdd, drdd_pb: 0.0, gn, gt, bdot };
+                l.rdd = 0.0;
+                l.drdd.fill(0.0);
                 let mut dy = vec![0.0; n];
-                self.mode_rates(y[0], y[1], 0.0, &gn[..m], &gt[..m], y, &mut dy);
+                self.mode_rates(y[0], y[1], 0.0, &l.gn[..m], &l.gt[..m], y, &mut dy);
                 let bd: Vec<f64> = (0..m).map(|j| dy[lay.b(j)]).collect();
                 let (mut dbd, mut scratch) = (vec![0.0; m * n], vec![0.0; n]);
                 for j in 0..m {
-                    self.mode_rows(y, &l, j, &mut scratch, &mut dbd[j * n..(j + 1) * n]);
+                    self.mode_rows(y, l, j, &mut scratch, &mut dbd[j * n..(j + 1) * n]);
                 }
                 let mut g = vec![0.0; n];
-                self.eq.acceleration_gradient_with(t, y, p, &l.lj.pressure, Some((&bd, &dbd)), &mut g);
+                let d = self.eq.acceleration_gradient_with(t, y, p, &l.lj.pressure, Some((&bd, &dbd)), &mut g);
                 l.drdd = g;
+                l.form = [0.0; 5];
                 l.rdd = self.eq.acceleration_with(t, y, p, &bd);
-                l.drdd_pb = dpb_rate.map_or(0.0, |d| self.eq.acceleration_gas_partial(t, y, p, &bd, d));
-                return l;
+                // ∂R̈/∂p_b: through P (∂P/∂p_b = 1) and, for Keller–Miksis, the rate's ṗ_b
+                l.drdd_pb = dpb_rate.map_or(0.0, |r| d[2] + d[3] * r);
+                return;
             }
             None => {
-                self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut drdd);
-                self.eq.acceleration_at(t, y, p)
+                l.form = self.eq.acceleration_gradient_at(t, y, p, &l.lj.pressure, &mut l.drdd);
+                l.rdd = self.eq.acceleration_at(t, y, p);
             }
-        };
-        let drdd_pb = match (prescribed, dpb_rate) {
-            (false, Some(d)) => self.eq.acceleration_gas_partial(t, y, p, &[], d),
-            _ => 0.0,
-        };
-        let l = Lin { lj, rdd, drdd, drdd_pb, gn, gt, bdot };
-        if self.eq.has_second_order() && !prescribed {
-            return self.second_pass(t, y, p, l);
         }
-        l
+        if let (false, Some(r)) = (prescribed, dpb_rate) {
+            // ∂R̈/∂p_b from the form's partials (as above)
+            l.drdd_pb = l.form[2] + l.form[3] * r;
+        }
+        if self.eq.has_second_order() && !prescribed {
+            self.second_pass(t, y, p, l);
+        }
     }
 
     /// With second-pass terms (issue 12): the first-order ä and their rows from `l` (the
     /// ordinary terms'), the second-pass loads and derivatives added, R̈ and its gradient again
     /// from the completed P — so that [`mode_rows`](Self::mode_rows) differentiates the
     /// two-pass rhs exactly.
-    fn second_pass(&self, t: f64, y: &[f64], p: f64, mut l: Lin) -> Lin {
+    fn second_pass(&self, t: f64, y: &[f64], p: f64, l: &mut Lin) {
         let (m, n) = (self.modes.len(), y.len());
         let mut dy = vec![0.0; n];
         self.mode_rates(y[0], y[1], l.rdd, &l.gn[..m], &l.gt[..m], y, &mut dy);
@@ -162,7 +195,7 @@ impl BoundaryLayerSystem {
         let (mut dadd, mut dbd) = (vec![0.0; m * n], vec![0.0; m * n]);
         for j in 0..m {
             let (ra, rb) = (&mut dadd[j * n..(j + 1) * n], &mut dbd[j * n..(j + 1) * n]);
-            self.mode_rows(y, &l, j, ra, rb);
+            self.mode_rows(y, l, j, ra, rb);
         }
         // the material-frame terms' loads and Jacobian (the frame mapping's L(z), J(z))
         let (mut mgn, mut mgt, mut mj) = (vec![0.0; m], vec![0.0; m], LoadJacobian::new(m));
@@ -181,9 +214,9 @@ impl BoundaryLayerSystem {
             self.resolve_bdot(y, &mut l.gn[..m], &mut l.gt[..m], b);
         }
         l.lj = lj;
-        self.eq.acceleration_gradient_at(t, y, p, &l.lj.pressure, &mut l.drdd);
+        l.p = p;
+        l.form = self.eq.acceleration_gradient_at(t, y, p, &l.lj.pressure, &mut l.drdd);
         l.rdd = self.eq.acceleration_at(t, y, p);
-        l
     }
 
     /// Rows of (ä, ḃ) of mode index m as gradients over y (length n): `out_a`, `out_b`.
@@ -196,7 +229,7 @@ impl BoundaryLayerSystem {
     /// of docs/model.md's mode equations at (t, y)): what [`mode_rows_in`](Self::mode_rows_in)
     /// writes out column by column and [`jacobian_product_into`](Self::jacobian_product_into)
     /// applies to a direction.
-    fn row_form(&self, y: &[f64], l: &Lin, m: usize) -> RowForm {
+    pub(super) fn row_form(&self, y: &[f64], l: &Lin, m: usize) -> RowForm {
         let p = &self.eq.params;
         let mc = &self.modes[m];
         let (r, rd) = (y[0], y[1]);
@@ -251,37 +284,9 @@ impl BoundaryLayerSystem {
     /// the gradients' products with S: O(M·n) per direction instead of O(n²), the same
     /// numbers as the dense product up to the order of the additions.
     pub fn jacobian_product_into(&self, t: f64, y: &[f64], s: &[f64], out: &mut [f64]) {
-        use var::*;
-        let n = y.len();
         let l = self.lin(t, y, None);
-        let dot = |g: &[f64], v: &[f64]| g.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         let forms: Vec<RowForm> = (0..self.modes.len()).map(|m| self.row_form(y, &l, m)).collect();
-        let gas = self.gas.map(|g| (g.index, g.rate_partials(y[0], y[1], y[g.index]).1));
-        for (sj, oj) in s.chunks_exact(n).zip(out.chunks_exact_mut(n)) {
-            // (the loads' rows stop before the gas slot: `dot` over their length)
-            let mut rdd = dot(&l.drdd, sj);
-            if let Some((i, d)) = gas {
-                rdd += l.drdd_pb * sj[i];
-                oj[i] = d[0] * sj[0] + d[1] * sj[1] + d[2] * sj[i];
-            }
-            oj[0] = sj[1];
-            oj[1] = rdd;
-            for (m, f) in forms.iter().enumerate() {
-                let [ia, iad, ib] = f.idx;
-                let (gn, gt) = (dot(l.lj.gn_row(m), sj), dot(l.lj.gt_row(m), sj));
-                let row = |d: &[f64; var::N]| {
-                    d[RDD] * rdd + d[GN] * gn + d[GT] * gt + (d[R] + d[GN] * f.cn_r_b + d[GT] * f.ct_r_b) * sj[0] + d[RD] * sj[1] + d[A] * sj[ia] + d[AD] * sj[iad] + d[B] * sj[ib]
-                };
-                let (mut va, mut vb) = (row(&f.da), row(&f.db));
-                if let Some(c) = f.c {
-                    vb /= 1.0 - f.db[GN] * c[0] - f.db[GT] * c[1];
-                    va += (f.da[GN] * c[0] + f.da[GT] * c[1]) * vb;
-                }
-                oj[ia] = sj[iad];
-                oj[iad] = va;
-                oj[ib] = vb;
-            }
-        }
+        self.apply_product(&l, &forms, s, &[], out);
     }
 
     /// The exact Jacobian ∂f/∂y at (t, y), row-major `jac[i * n + j]` (n = 2 + 3M).
@@ -300,8 +305,7 @@ impl BoundaryLayerSystem {
         }
         // the gas slot: its column (R̈'s, and the mode rows' through R̈) and ṗ_b's row
         if let Some(g) = &self.gas {
-            let i = g.index;
-            let (_, d) = g.rate_partials(y[0], y[1], y[i]);
+            let (i, d) = (g.index, l.gas_row);
             jac[n + i] = l.drdd_pb;
             for m in 0..self.modes.len() {
                 let (va, vb) = self.row_form(y, &l, m).through_rdd(l.drdd_pb);

@@ -22,6 +22,7 @@ pub mod natural;
 mod material;
 pub mod params;
 pub mod radial;
+pub mod sensitivity;
 mod assemble;
 mod events;
 pub mod thermal;

@@ -61,6 +61,8 @@ pub struct Membrane {
     /// into one loop, so the powers of R common to them are formed once per call, not four times
     /// per mode through function pointers (the same expressions: bit-identical values).
     pub modes: SModes,
+    /// Their R-derivatives s1_dr, s2_dr, s11_dr, s12_dr the same way (the exact Jacobian's).
+    pub modes_dr: SModes,
 }
 
 /// The [`Membrane`] of one generated module (`coefficients::membrane::<law>::<form>`).
@@ -76,6 +78,16 @@ macro_rules! tables {
                 ];
             }
         }
+        fn modes_dr(r: f64, r0: f64, c1: f64, c2: f64, ks: &[f64], out: &mut [[f64; 4]]) {
+            for (o, &k) in out.iter_mut().zip(ks) {
+                *o = [
+                    $($m)::+::s1_dr(r, r0, c1, c2, k),
+                    $($m)::+::s2_dr(r, r0, c1, c2, k),
+                    $($m)::+::s11_dr(r, r0, c1, c2, k),
+                    $($m)::+::s12_dr(r, r0, c1, c2, k),
+                ];
+            }
+        }
         Membrane {
             s0: $($m)::+::s0,
             s1: $($m)::+::s1,
@@ -88,6 +100,7 @@ macro_rules! tables {
             s11_dr: $($m)::+::s11_dr,
             s12_dr: $($m)::+::s12_dr,
             modes,
+            modes_dr,
         }
     }};
 }

@@ -91,13 +91,14 @@ impl OdeSystem for RadialSystem {
         self.eq.load_jacobian(t, y, &mut lj);
         let p = self.eq.loads(t, y, &mut [], &mut []);
         let mut g = [0.0; 2];
-        self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut g);
+        let form = self.eq.acceleration_gradient_at(t, y, p, &lj.pressure, &mut g);
         let Some(gas) = &self.gas else {
             jac[..4].copy_from_slice(&[0.0, 1.0, g[0], g[1]]);
             return true;
         };
         let (_, d) = gas.rate_partials(y[0], y[1], y[2]);
-        let g2 = self.eq.acceleration_gas_partial(t, y, p, &[], d[2]);
+        // ∂R̈/∂p_b: through P (∂P/∂p_b = 1) and, for Keller–Miksis, the rate's q ∋ ṗ_b
+        let g2 = form[2] + form[3] * d[2];
         jac[..9].copy_from_slice(&[0.0, 1.0, 0.0, g[0], g[1], g2, d[0], d[1], d[2]]);
         true
     }

@@ -64,6 +64,7 @@ mod free_bubble_stability;
 mod lamb_km;
 mod km_effects;
 mod fit_sensitivities;
+mod fit_one_pass;
 mod fit;
 mod fit_cli;
 mod fit_attenuation;

@@ -80,18 +80,26 @@ impl Term for MembraneTerm {
         let r = at.r();
         let n = jac.n;
         jac.pressure[0] -= (self.law.s0_dr)(r, self.r0, self.c1, self.c2);
-        for m in 0..jac.modes() {
-            let k = self.orders[m];
-            let (s, d) = (self.stiffness(r, k), self.stiffness_dr(r, k));
-            let (a, b) = (at.a(m), at.b(m));
-            let (ia, ib) = (jac.layout().a(m), jac.layout().b(m));
-            let (gn, gt) = (&mut jac.gn[m * n..(m + 1) * n], &mut jac.gt[m * n..(m + 1) * n]);
-            gn[0] += d.s1 * a + d.s2 * b;
-            gt[0] += d.s11 * a + d.s12 * b;
-            gn[ia] += s.s1;
-            gn[ib] += s.s2;
-            gt[ia] += s.s11;
-            gt[ib] += s.s12;
+        // the modes' Ŝ and Ŝ′ eight at a time, as in `add` (`Membrane::modes`, `modes_dr`: the
+        // same generated functions, the same values as `stiffness`, `stiffness_dr` per mode)
+        const CHUNK: usize = 8;
+        let lay = jac.layout();
+        for (c, ks) in self.orders[..jac.modes()].chunks(CHUNK).enumerate() {
+            let (mut s, mut d) = ([[0.0; 4]; CHUNK], [[0.0; 4]; CHUNK]);
+            (self.law.modes)(r, self.r0, self.c1, self.c2, ks, &mut s[..ks.len()]);
+            (self.law.modes_dr)(r, self.r0, self.c1, self.c2, ks, &mut d[..ks.len()]);
+            for (j, (s, d)) in s[..ks.len()].iter().zip(&d[..ks.len()]).enumerate() {
+                let m = c * CHUNK + j;
+                let (a, b) = (at.a(m), at.b(m));
+                let (ia, ib) = (lay.a(m), lay.b(m));
+                let (gn, gt) = (&mut jac.gn[m * n..(m + 1) * n], &mut jac.gt[m * n..(m + 1) * n]);
+                gn[0] += d[0] * a + d[1] * b;
+                gt[0] += d[2] * a + d[3] * b;
+                gn[ia] += s[0];
+                gn[ib] += s[1];
+                gt[ia] += s[2];
+                gt[ib] += s[3];
+            }
         }
     }
     /// P = −Ŝ0(R): q = −Ŝ0′(R) Ṙ (generated Ŝ0′), s = 0. ∂q/∂R = −Ŝ0″(R) Ṙ: codegen emits no
