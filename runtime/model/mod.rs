@@ -22,6 +22,7 @@ pub mod natural;
 mod material;
 pub mod params;
 pub mod radial;
+mod radial_fused;
 mod assemble;
 mod events;
 pub mod thermal;
