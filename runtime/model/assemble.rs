@@ -173,7 +173,8 @@ impl Model {
             effects.push("free bubble (no membrane)".to_string());
         }
         let system = if orders.is_empty() {
-            System::Radial(RadialSystem { eq, gas: reduced_gas.as_ref().map(|g| g.0) })
+            let fused = if reduced_gas.is_none() { super::radial_fused::FusedRadial::of(&eq) } else { None };
+            System::Radial(RadialSystem { eq, gas: reduced_gas.as_ref().map(|g| g.0), fused })
         } else {
             let nu = params.eta / params.rho;
             // ω_k of the full stiffness of the assembled laws (issue 31 part 3; model/natural.rs)

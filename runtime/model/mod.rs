@@ -23,6 +23,7 @@ mod material;
 pub mod params;
 pub mod radial;
 pub mod sensitivity;
+mod radial_fused;
 mod assemble;
 mod events;
 pub mod thermal;

@@ -58,6 +58,9 @@ pub struct RadialSystem {
     pub(crate) eq: Equations,
     /// The reduced thermal model's ṗ_b (the same law as the gas term `eq.terms[0]`).
     pub(crate) gas: Option<super::effects::reduced_gas::ReducedGas>,
+    /// R̈ with the terms dispatched statically (Keller–Miksis scenes whose terms all have a
+    /// kernel; the same bits as `eq.radial_acceleration`: [`super::radial_fused`]).
+    pub(crate) fused: Option<super::radial_fused::FusedRadial>,
 }
 
 impl RadialSystem {
@@ -72,7 +75,10 @@ impl OdeSystem for RadialSystem {
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         dy[0] = y[1];
-        dy[1] = self.eq.radial_acceleration(t, y);
+        dy[1] = match &self.fused {
+            Some(f) => f.acceleration(t, y),
+            None => self.eq.radial_acceleration(t, y),
+        };
         if let Some(g) = &self.gas {
             dy[2] = g.rate(y[0], y[1], y[2]);
         }

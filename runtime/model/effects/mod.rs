@@ -242,6 +242,18 @@ pub struct BdotLoads<'a> {
     pub ct_r: &'a mut [f64],
 }
 
+/// A term as `Any`, for the statically dispatched radial rhs ([`super::radial_fused`]), which
+/// copies the terms of the types it knows. Every `'static` type has it.
+pub trait AsAny {
+    fn as_any(&self) -> &dyn std::any::Any;
+}
+
+impl<T: std::any::Any> AsAny for T {
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
 /// One load of the model. See the module doc; implementors are the files of this directory.
 ///
 /// Contract:
@@ -256,7 +268,7 @@ pub struct BdotLoads<'a> {
 /// * [`add_jacobian`](Term::add_jacobian) adds the exact partial derivatives of the same
 ///   quantities with respect to z (property-tested against finite differences: tests/suite/
 ///   equations_jacobian.rs).
-pub trait Term: std::fmt::Debug {
+pub trait Term: std::fmt::Debug + AsAny {
     /// Short identifier ("membrane", "magnetic", …).
     fn name(&self) -> &'static str;
     /// Entry of the run summary's `active_effects`, if the term is worth listing.
