@@ -358,8 +358,9 @@ fn magnus_omega<D: nalgebra::Dim>(
     DefaultAllocator: Allocator<D, D>,
 {
     let k = 3f64.sqrt() * h * h / 12.0;
-    pq.gemm(1.0, p, q, 0.0);
-    qp.gemm(1.0, q, p, 0.0);
+    let mul = super::matmul::product();
+    super::matmul::square(mul, pq, p, q);
+    super::matmul::square(mul, qp, q, p);
     let pairs = p.as_slice().iter().zip(q.as_slice()).zip(qp.as_slice().iter().zip(pq.as_slice()));
     for (o, ((a, b), (c, d))) in omega.as_mut_slice().iter_mut().zip(pairs) {
         *o = (a + b) * (0.5 * h) + (c - d) * k;
@@ -396,7 +397,8 @@ impl DenseStep {
     fn step(&mut self, a1: &DMatrix<f64>, a2: &DMatrix<f64>, h: f64, x: &mut DMatrix<f64>) {
         magnus_omega(a1, a2, h, [&mut self.pq, &mut self.qp], &mut self.omega);
         super::expm::expm_into(&self.omega, &mut self.work, &mut self.e);
-        self.pq.gemm(1.0, &self.e, x, 0.0);
+        let n = x.nrows();
+        super::matmul::mul(n, n, n, self.e.as_slice(), x.as_slice(), self.pq.as_mut_slice());
         std::mem::swap(x, &mut self.pq);
     }
 }
