@@ -8,7 +8,6 @@
 //! very non-normal matrix; the result agrees with nalgebra's to 1e-13 relative (unit test).
 
 use nalgebra::allocator::Allocator;
-use super::matmul::square;
 use nalgebra::{DMatrix, DefaultAllocator, Dim, OMatrix, OVector};
 
 const THETA: [(usize, f64); 4] =
@@ -195,8 +194,7 @@ where
     }
 }
 
-/// `out` ← exp(A) (see the module doc), with the buffers of `w`; every product is one
-/// [`super::matmul`] product.
+/// `out` ← exp(A) (see the module doc), with the buffers of `w`; every product is one gemm.
 /// A is balanced first ([`balance_sweep`], continuing from the previous call's D):
 /// exp(A) = D exp(D⁻¹AD) D⁻¹. With AVX (`crate::simd`, kernel `expm`) the elementwise loops
 /// and the Padé solve run 4 wide (the same operations in the same order: the result does not
@@ -238,7 +236,7 @@ where
         }
     }
     balance_sweep(n, w.bal.as_mut_slice(), sc, w.rsum.as_mut_slice(), w.csum.as_mut_slice());
-    pade_exp(super::matmul::product(), &w.bal, &mut w.pade, w.l.as_mut_slice(), out);
+    pade_exp(&w.bal, &mut w.pade, w.l.as_mut_slice(), out);
     let sc = w.scale.as_slice();
     for (oc, dj) in out.as_mut_slice().chunks_exact_mut(n).zip(sc.iter()) {
         let g = 1.0 / dj;
@@ -250,12 +248,12 @@ where
 
 /// `out` ← exp(A) by scaling, Padé and squaring (module doc); `l` is a length-n buffer.
 #[inline(always)]
-fn pade_exp<D: Dim>(mul: super::matmul::Product, a: &OMatrix<f64, D, D>, w: &mut PadeWork<D>, l: &mut [f64], out: &mut OMatrix<f64, D, D>)
+fn pade_exp<D: Dim>(a: &OMatrix<f64, D, D>, w: &mut PadeWork<D>, l: &mut [f64], out: &mut OMatrix<f64, D, D>)
 where
     DefaultAllocator: Allocator<D, D>,
 {
     let eta = norm1(a);
-    square(mul, &mut w.a2, a, a);
+    w.a2.gemm(1.0, a, a, 0.0);
     // Low degrees: U = A Σ b_{2j+1} A^{2j}, V = Σ b_{2j} A^{2j} (a4 holds the running power).
     for &(m, theta) in &THETA {
         if eta <= theta {
@@ -272,13 +270,13 @@ where
             w.a4.copy_from(&w.a2);
             for j in 1..=m / 2 {
                 if j > 1 {
-                    square(mul, &mut w.a6, &w.a4, &w.a2);
+                    w.a6.gemm(1.0, &w.a4, &w.a2, 0.0);
                     std::mem::swap(&mut w.a4, &mut w.a6);
                 }
                 add_scaled(&mut w.t, &[(&w.a4, b[2 * j + 1])]);
                 add_scaled(&mut w.v, &[(&w.a4, b[2 * j])]);
             }
-            square(mul, &mut w.u, a, &w.t);
+            w.u.gemm(1.0, a, &w.t, 0.0);
             pade_solve(a.nrows(), w.u.as_mut_slice(), w.v.as_mut_slice(), l);
             out.copy_from(&w.v);
             return;
@@ -293,22 +291,22 @@ where
     for x in w.a2.as_mut_slice() {
         *x *= scale * scale;
     }
-    square(mul, &mut w.a4, &w.a2, &w.a2);
-    square(mul, &mut w.a6, &w.a4, &w.a2);
+    w.a4.gemm(1.0, &w.a2, &w.a2, 0.0);
+    w.a6.gemm(1.0, &w.a4, &w.a2, 0.0);
     let b = &B13;
     let (a2, a4, a6) = (&w.a2, &w.a4, &w.a6);
     set_scaled(&mut w.t, (a6, b[13]), &[(a4, b[11]), (a2, b[9])]);
-    square(mul, &mut w.v, a6, &w.t);
+    w.v.gemm(1.0, a6, &w.t, 0.0);
     add_scaled(&mut w.v, &[(a6, b[7]), (a4, b[5]), (a2, b[3])]);
     add_diagonal(&mut w.v, b[1]);
-    square(mul, &mut w.u, &*out, &w.v);
+    w.u.gemm(1.0, &*out, &w.v, 0.0);
     set_scaled(&mut w.t, (a6, b[12]), &[(a4, b[10]), (a2, b[8])]);
-    square(mul, &mut w.v, a6, &w.t);
+    w.v.gemm(1.0, a6, &w.t, 0.0);
     add_scaled(&mut w.v, &[(a6, b[6]), (a4, b[4]), (a2, b[2])]);
     add_diagonal(&mut w.v, b[0]);
     pade_solve(a.nrows(), w.u.as_mut_slice(), w.v.as_mut_slice(), l);
     for _ in 0..s {
-        square(mul, &mut w.t, &w.v, &w.v);
+        w.t.gemm(1.0, &w.v, &w.v, 0.0);
         std::mem::swap(&mut w.t, &mut w.v);
     }
     out.copy_from(&w.v);

@@ -16,7 +16,6 @@ pub mod floquet_full;
 pub mod frequencies;
 pub mod grid;
 pub mod ladder;
-pub mod matmul;
 pub mod periodic;
 pub mod response;
 pub mod shooting;

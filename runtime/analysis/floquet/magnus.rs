@@ -1,10 +1,9 @@
 //! The fourth-order Magnus monodromy ([`monodromy`], the scheme in the parent module's doc):
 //! the steps over a period split at A(t)'s breaks, the 1–3-state blocks on the stack, a dense
-//! block through its exponential ([`crate::analysis::expm`]) and products
-//! ([`crate::analysis::matmul`]) on buffers kept over the period.
+//! block through its exponential ([`crate::analysis::expm`]) on buffers kept over the period.
 
 use super::{FloquetError, LinearPeriodic, Monodromy};
-use crate::analysis::{expm, matmul};
+use crate::analysis::expm;
 use nalgebra::allocator::Allocator;
 use nalgebra::{DMatrix, DefaultAllocator, OMatrix, SMatrix};
 
@@ -165,9 +164,8 @@ fn magnus_omega<D: nalgebra::Dim>(
     DefaultAllocator: Allocator<D, D>,
 {
     let k = 3f64.sqrt() * h * h / 12.0;
-    let mul = matmul::product();
-    matmul::square(mul, pq, p, q);
-    matmul::square(mul, qp, q, p);
+    pq.gemm(1.0, p, q, 0.0);
+    qp.gemm(1.0, q, p, 0.0);
     let pairs = p.as_slice().iter().zip(q.as_slice()).zip(qp.as_slice().iter().zip(pq.as_slice()));
     for (o, ((a, b), (c, d))) in omega.as_mut_slice().iter_mut().zip(pairs) {
         *o = (a + b) * (0.5 * h) + (c - d) * k;
@@ -204,8 +202,7 @@ impl DenseStep {
     fn step(&mut self, a1: &DMatrix<f64>, a2: &DMatrix<f64>, h: f64, x: &mut DMatrix<f64>) {
         magnus_omega(a1, a2, h, [&mut self.pq, &mut self.qp], &mut self.omega);
         expm::expm_into(&self.omega, &mut self.work, &mut self.e);
-        let n = x.nrows();
-        matmul::mul(n, n, n, self.e.as_slice(), x.as_slice(), self.pq.as_mut_slice());
+        self.pq.gemm(1.0, &self.e, x, 0.0);
         std::mem::swap(x, &mut self.pq);
     }
 }
