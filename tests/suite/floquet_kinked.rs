@@ -1,6 +1,6 @@
 //! Floquet on a kinked lipid law (issue 31; docs/stability.md, "Floquet on a kinked law"): the
 //! period map's RK4 steps and the monodromy's Magnus steps split at the orbit's branch switches
-//! (analysis/periodic/switches.rs, analysis/floquet.rs), so the multipliers converge with the
+//! (analysis/periodic/switches.rs, analysis/floquet/magnus.rs), so the multipliers converge with the
 //! step count at the methods' order 4.
 //!
 //! Before (measured on coil_marmottant.toml at 1 MHz, ε_p = 0.330964811, orbit at 400 RK4 steps,

@@ -11,7 +11,7 @@
 //! the run loop does). As in a run, each part evaluates the formula of one branch (continued a
 //! little beyond its kink), never re-decided from R at a stage. The grid points stay where they
 //! are; each switch is logged ([`Switch`]) for the sampled orbit and the monodromy's Magnus
-//! steps, which split there too (analysis/stability/systems.rs, analysis/floquet.rs).
+//! steps, which split there too (analysis/stability/systems.rs, analysis/floquet/magnus.rs).
 //!
 //! The location error of the Hermite output is O(h⁴) in time; f being continuous at the switch,
 //! it moves y by O(h⁸) and the jump of A(t) by O(h⁴) of one step: both within the methods'
