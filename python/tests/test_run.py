@@ -8,6 +8,7 @@ import pandas as pd
 import pytest
 
 import magbubble as mb
+from magbubble._util import override_list
 
 
 def _read_csv(path):
@@ -28,8 +29,9 @@ def _read_csv(path):
 )
 def test_series_and_summary_equal_the_cli(cli, tmp_path, scene, sets):
     args = ["run", scene, "--out", tmp_path]
-    for k, v in sets.items():
-        args += ["--set", f"{k}={v!r}"]
+    # the --set texts the Python call makes of `sets` (so the recorded overrides agree too)
+    for text in override_list(sets):
+        args += ["--set", text]
     cli(*args)
     header, values = _read_csv(tmp_path / "series.csv")
     r = mb.run(scene, overrides=sets)

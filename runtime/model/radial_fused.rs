@@ -104,7 +104,6 @@ impl FusedRadial {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
     use crate::model::{Model, System};
 
     fn model(shell: &str, extra: &str) -> Model {
@@ -144,7 +143,7 @@ mod tests {
         }
     }
 
-    /// Incompressible scenes and the reduced thermal model keep the generic path.
+    /// Incompressible scenes keep the generic path.
     #[test]
     fn only_keller_miksis_with_known_terms_is_fused() {
         let s = crate::scene::load_str(
