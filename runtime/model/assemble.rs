@@ -173,7 +173,7 @@ impl Model {
             effects.push("free bubble (no membrane)".to_string());
         }
         let system = if orders.is_empty() {
-            let fused = if reduced_gas.is_none() { super::radial_fused::FusedRadial::of(&eq) } else { None };
+            let fused = super::radial_fused::FusedRadial::of(&eq);
             System::Radial(RadialSystem { eq, gas: reduced_gas.as_ref().map(|g| g.0), fused })
         } else {
             let nu = params.eta / params.rho;

@@ -10,7 +10,7 @@
 //! (otherwise the run uses [`Equations::radial_acceleration`]). Same bits:
 //! `tests::fused_is_the_generic_sum`, and every shipped scene's series (scripts/compare_series.sh).
 
-use super::effects::{drive, gas, lipid, membrane, shell, vapour, viscosity, At, Loads, PressureRate, Term};
+use super::effects::{drive, gas, lipid, membrane, reduced_gas, shell, vapour, viscosity, At, Loads, PressureRate, Term};
 use super::equations::Equations;
 use super::keller_miksis::KellerMiksis;
 use std::any::Any;
@@ -20,6 +20,7 @@ use std::any::Any;
 #[derive(Debug, Clone)]
 enum Kernel {
     Gas(gas::PolytropicGas),
+    ReducedGas(reduced_gas::ReducedGas),
     Vapour(vapour::VapourPressure),
     FarField(drive::FarField),
     Viscosity(viscosity::LiquidViscosity),
@@ -42,6 +43,7 @@ impl Kernel {
         }
         try_as!(
             Gas(gas::PolytropicGas),
+            ReducedGas(reduced_gas::ReducedGas),
             Vapour(vapour::VapourPressure),
             FarField(drive::FarField),
             Viscosity(viscosity::LiquidViscosity),
@@ -57,6 +59,7 @@ impl Kernel {
     fn add_with_rate(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) {
         match self {
             Kernel::Gas(t) => t.add_with_rate(at, loads, rate),
+            Kernel::ReducedGas(t) => t.add_with_rate(at, loads, rate),
             Kernel::Vapour(t) => t.add_with_rate(at, loads, rate),
             Kernel::FarField(t) => t.add_with_rate(at, loads, rate),
             Kernel::Viscosity(t) => t.add_with_rate(at, loads, rate),
@@ -87,7 +90,8 @@ impl FusedRadial {
         Some(Self { terms, form: KellerMiksis { c }, rho: eq.params.rho })
     }
 
-    /// R̈ at (t, z = [R, Ṙ]): [`Equations::radial_acceleration`]'s sums, term by term in the
+    /// R̈ at (t, z = [R, Ṙ], or [R, Ṙ, p_b] with the reduced thermal model):
+    /// [`Equations::radial_acceleration`]'s sums, term by term in the
     /// same order, and the same form.
     #[inline]
     pub fn acceleration(&self, t: f64, z: &[f64]) -> f64 {
@@ -125,6 +129,8 @@ mod tests {
             ("c1 = 0.1\nc2 = 0.12\nsurface_tension = 0.072\ndilatational_viscosity = 1e-9", ""),
             ("law = \"marmottant\"\nelasticity = 0.5\ninitial_tension = 0.02\nrupture_tension = 0.072\ndilatational_viscosity = 1e-9", ""),
             ("c1 = 0.1\nc2 = 0.12", "vapour_pressure = 2330\n"),
+            // the reduced thermal model: p_b the state's third slot
+            ("c1 = 0.0\nc2 = 0.0\nsurface_tension = 0.072", "thermal = \"reduced\"\n"),
         ];
         for (shell, extra) in cases {
             let m = model(shell, extra);
@@ -134,9 +140,10 @@ mod tests {
             for i in 0..400 {
                 let x = i as f64;
                 let (t, r, rd) = (0.37 * x, 0.3 + 2.5 * (0.61 * x).sin().abs(), 3.0 * (1.3 * x).cos());
-                let z = [r, rd];
-                let generic = sys.eq.radial_acceleration(t, &z);
-                assert_eq!(fused.acceleration(t, &z).to_bits(), generic.to_bits(), "{shell}: t {t} R {r} Ṙ {rd}");
+                let z = [r, rd, 0.7 + 0.5 * (0.43 * x).sin().abs()];
+                let z = &z[..m.initial_state().len()];
+                let generic = sys.eq.radial_acceleration(t, z);
+                assert_eq!(fused.acceleration(t, z).to_bits(), generic.to_bits(), "{shell}: t {t} R {r} Ṙ {rd}");
                 n += usize::from(generic.is_finite());
             }
             assert!(n > 300, "{shell}: {n} finite");
