@@ -15,10 +15,38 @@ use super::equations::Equations;
 use super::keller_miksis::KellerMiksis;
 use std::any::Any;
 
-/// A term of a radial scene, by its concrete type (a clone of the assembled term: the drive's
-/// piece and the lipid law's branch are shared with it, `Arc`s).
-#[derive(Debug, Clone)]
-enum Kernel {
+/// The enum [`Kernel`] of the term types below, its conversion from a `dyn Term` and its
+/// statically dispatched `add_with_rate`, from one list (a type added here is fused).
+macro_rules! kernels {
+    ($($variant:ident($ty:ty)),* $(,)?) => {
+        /// A term of a radial scene, by its concrete type (a clone of the assembled term: the
+        /// drive's piece and the lipid law's branch are shared with it, `Arc`s).
+        #[derive(Debug, Clone)]
+        enum Kernel {
+            $($variant($ty)),*
+        }
+
+        impl Kernel {
+            /// `term` as a kernel, when its type is one of the enum's.
+            fn of(term: &dyn Term) -> Option<Self> {
+                let any: &dyn Any = term.as_any();
+                $(if let Some(t) = any.downcast_ref::<$ty>() {
+                    return Some(Kernel::$variant(t.clone()));
+                })*
+                None
+            }
+
+            #[inline(always)]
+            fn add_with_rate(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) {
+                match self {
+                    $(Kernel::$variant(t) => t.add_with_rate(at, loads, rate)),*
+                };
+            }
+        }
+    };
+}
+
+kernels!(
     Gas(gas::PolytropicGas),
     ReducedGas(reduced_gas::ReducedGas),
     Vapour(vapour::VapourPressure),
@@ -28,48 +56,7 @@ enum Kernel {
     Lipid(lipid::LipidTerm),
     Tension(shell::OneConstant),
     ShellViscosity(shell::ShellViscosity),
-}
-
-impl Kernel {
-    /// `term` as a kernel, when its type is one of the enum's.
-    fn of(term: &dyn Term) -> Option<Self> {
-        let any: &dyn Any = term.as_any();
-        macro_rules! try_as {
-            ($($variant:ident($ty:ty)),*) => {
-                $(if let Some(t) = any.downcast_ref::<$ty>() {
-                    return Some(Kernel::$variant(t.clone()));
-                })*
-            };
-        }
-        try_as!(
-            Gas(gas::PolytropicGas),
-            ReducedGas(reduced_gas::ReducedGas),
-            Vapour(vapour::VapourPressure),
-            FarField(drive::FarField),
-            Viscosity(viscosity::LiquidViscosity),
-            Membrane(membrane::MembraneTerm),
-            Lipid(lipid::LipidTerm),
-            Tension(shell::OneConstant),
-            ShellViscosity(shell::ShellViscosity)
-        );
-        None
-    }
-
-    #[inline(always)]
-    fn add_with_rate(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) {
-        match self {
-            Kernel::Gas(t) => t.add_with_rate(at, loads, rate),
-            Kernel::ReducedGas(t) => t.add_with_rate(at, loads, rate),
-            Kernel::Vapour(t) => t.add_with_rate(at, loads, rate),
-            Kernel::FarField(t) => t.add_with_rate(at, loads, rate),
-            Kernel::Viscosity(t) => t.add_with_rate(at, loads, rate),
-            Kernel::Membrane(t) => t.add_with_rate(at, loads, rate),
-            Kernel::Lipid(t) => t.add_with_rate(at, loads, rate),
-            Kernel::Tension(t) => t.add_with_rate(at, loads, rate),
-            Kernel::ShellViscosity(t) => t.add_with_rate(at, loads, rate),
-        };
-    }
-}
+);
 
 /// R̈ of a radial Keller–Miksis scene with the terms dispatched statically (module doc).
 #[derive(Debug, Clone)]
