@@ -21,6 +21,21 @@ pub fn eller(omega: f64, r0: f64, d: f64, g: f64) -> (f64, f64) {
     (kappa, dth)
 }
 
+/// Prosperetti's undriven radial mode of a free air bubble in water (ρ 1000, η 1e-3, p0 101325,
+/// surface tension `sigma`), written here: ω0 from the fixed point ρR0²ω0² = 3κ(ω0)p_g0 − 2σ/R0,
+/// p_g0 = p0 + 2σ/R0 (κ, d_th from [`eller`]), μ_th = p_g0 · 3κ d_th/(4ω0). Returns (ω0, μ_th, κ).
+pub fn prosperetti_mode(r0: f64, d: f64, sigma: f64) -> (f64, f64, f64) {
+    let (rho, p0) = (1000.0, 101325.0);
+    let pg0 = p0 + 2.0 * sigma / r0;
+    let mut w: f64 = 1e6;
+    for _ in 0..300 {
+        let (k, _) = eller(w, r0, d, GAMMA);
+        w = ((3.0 * k * pg0 - 2.0 * sigma / r0) / (rho * r0 * r0)).sqrt();
+    }
+    let (k, dth) = eller(w, r0, d, GAMMA);
+    (w, pg0 * 3.0 * k * dth / (4.0 * w), k)
+}
+
 #[test]
 fn effective_exponent_and_damping_ratio_match_ellers_closed_form() {
     let mut worst: f64 = 0.0;
@@ -62,19 +77,12 @@ fn the_undriven_radial_mode_has_prosperettis_frequency_and_damping() {
     // free bubble, R0 = 5 µm, γ_s = 0.072 N/m: ρR0²ω0² = 3κ(ω0) p_g0 − 2γ_s/R0 with
     // p_g0 = p0 + 2γ_s/R0 (a fixed point, iterated here with Eller's κ), and the damping
     // ∂R̈/∂Ṙ = −4(η + μ_th)/(ρR0²), μ_th = p_g0 Im Φ/(4ω0) = p_g0 · 3κ d_th/(4ω0)
-    let (rho, eta, p0, gs, r0) = (1000.0, 1e-3, 101325.0, 0.072, 5e-6);
+    let (rho, eta, r0) = (1000.0, 1e-3, 5e-6);
     for &d in &[D_AIR, 1e-6, 1e-3] {
         let dset = format!("gas.thermal_diffusivity={d}");
         let set = ["gas.thermal=\"prosperetti\"", &dset, "drive.amplitude=0", "gas.vapour_pressure=0", "shell.surface_tension=0.072", "modes.max_order=2"];
         let (drr, drd, _) = radial_row(&set);
-        let pg0 = p0 + 2.0 * gs / r0;
-        let mut w: f64 = 1e6;
-        for _ in 0..200 {
-            let (k, _) = eller(w, r0, d, GAMMA);
-            w = ((3.0 * k * pg0 - 2.0 * gs / r0) / (rho * r0 * r0)).sqrt();
-        }
-        let (k, dth) = eller(w, r0, d, GAMMA);
-        let mu = pg0 * 3.0 * k * dth / (4.0 * w);
+        let (w, mu, k) = prosperetti_mode(r0, d, 0.072);
         let (stiff, damp) = (-w * w, -4.0 * (eta + mu) / (rho * r0 * r0));
         println!("D = {d}: f0 = {:.1} Hz, kappa = {k:.6}, mu_th = {mu:e} Pa s; model {drr:e} {drd:e}", w / (2.0 * std::f64::consts::PI));
         assert!((drr - stiff).abs() < 1e-6 * stiff.abs(), "D = {d}: dR''/dR {drr:e} vs {stiff:e}");

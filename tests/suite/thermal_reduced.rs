@@ -4,7 +4,8 @@
 //! against an RK4 of Preston et al.'s equations written here, the isothermal and adiabatic
 //! limits against polytropic runs, the exact Jacobian against differences, bad input.
 
-use super::thermal_damping::eller;
+use super::thermal_damping::prosperetti_mode;
+use nalgebra::Complex;
 use magbubble::model::{simulate, Model, RunStatus};
 use magbubble::scene::{load_str, Scene};
 
@@ -39,20 +40,6 @@ fn run(s: &Scene) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     (t, r, p)
 }
 
-/// Prosperetti's undriven radial mode, written here: ω0 from ρR0²ω0² = 3κ(ω0)p_g0 − 2σ/R0
-/// (κ, d_th from Eller's form), μ_th = p_g0 · 3κ d_th/(4ω0), β = 2(η + μ_th)/(ρR0²).
-fn prosperetti_mode(r0: f64, d: f64) -> (f64, f64, f64) {
-    let pg0 = P0 + 2.0 * SIGMA / r0;
-    let mut w: f64 = 1e6;
-    for _ in 0..300 {
-        let (k, _) = eller(w, r0, d, GAMMA);
-        w = ((3.0 * k * pg0 - 2.0 * SIGMA / r0) / (RHO * r0 * r0)).sqrt();
-    }
-    let (k, dth) = eller(w, r0, d, GAMMA);
-    let mu = pg0 * 3.0 * k * dth / (4.0 * w);
-    (w, 2.0 * (ETA + mu) / (RHO * r0 * r0), k)
-}
-
 /// The maxima of R(t) (parabolic refinement on the samples): (time, R − R0).
 fn peaks(t: &[f64], r: &[f64], r0: f64) -> Vec<(f64, f64)> {
     let mut out = vec![];
@@ -67,49 +54,24 @@ fn peaks(t: &[f64], r: &[f64], r0: f64) -> Vec<(f64, f64)> {
     out
 }
 
-/// Complex arithmetic on (re, im), for the linear theory at a complex frequency.
-type Cx = (f64, f64);
-fn cmul(a: Cx, b: Cx) -> Cx {
-    (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
-}
-fn cinv(a: Cx) -> Cx {
-    let d = a.0 * a.0 + a.1 * a.1;
-    (a.0 / d, -a.1 / d)
-}
-fn csqrt(a: Cx) -> Cx {
-    let m = (a.0 * a.0 + a.1 * a.1).sqrt();
-    let re = ((m + a.0) / 2.0).sqrt();
-    (re, a.1.signum() * ((m - a.0) / 2.0).sqrt())
-}
-/// coth z for Re z > 0: (1 + e^{−2z})/(1 − e^{−2z}).
-fn ccoth(z: Cx) -> Cx {
-    let m = (-2.0 * z.0).exp();
-    let e = (m * (-2.0 * z.1).cos(), m * (-2.0 * z.1).sin());
-    cmul((1.0 + e.0, e.1), cinv((1.0 - e.0, -e.1)))
-}
-
 /// The root s = −β + iω_d of Prosperetti's linear theory for a free oscillation e^{st}, the
 /// heat exchange at the complex frequency itself (Φ continued: i/χ = sR0²/D = z²):
 /// ρR0²s² + 4ηs + p_g0 Φ(s) − 2σ/R0 = 0, Φ(s) = 3γ/(1 + 3(γ − 1)(z coth z − 1)/z²); Newton
 /// from the frozen-frequency guess.
-fn prosperetti_root(r0: f64, d: f64, guess: Cx) -> Cx {
+fn prosperetti_root(r0: f64, d: f64, guess: Complex<f64>) -> Complex<f64> {
     let pg0 = P0 + 2.0 * SIGMA / r0;
-    let f = |s: Cx| {
-        let z2 = (s.0 * r0 * r0 / d, s.1 * r0 * r0 / d);
-        let z = csqrt(z2);
-        let zc = cmul(z, ccoth(z));
-        let q = cmul((zc.0 - 1.0, zc.1), cinv(z2));
-        let phi = cmul((3.0 * GAMMA, 0.0), cinv((1.0 + 3.0 * (GAMMA - 1.0) * q.0, 3.0 * (GAMMA - 1.0) * q.1)));
-        let s2 = cmul(s, s);
-        (RHO * r0 * r0 * s2.0 + 4.0 * ETA * s.0 + pg0 * phi.0 - 2.0 * SIGMA / r0, RHO * r0 * r0 * s2.1 + 4.0 * ETA * s.1 + pg0 * phi.1)
+    let f = |s: Complex<f64>| {
+        let z2 = s * (r0 * r0 / d);
+        let z = z2.sqrt();
+        let q = (z / z.tanh() - 1.0) / z2;
+        let phi = (1.0 + q * (3.0 * (GAMMA - 1.0))).inv() * (3.0 * GAMMA);
+        s * s * (RHO * r0 * r0) + s * (4.0 * ETA) + phi * pg0 - 2.0 * SIGMA / r0
     };
     let mut s = guess;
     for _ in 0..60 {
-        let h = 1e-7 * (s.0 * s.0 + s.1 * s.1).sqrt();
-        let (a, b) = (f((s.0 + h, s.1)), f((s.0 - h, s.1)));
-        let dfds = ((a.0 - b.0) / (2.0 * h), (a.1 - b.1) / (2.0 * h));
-        let step = cmul(f(s), cinv(dfds));
-        s = (s.0 - step.0, s.1 - step.1);
+        let h = 1e-7 * s.norm();
+        let dfds = (f(s + h) - f(s - h)) / (2.0 * h);
+        s -= f(s) / dfds;
     }
     s
 }
@@ -120,10 +82,12 @@ fn prosperetti_root(r0: f64, d: f64, guess: Cx) -> Cx {
 #[test]
 fn the_ring_down_decays_at_prosperettis_damping_constant() {
     for &r0 in &[1e-6, 2e-6, 5e-6, 10e-6] {
-        let (w0, beta, kappa) = prosperetti_mode(r0, D_AIR);
+        let (w0, mu, kappa) = prosperetti_mode(r0, D_AIR, SIGMA);
+        // Prosperetti's damping constant β = 2(η + μ_th)/(ρR0²), μ_th frozen at ω0
+        let beta = 2.0 * (ETA + mu) / (RHO * r0 * r0);
         let wd = (w0 * w0 - beta * beta).sqrt();
-        let root = prosperetti_root(r0, D_AIR, (-beta, wd));
-        let period = 2.0 * std::f64::consts::PI / root.1;
+        let root = prosperetti_root(r0, D_AIR, Complex::new(-beta, wd));
+        let period = 2.0 * std::f64::consts::PI / root.im;
         let extra = format!("[run]\nduration = {:e}\nsample_interval = {:e}\nintegrator = {{ rtol = 1e-11, atol = 1e-14 }}\n", 16.0 * period, period / 400.0);
         let (t, r, _) = run(&scene(r0, 1e-4 * r0 * w0, "thermal = \"reduced\"", &extra));
         let pk = peaks(&t, &r, r0);
@@ -133,15 +97,15 @@ fn the_ring_down_decays_at_prosperettis_damping_constant() {
         let (sx, sy) = (pk.iter().map(|p| p.0).sum::<f64>() / n, pk.iter().map(|p| p.1.ln()).sum::<f64>() / n);
         let slope = pk.iter().map(|p| (p.0 - sx) * (p.1.ln() - sy)).sum::<f64>() / pk.iter().map(|p| (p.0 - sx).powi(2)).sum::<f64>();
         let measured_period = (pk[pk.len() - 1].0 - pk[0].0) / (n - 1.0);
-        let (eb, er, ew, ef) = ((-slope - beta) / beta, (-slope + root.0) / -root.0, (measured_period - period) / period, (wd - root.1) / root.1);
+        let (eb, er, ew, ef) = ((-slope - beta) / beta, (-slope + root.re) / -root.re, (measured_period - period) / period, (wd - root.im) / root.im);
         println!(
             "R0 = {r0:e}: f0 = {:.4e} Hz, kappa_eff = {kappa:.4}; beta: frozen {beta:.5e} /s, root {:.5e}, run {:.5e} (run vs frozen {eb:+.3e}, vs root {er:+.3e}); period run vs root {ew:+.3e}, frozen vs root {ef:+.3e}",
             w0 / (2.0 * std::f64::consts::PI),
-            -root.0,
+            -root.re,
             -slope
         );
         // the reduced model's decay is the linear theory's own (its root), to 2 %
-        assert!(er.abs() < 0.02, "R0 = {r0}: decay rate {} vs the linear theory's root {} ({er:e})", -slope, -root.0);
+        assert!(er.abs() < 0.02, "R0 = {r0}: decay rate {} vs the linear theory's root {} ({er:e})", -slope, -root.re);
         assert!(ew.abs() < 0.02, "R0 = {r0}: period {measured_period} vs {period} ({ew:e})");
         // the frozen-frequency damping constant is within 2 % of both where β/ω0 is small; at
         // 5–10 µm the linear theory's root itself is 2.8–5.4 % above it (docs/model.md)
@@ -153,20 +117,10 @@ fn the_ring_down_decays_at_prosperettis_damping_constant() {
 
 /// Ψ(Pe) written here (complex tanh), Pe = ωR0²/D: Ψ = [1/(√(iPe) coth √(iPe) − 1) − 3/(iPe)]⁻¹.
 fn psi(pe: f64) -> (f64, f64) {
-    type C = (f64, f64);
-    let mul = |a: C, b: C| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
-    let inv = |a: C| {
-        let d = a.0 * a.0 + a.1 * a.1;
-        (a.0 / d, -a.1 / d)
-    };
-    let s = (pe / 2.0).sqrt();
-    let z = (s, s);
-    // tanh z = (sinh 2x + i sin 2y)/(cosh 2x + cos 2y), z = x + iy
-    let d = (2.0 * s).cosh() + (2.0 * s).cos();
-    let tanh = ((2.0 * s).sinh() / d, (2.0 * s).sin() / d);
-    let zc = mul(z, inv(tanh));
-    let g = inv((zc.0 - 1.0, zc.1));
-    inv((g.0, g.1 + 3.0 / pe))
+    let z = Complex::new(0.0, pe).sqrt();
+    let g = z / z.tanh() - 1.0;
+    let p = (g.inv() + Complex::new(0.0, 3.0 / pe)).inv();
+    (p.re, p.im)
 }
 
 /// Preston et al. 2007 in SI, written here: ρ(RR̈ + 3/2Ṙ²) = p_b − p0(1 + ε cos ωt) − 4ηṘ/R − 2σ/R;
