@@ -111,7 +111,7 @@ impl Term for ThermalDamping {
 /// The frequency the thermal models are evaluated at (model units): the drive's, else
 /// [`natural_omega`] from the radial stiffness at rest of every term but the gas (`terms[0]`)
 /// and `skip` (Prosperetti's damping placeholder). `value` names the model in the error.
-pub(crate) fn frequency(
+fn frequency(
     scene: &crate::scene::Scene,
     d: f64,
     gamma: f64,
@@ -143,6 +143,25 @@ pub(crate) fn frequency(
     })
 }
 
+/// What both thermal models share at assembly: D in model units, the frequency ω
+/// ([`frequency`], `skip` and `value` as there), and κ_eff(ω), μ_th(ω) with 3κ_eff written into
+/// `params.three_kappa`. Returns (D, ω, κ_eff, μ_th).
+fn at_frequency(
+    scene: &crate::scene::Scene,
+    sc: &crate::model::Scales,
+    params: &mut crate::model::Params,
+    terms: &[Box<dyn Term>],
+    (thermal_diffusivity, gamma): (f64, f64),
+    skip: Option<usize>,
+    value: &str,
+) -> Result<(f64, f64, f64, f64), crate::model::ModelError> {
+    let d = thermal_diffusivity * sc.time / (sc.length * sc.length);
+    let omega = frequency(scene, d, gamma, params, terms, skip, value)?;
+    let (kappa, mu) = effective(omega, params.r0, d, gamma, params.pg0);
+    params.three_kappa = 3.0 * kappa;
+    Ok((d, omega, kappa, mu))
+}
+
 /// Sets up `gas.thermal = "prosperetti"` in an assembled term list (`Model::from_scene`): the
 /// frequency ([`frequency`]), κ_eff into `params.three_kappa` and the gas term `terms[0]`, μ_th
 /// into the [`ThermalDamping`] placeholder at `terms[at]`.
@@ -156,10 +175,7 @@ pub(crate) fn assemble(
     let crate::scene::Thermal::Prosperetti { thermal_diffusivity, heat_capacity_ratio: gamma } = scene.gas.thermal else {
         return Ok(());
     };
-    let d = thermal_diffusivity * sc.time / (sc.length * sc.length);
-    let omega = frequency(scene, d, gamma, params, terms, Some(at), "\"prosperetti\"")?;
-    let (kappa, mu) = effective(omega, params.r0, d, gamma, params.pg0);
-    params.three_kappa = 3.0 * kappa;
+    let (_, omega, kappa, mu) = at_frequency(scene, sc, params, terms, (thermal_diffusivity, gamma), Some(at), "\"prosperetti\"")?;
     terms[0] = Box::new(super::gas::PolytropicGas { pg0: params.pg0, r0: params.r0, three_kappa: params.three_kappa });
     let si_mu = mu * sc.pressure * sc.time;
     terms[at] = Box::new(ThermalDamping {
@@ -188,10 +204,7 @@ pub(crate) fn assemble_reduced(
     let crate::scene::Thermal::Reduced { thermal_diffusivity, heat_capacity_ratio: gamma } = scene.gas.thermal else {
         return Ok(None);
     };
-    let d = thermal_diffusivity * sc.time / (sc.length * sc.length);
-    let omega = frequency(scene, d, gamma, params, terms, None, "\"reduced\"")?;
-    let (kappa, _) = effective(omega, params.r0, d, gamma, params.pg0);
-    params.three_kappa = 3.0 * kappa;
+    let (d, omega, _, _) = at_frequency(scene, sc, params, terms, (thermal_diffusivity, gamma), None, "\"reduced\"")?;
     let gas = super::reduced_gas::ReducedGas::new(params.pg0, params.r0, gamma, d, omega, index);
     terms[0] = Box::new(gas);
     let label = format!(
