@@ -183,12 +183,13 @@ impl Model {
                     (Method::Dop853 { rtol: s.rtol, atol: s.atol }, "non-stiff: DOP853")
                 };
                 let reason = format!(
-                    "spectral radius {:.3e} /s × DOP853's step for rtol {:e} ({:.3e} s) = {:.3} {} {RADAU5_PAYS} (DOP853's stability bound {DOP853_STABILITY} × 2.5, Radau5's measured cost per unit time) → {verdict}",
+                    "spectral radius {:.3e} /s × DOP853's step for rtol {:e} ({:.3e} s) = {:.3} {} {RADAU5_PAYS} (DOP853's stability bound {DOP853_STABILITY} × {}, Radau5's measured cost per unit time) → {verdict}",
                     rho / ts,
                     s.rtol,
                     h * ts,
                     ratio,
                     if stiff { ">" } else { "≤" },
+                    RADAU5_PAYS / DOP853_STABILITY,
                 );
                 let choice = IntegratorChoice {
                     method: m.name().into(),
