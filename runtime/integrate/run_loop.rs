@@ -16,10 +16,12 @@
 //!   Nørsett & Wanner, *Solving ODEs I*, sec. II.6, "discontinuities");
 //! - **event functions** ([`Event`]): state-dependent switches g(t, z). g is evaluated at every
 //!   sample inside a step and at the step's end; where it crosses zero in the event's
-//!   [`Direction`] the crossing is bisected on the stepper's dense output to the event's
-//!   relative tolerance, and the event either stops the run ([`Action::Stop`] →
+//!   [`Direction`] the crossing is bisected on the stepper's dense output to the last
+//!   representable time ([`locate`]), and the event either stops the run ([`Action::Stop`] →
 //!   [`StopReason::Event`]) or restarts the stepper at the crossing ([`Action::Restart`], after
-//!   [`Event::update`]);
+//!   [`Event::update`]). An event that knows its rate ([`Event::rate`]) is also checked at an
+//!   extremum of g between two checked points ([`hidden_crossing`]): a pair of crossings inside
+//!   one step is not stepped over;
 //! - typed stop reasons ([`StopReason`]) and errors ([`IntegrateError`], each with its time).
 //!
 //! **Branches at an edge.** A step that lands on a stop time evaluates its last stage *at* that
@@ -90,6 +92,14 @@ pub trait Event {
     /// For [`Action::Restart`]: updates the full state `y` at the crossing time `t` (and, with
     /// interior mutability, the model's branch) before the stepper restarts.
     fn update(&self, _t: f64, _y: &mut [f64]) {}
+    /// dg/dt at (t, z), when the event knows it from the observed components (g = R − R_b:
+    /// Ṙ). With it the loop also sees a *pair* of crossings between two checked points — g on
+    /// the same side at both, an extremum of g between them on the other side
+    /// ([`hidden_crossing`]) — which a sign test at the points steps over. `None`: only sign
+    /// changes at the checked points are seen.
+    fn rate(&self, _t: f64, _z: &[f64]) -> Option<f64> {
+        None
+    }
 }
 
 /// Why [`run`] ended.
@@ -211,6 +221,9 @@ pub fn run(
     // g at the last checked point and at the current one, per event
     let mut g_last: Vec<f64> = events.iter().map(|e| e.g(t0, &z)).collect();
     let mut g_now = g_last.clone();
+    // dg/dt at the same points, for the events that know it
+    let mut r_last: Vec<Option<f64>> = events.iter().map(|e| e.rate(t0, &z)).collect();
+    let mut r_now = r_last.clone();
     for (i, e) in events.iter().enumerate() {
         if e.fires_at_start() && e.direction().crossed(0.0, g_last[i]) {
             return finish(t0, StopReason::Event { index: i }, &z);
@@ -267,14 +280,37 @@ pub fn run(
             let is_sample = ts_i <= st.t() && ts_i < t_end - margin;
             let t_pt = if is_sample { ts_i } else { st.t() };
             view.at(st, t_pt, &mut z);
-            for (g, e) in g_now.iter_mut().zip(events) {
+            for ((g, r), e) in g_now.iter_mut().zip(r_now.iter_mut()).zip(events) {
                 *g = e.g(t_pt, &z);
+                *r = e.rate(t_pt, &z);
             }
-            let crossed = events.iter().enumerate().any(|(i, e)| e.direction().crossed(g_last[i], g_now[i]));
+            let mut crossed = events.iter().enumerate().any(|(i, e)| e.direction().crossed(g_last[i], g_now[i]));
+            // a pair of crossings between the points: the earliest extremum beyond zero becomes
+            // the right end of the bracket (g of every event there)
+            let mut t_chk = t_pt;
+            if !crossed && (0..events.len()).any(|i| extremum_between(g_last[i], r_last[i], r_now[i])) {
+                st.prepare_dense(sys);
+                for (i, e) in events.iter().enumerate() {
+                    if !extremum_between(g_last[i], r_last[i], r_now[i]) {
+                        continue;
+                    }
+                    let mut zm = z.clone();
+                    if let Some(te) = hidden_crossing(*e, g_last[i], t_left, t_chk, &mut zm, |t, z| view.dense(st, t, z)) {
+                        t_chk = te;
+                        crossed = true;
+                    }
+                }
+                if crossed {
+                    view.dense(st, t_chk, &mut z);
+                    for (g, e) in g_now.iter_mut().zip(events) {
+                        *g = e.g(t_chk, &z);
+                    }
+                }
+            }
             if crossed {
                 st.prepare_dense(sys);
             }
-            if let Some(ev) = crossed.then(|| first_event(st, &schedule, view, &g_last, &g_now, t_left, t_pt, &mut z)).flatten() {
+            if let Some(ev) = crossed.then(|| first_event(st, &schedule, view, &g_last, &g_now, t_left, t_chk, &mut z)).flatten() {
                 let e = events[ev.index];
                 if e.action() == Action::Stop {
                     return finish(ev.t, StopReason::Event { index: ev.index }, &z);
@@ -288,12 +324,14 @@ pub fn run(
                 e.update(ev.t, &mut full);
                 st.restart(sys, ev.t, &full, t_end)?;
                 view.at(st, ev.t, &mut z);
-                for (g, e) in g_last.iter_mut().zip(events) {
+                for ((g, r), e) in g_last.iter_mut().zip(r_last.iter_mut()).zip(events) {
                     *g = e.g(ev.t, &z);
+                    *r = e.rate(ev.t, &z);
                 }
                 break;
             }
             std::mem::swap(&mut g_last, &mut g_now);
+            std::mem::swap(&mut r_last, &mut r_now);
             if !is_sample {
                 let sampled = matches!(schedule.output, Output::Steps) || st.t() >= t_end;
                 if sampled && observer(st.t(), &z) == Control::Stop {
@@ -374,6 +412,47 @@ pub fn locate(e: &dyn Event, g_before: f64, lo: f64, hi: f64, z: &mut [f64], mut
             lo = mid;
         }
     }
+}
+
+/// Whether g, on one side of zero at the left point (value `g`, rate `r_lo`), turns back toward
+/// zero before the right point (rate `r_hi`): a minimum of a positive g (rate − → +) or a
+/// maximum of a negative one (+ → −) lies between them, which may reach the other side.
+pub fn extremum_between(g: f64, r_lo: Option<f64>, r_hi: Option<f64>) -> bool {
+    match (r_lo, r_hi) {
+        (Some(a), Some(b)) => (g > 0.0 && a < 0.0 && b > 0.0) || (g < 0.0 && a > 0.0 && b < 0.0),
+        _ => false,
+    }
+}
+
+/// A pair of crossings of `e` inside (lo, hi) that a sign test at lo and hi does not see: g is
+/// `g_lo` at lo (on one side of zero), its rate turns toward zero between lo and hi
+/// ([`extremum_between`] at the two ends). The extremum (the rate's sign change, bisected on
+/// the dense output to the last representable time) is returned when g there has crossed in
+/// the event's direction: the first crossing of the pair then lies in (lo, extremum] and
+/// [`locate`] finds it from that bracket. `None`: the extremum stays on g_lo's side (`z` is
+/// left at some point of the bisection). Only one extremum per interval is looked for: an
+/// interval between checked points of one step holding two turns of R is not resolved.
+pub fn hidden_crossing(e: &dyn Event, g_lo: f64, lo: f64, hi: f64, z: &mut [f64], mut dense: impl FnMut(f64, &mut [f64])) -> Option<f64> {
+    // the side of the rate at lo: toward zero (negative for a positive g)
+    let toward = |t: f64, z: &[f64]| e.rate(t, z).is_some_and(|r| if g_lo > 0.0 { r < 0.0 } else { r > 0.0 });
+    let (mut a, mut b) = (lo, hi);
+    loop {
+        let mid = 0.5 * (a + b);
+        if !(mid > a && mid < b) {
+            break;
+        }
+        dense(mid, z);
+        if toward(mid, z) {
+            a = mid;
+        } else {
+            b = mid;
+        }
+    }
+    // the extremum lies in [a, b] (adjacent floats): whichever end is beyond zero
+    [a, b].into_iter().find(|&t| {
+        dense(t, z);
+        e.direction().crossed(g_lo, e.g(t, z))
+    })
 }
 
 /// A located event: its index and time.

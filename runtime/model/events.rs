@@ -50,6 +50,11 @@ impl Event for BranchEvent<'_> {
     fn action(&self) -> Action {
         Action::Restart
     }
+    /// Ṙ is z[1]: a dip of R below R_b (or above R_r, across a knot) and back inside one step
+    /// is found too (`run_loop::hidden_crossing`), not stepped over.
+    fn rate(&self, _t: f64, z: &[f64]) -> Option<f64> {
+        Some(self.law.margin_rate(z[0], z[1]))
+    }
     fn update(&self, t: f64, y: &mut [f64]) {
         let b = self.law.enter(y[0]);
         if let Ok(mut c) = self.clock.lock() {

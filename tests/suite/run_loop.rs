@@ -288,6 +288,52 @@ fn an_event_is_located_to_the_last_representable_time_on_the_dense_output() {
     }
 }
 
+/// g = x + depth, either direction, with or without its rate ẋ: x = cos ωt dips below −depth
+/// for a short while around t = π/ω and comes back — a pair of crossings that a loose step
+/// holds whole.
+struct Dip {
+    depth: f64,
+    with_rate: bool,
+}
+impl Event for Dip {
+    fn g(&self, _t: f64, z: &[f64]) -> f64 {
+        z[0] + self.depth
+    }
+    fn direction(&self) -> Direction {
+        Direction::Either
+    }
+    fn rate(&self, _t: f64, z: &[f64]) -> Option<f64> {
+        self.with_rate.then_some(z[1])
+    }
+}
+
+#[test]
+fn a_pair_of_crossings_inside_one_step_is_found_through_the_rate() {
+    // x = cos 2t dips below −0.9999 on |t − π/2| < arccos(0.9999)/2 = 0.0071: one step of a
+    // loose DOP853 (h ≈ 0.3 here) holds both crossings, so g has the same sign at both ends
+    let depth: f64 = 0.9999;
+    let t_exact = (std::f64::consts::PI - depth.acos()) / OMEGA;
+    let sys = Burst::new(0.0, 0.0, true);
+    for m in [Method::Dop853 { rtol: 1e-6, atol: 1e-6 }, Method::Dopri5 { rtol: 1e-6, atol: 1e-6 }, Method::Radau5 { rtol: 1e-6, atol: 1e-6 }] {
+        for with_rate in [false, true] {
+            let ev = Dip { depth, with_rate };
+            let mut st = stepper(&sys, &m, 0.0, &Y0, T_END).unwrap();
+            let events: [&dyn Event; 1] = [&ev];
+            let schedule = Schedule { events: &events, ..Schedule::new(T_END, Output::Steps, 1_000_000) };
+            let fin = run(&mut *st, &sys, schedule, &mut |_, _| Control::Continue).unwrap();
+            if with_rate {
+                assert_eq!(fin.reason, StopReason::Event { index: 0 }, "{m:?}");
+                // the first crossing of the pair, to the dense output's accuracy at this tolerance
+                assert!((fin.t - t_exact).abs() < 1e-4, "{m:?}: {} vs {t_exact}", fin.t);
+                assert!(fin.z[0] < -depth, "{m:?}: on the crossed side");
+            } else {
+                // the sign test alone steps over the dip (what the rate is for)
+                assert_eq!(fin.reason, StopReason::End, "{m:?} without the rate: the pair should lie inside one step");
+            }
+        }
+    }
+}
+
 /// A ball under gravity bouncing with restitution e: y'' = −1, at y = 0 (falling) v ← −e·v.
 struct Ball;
 impl OdeSystem for Ball {

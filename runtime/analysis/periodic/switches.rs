@@ -3,7 +3,9 @@
 //! A kinked shell law (Marmottant's R_b and R_r, a tension curve's knots) changes its formula
 //! where R crosses a switch: the radial right-hand side has a kink there and the shape system's
 //! A(t) a jump. A fixed RK4 step across such an instant samples two formulas in its stages and
-//! loses its order. So a grid step whose end has crossed a switch is redone in two parts: up to
+//! loses its order. So a grid step whose end has crossed a switch (or that holds a pair of
+//! crossings: R's extremum inside the step beyond the switch, [`run_loop::hidden_crossing`]) is
+//! redone in two parts: up to
 //! the crossing — located by the run loop's own bisection ([`run_loop::locate`]) on the step's
 //! cubic Hermite dense output (the run loop's RK4 dense output, `integrate::hermite`), with the
 //! run's own event functions ([`Switching::events`]) — and from there to the grid point, on the
@@ -104,6 +106,9 @@ impl RkFlow<'_> {
         sw.enter(t0, y.as_ref());
         let mut g: Vec<f64> = events.iter().map(|e| e.g(t0, y.as_ref())).collect();
         let mut g_new = g.clone();
+        // dg/dt (Ṙ for R − R_b): a pair of crossings inside one step is found as in a run
+        let mut r: Vec<Option<f64>> = events.iter().map(|e| e.rate(t0, y.as_ref())).collect();
+        let mut r_new = r.clone();
         let zero = || vec![0.0; n];
         let mut b = StepEnds { y0: zero(), f0: zero(), y1: zero(), f1: zero(), z: zero() };
         let finite = |y: &B, tan: &T, t: f64| {
@@ -124,12 +129,16 @@ impl RkFlow<'_> {
                 self.rk4_step(tc, hc, y, ky, tmp, tan, o);
                 let te = tc + hc;
                 finite(y, tan, te)?;
-                for (gi, e) in g_new.iter_mut().zip(&events) {
+                for ((gi, ri), e) in g_new.iter_mut().zip(r_new.iter_mut()).zip(&events) {
                     *gi = e.g(te, y.as_ref());
+                    *ri = e.rate(te, y.as_ref());
                 }
-                let crossed = |i: usize| events[i].direction().crossed(g[i], g_new[i]);
-                if located == MAX_SWITCHES_PER_STEP || !(0..events.len()).any(crossed) {
+                let any_crossed = (0..events.len()).any(|i| events[i].direction().crossed(g[i], g_new[i]));
+                let turns = |i: &usize| run_loop::extremum_between(g[*i], r[*i], r_new[*i]);
+                let hidden = !any_crossed && (0..events.len()).any(|i| turns(&i));
+                if located == MAX_SWITCHES_PER_STEP || !(any_crossed || hidden) {
                     std::mem::swap(&mut g, &mut g_new);
+                    std::mem::swap(&mut r, &mut r_new);
                     break;
                 }
                 // the step's dense output (on the branch it was taken on)
@@ -138,9 +147,29 @@ impl RkFlow<'_> {
                 self.sys.rhs(te, &b.y1, &mut b.f1);
                 let StepEnds { y0, f0, y1, f1, z } = &mut b;
                 let dense = |tq: f64, out: &mut [f64]| crate::integrate::hermite(tc, hc, y0, f0, y1, f1, tq, out);
+                // a pair of crossings inside the step: the earliest extremum beyond zero ends
+                // the bracket (`run_loop::hidden_crossing`, as the run loop does)
+                let mut t_hi = te;
+                if hidden {
+                    for i in (0..events.len()).filter(turns) {
+                        if let Some(t_x) = run_loop::hidden_crossing(&*events[i], g[i], tc, t_hi, z, dense) {
+                            t_hi = t_x;
+                        }
+                    }
+                    if t_hi == te {
+                        std::mem::swap(&mut g, &mut g_new);
+                        std::mem::swap(&mut r, &mut r_new);
+                        break;
+                    }
+                    dense(t_hi, z);
+                    for (gi, e) in g_new.iter_mut().zip(&events) {
+                        *gi = e.g(t_hi, z);
+                    }
+                }
+                let crossed = |i: usize| events[i].direction().crossed(g[i], g_new[i]);
                 let (mut first, mut ts) = (0, f64::INFINITY);
                 for i in (0..events.len()).filter(|&i| crossed(i)) {
-                    let ti = run_loop::locate(&*events[i], g[i], tc, te, z, dense);
+                    let ti = run_loop::locate(&*events[i], g[i], tc, t_hi, z, dense);
                     if ti < ts {
                         (first, ts) = (i, ti);
                     }
@@ -158,8 +187,9 @@ impl RkFlow<'_> {
                 // (on the crossed side by construction), as in the run loop
                 dense(ts, z);
                 events[first].update(ts, z);
-                for (gi, e) in g.iter_mut().zip(&events) {
+                for ((gi, ri), e) in g.iter_mut().zip(r.iter_mut()).zip(&events) {
                     *gi = e.g(ts, z);
+                    *ri = e.rate(ts, z);
                 }
                 if let Some(l) = log.as_deref_mut() {
                     let mut f_after = vec![0.0; n];

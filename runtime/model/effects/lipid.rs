@@ -196,6 +196,15 @@ impl LipidLaw {
         }
     }
 
+    /// d/dt of [`LipidLaw::margin`] at radius `r` moving at `rdot` (model units): Ṙ, or
+    /// 2RṘ/R0² for a tension curve's knot.
+    pub fn margin_rate(&self, r: f64, rdot: f64) -> f64 {
+        match &self.curve {
+            Some(_) => 2.0 * r * rdot / (self.r0 * self.r0),
+            None => rdot,
+        }
+    }
+
     /// The run enters radius `r`: its branch (a tension curve: its segment) becomes r's; returns
     /// the branch class for the run's clock (a curve: below its first knot buckled, above its
     /// last ruptured, elastic between).
