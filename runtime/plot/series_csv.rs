@@ -7,6 +7,7 @@
 //! m, mm, um/µm, nm); a column without a unit is taken as SI.
 
 use super::kinds::{time_series, TimeSeries};
+use super::{Axis, Panel, Series};
 use super::{PlotError, Saved};
 use std::path::{Path, PathBuf};
 
@@ -131,6 +132,11 @@ impl SeriesTable {
         self.find(|b| matches!(b, "R" | "radius" | "r"))
     }
 
+    /// The bubble pressure p_b [Pa] of the reduced thermal model (`gas.thermal = "reduced"`).
+    pub fn bubble_pressure_pa(&self) -> Option<Vec<f64>> {
+        self.find(|b| matches!(b, "p_b" | "pb"))
+    }
+
     /// a_k (`kind = 'a'`), b_k (`'b'`) [m], ȧ_k (`'A'`), ḃ_k (`'B'`) [m/s].
     pub fn shape(&self, kind: char, k: usize) -> Option<Vec<f64>> {
         self.find(|b| shape_key(b) == Some((kind, k)))
@@ -188,7 +194,8 @@ pub fn summary_blow_up(summary: &Path) -> Option<(String, f64)> {
 }
 
 /// Reads `csv_path` (a `series.csv` of `magbubble run`) and writes `out_dir/series.svg` and
-/// `out_dir/series.png`: R(t) above a_k(t) for every mode in the file. A blow-up recorded in
+/// `out_dir/series.png`: R(t) above a_k(t) for every mode in the file, and p_b(t) below them
+/// when the file has the reduced thermal model's `p_b`. A blow-up recorded in
 /// the `summary.json` next to the CSV is marked (dashed line, title) and puts the shape modes
 /// on a log |a_k| axis.
 pub fn series_plot(csv_path: &Path, out_dir: &Path) -> Result<Saved, PlotError> {
@@ -209,7 +216,21 @@ pub fn series_plot(csv_path: &Path, out_dir: &Path) -> Result<Saved, PlotError> 
             }
         }
     };
-    time_series(&title, std::slice::from_ref(&run)).save(out_dir, "series")
+    let mut figure = time_series(&title, std::slice::from_ref(&run));
+    if let Some(pb) = table.bubble_pressure_pa() {
+        // the reduced thermal model's p_b (issue 31) in a panel of its own, below the others
+        // on a log axis when it spans two decades (a collapse), as the shape panel does
+        let t = run.t_s.iter().map(|t| t * 1e6).collect();
+        let kpa: Vec<f64> = pb.iter().map(|p| p * 1e-3).collect();
+        let (lo, hi) = kpa.iter().filter(|p| p.is_finite() && **p > 0.0).fold((f64::INFINITY, 0.0f64), |(l, h), &p| (l.min(p), h.max(p)));
+        let y = if hi >= super::LOG_SPAN * lo { Axis::log("p_b [kPa]") } else { Axis::linear("p_b [kPa]") };
+        let mut panel = Panel::new(Axis::linear("t [µs]"), y);
+        panel.push(Series::line("", t, kpa));
+        figure.panels.push(panel);
+        figure.share_x = true;
+        figure.panel_height = 400;
+    }
+    figure.save(out_dir, "series")
 }
 
 /// The title of a run's plot from its summary.json (issue 29 item 14): the scene (file stem,
@@ -236,6 +257,9 @@ pub fn run_title(summary: &serde_json::Value) -> Option<String> {
     let free = summary.get("active_effects").and_then(|e| e.as_array()).is_some_and(|e| e.iter().any(|e| e.as_str() == Some("free bubble (no membrane)")));
     let law = scene.pointer("/shell/law/name").and_then(|n| n.as_str()).unwrap_or("mooney-rivlin");
     model.push(if free { "free bubble".to_string() } else { law.to_string() });
+    if let Some(thermal) = scene.pointer("/gas/thermal/name").and_then(|n| n.as_str()).filter(|n| *n != "polytropic") {
+        model.push(format!("{thermal} thermal"));
+    }
     // the method that ran (issue 34: under `auto`, the one the stiffness estimate chose)
     let ran = summary.pointer("/integrator/method").and_then(|m| m.as_str());
     model.push(ran.or(scene.pointer("/run/integrator/method").and_then(|m| m.as_str()))?.to_string());

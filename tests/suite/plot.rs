@@ -352,6 +352,18 @@ fn series_csv_is_read_and_plotted() {
     let r = table.radius_m().unwrap();
     assert!((r[0] - 11e-6).abs() < 1e-12);
 
+    // the reduced thermal model's bubble pressure gets a panel of its own
+    let mut text = String::from("t,R,p_b\n");
+    for i in 0..200 {
+        let t = i as f64 * 1e-8;
+        text += &format!("{t:e},{:e},{:e}\n", 5e-6 * (1.0 + 0.1 * (1e6 * t).sin()), 101325.0 * (1.0 + 0.3 * (1e6 * t).cos()));
+    }
+    std::fs::write(dir.join("thermal.csv"), text).unwrap();
+    series_plot(&dir.join("thermal.csv"), &dir).unwrap();
+    assert_rendered(&dir, "series", &["R [µm]", "p_b [kPa]"]);
+    let svg = std::fs::read_to_string(dir.join("series.svg")).unwrap();
+    assert!(!svg.contains("shape amplitude"), "a radial run has no shape panel");
+
     std::fs::write(dir.join("bad.csv"), "t,R\n0,1\n1,2,3\n").unwrap();
     let err = series_plot(&dir.join("bad.csv"), &dir).unwrap_err();
     assert!(matches!(err, PlotError::Csv { line: 3, .. }), "{err}");
@@ -433,4 +445,8 @@ fn run_plot_title_names_scene_model_and_stop() {
     // a free bubble has no shell law
     let title = magbubble::plot::run_title(&run_summary(&["run", "scenes/free_bubble.toml"], &dir.path().join("fb"))).unwrap();
     assert!(title.contains(", free bubble, ") && !title.contains("mooney"), "{title}");
+    assert!(!title.contains("thermal"), "a polytropic gas is not named: {title}");
+    // the reduced thermal model is named
+    let title = magbubble::plot::run_title(&run_summary(&["run", "scenes/hard/reduced_collapse.toml", "--set", "run.duration=1e-7"], &dir.path().join("rc"))).unwrap();
+    assert!(title.contains(", free bubble, reduced thermal, "), "{title}");
 }
