@@ -107,9 +107,15 @@ pub(crate) fn initial_step(
 pub(crate) fn hermite(t0: f64, h: f64, y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f64], t: f64, out: &mut [f64]) {
     let th = (t - t0) / h;
     for i in 0..out.len() {
-        let dy = y1[i] - y0[i];
-        out[i] = (1.0 - th) * y0[i] + th * y1[i] + th * (th - 1.0) * ((1.0 - 2.0 * th) * dy + (th - 1.0) * h * f0[i] + th * h * f1[i]);
+        out[i] = hermite_at(th, h, y0[i], f0[i], y1[i], f1[i]);
     }
+}
+
+/// One component of [`hermite`] at θ = (t − t0)/h.
+#[inline(always)]
+fn hermite_at(th: f64, h: f64, y0: f64, f0: f64, y1: f64, f1: f64) -> f64 {
+    let dy = y1 - y0;
+    (1.0 - th) * y0 + th * y1 + th * (th - 1.0) * ((1.0 - 2.0 * th) * dy + (th - 1.0) * h * f0 + th * h * f1)
 }
 
 /// Workspace of [`rk4_step`] (4 stage vectors and one argument vector).
@@ -589,25 +595,43 @@ impl super::Stepper for ExplicitRk {
     }
 
     fn interpolate(&self, t: f64, out: &mut [f64]) {
+        self.dense_components(t, out.iter_mut().enumerate());
+    }
+
+    /// Without interpolating the other components (the default would, into a fresh vector):
+    /// the event bisections evaluate R and Ṙ alone, tens of times per located switch.
+    fn interpolate_at(&self, t: f64, idx: &[usize], out: &mut [f64]) {
+        self.dense_components(t, idx.iter().copied().zip(out.iter_mut()));
+    }
+}
+
+impl ExplicitRk {
+    /// The dense output of component m at t into each (m, out) pair, the same formula per
+    /// component for all of them and for a selection.
+    #[inline(always)]
+    fn dense_components<'o>(&self, t: f64, pairs: impl Iterator<Item = (usize, &'o mut f64)>) {
         let h = self.t - self.t_prev;
         match &self.tab.dense {
             DenseOutput::Dopri5 { .. } => {
                 let th = (t - self.t_prev) / h;
                 let th1 = 1.0 - th;
                 let r = &self.rcont;
-                for m in 0..out.len() {
-                    out[m] = r[0][m] + th * (r[1][m] + th1 * (r[2][m] + th * (r[3][m] + th1 * r[4][m])));
+                for (m, o) in pairs {
+                    *o = r[0][m] + th * (r[1][m] + th1 * (r[2][m] + th * (r[3][m] + th1 * r[4][m])));
                 }
             }
             DenseOutput::Dop853 if self.dense_ready => {
                 let th = (t - self.t_prev) / self.h_last;
-                for (m, o) in out.iter_mut().enumerate() {
+                for (m, o) in pairs {
                     *o = super::dop853_dense::eval(&self.rcont, th, m);
                 }
             }
             // Dop853 without `prepare_dense` (a caller stepping by hand): the cubic Hermite
             DenseOutput::Dop853 | DenseOutput::Hermite => {
-                hermite(self.t_prev, h, &self.y_prev, &self.f_prev, &self.y, &self.k[0], t, out)
+                let th = (t - self.t_prev) / h;
+                for (m, o) in pairs {
+                    *o = hermite_at(th, h, self.y_prev[m], self.f_prev[m], self.y[m], self.k[0][m]);
+                }
             }
         }
     }
