@@ -4,7 +4,9 @@
 //! differs. The terms of a radial scene are copied into [`Kernel`], an enum over their concrete
 //! types, so each call is a direct, inlined one: the virtual calls and their memory round trips
 //! go, and the rate's (R, Ṙ) gradients, which R̈ does not read, become dead code the compiler
-//! drops. No formula is written here: a term's physics stays in its file.
+//! drops — or, where they cost calls the compiler cannot drop (the Marmottant law's central
+//! difference), the term leaves them out ([`Term::add_with_rate_value`]). No formula is written
+//! here: a term's physics stays in its file.
 //!
 //! Assembled only when every term is one of [`Kernel`]'s types and the form is Keller–Miksis
 //! (otherwise the run uses [`Equations::radial_acceleration`]). Same bits:
@@ -39,7 +41,7 @@ macro_rules! kernels {
             #[inline(always)]
             fn add_with_rate(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) {
                 match self {
-                    $(Kernel::$variant(t) => t.add_with_rate(at, loads, rate)),*
+                    $(Kernel::$variant(t) => t.add_with_rate_value(at, loads, rate)),*
                 };
             }
         }

@@ -331,6 +331,21 @@ pub struct LipidTerm {
     pub label: String,
 }
 
+impl LipidTerm {
+    /// [`Term::add`] with Ŝ0(R) given: −Ŝ0 in P, the modes' Ŝ1 a + Ŝ2 b and Ŝ11 a + Ŝ12 b.
+    #[inline]
+    fn add_with_s0(&self, at: &At<'_>, loads: &mut Loads<'_>, s0: f64) {
+        let r = at.r();
+        loads.pressure -= s0;
+        for m in 0..loads.gn.len() {
+            let [s1, s2, s11, s12] = self.law.stiffness(r, self.orders[m]);
+            let (a, b) = (at.a(m), at.b(m));
+            loads.gn[m] += s1 * a + s2 * b;
+            loads.gt[m] += s11 * a + s12 * b;
+        }
+    }
+}
+
 impl Term for LipidTerm {
     fn name(&self) -> &'static str {
         "marmottant"
@@ -340,14 +355,16 @@ impl Term for LipidTerm {
     }
     #[inline]
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
-        let r = at.r();
-        loads.pressure -= self.law.s0(r).0;
-        for m in 0..loads.gn.len() {
-            let [s1, s2, s11, s12] = self.law.stiffness(r, self.orders[m]);
-            let (a, b) = (at.a(m), at.b(m));
-            loads.gn[m] += s1 * a + s2 * b;
-            loads.gt[m] += s11 * a + s12 * b;
-        }
+        self.add_with_s0(at, loads, self.law.s0(at.r()).0);
+    }
+    /// P's rate −Ŝ0′(R)Ṙ from the Ŝ0 evaluation the loads use: one evaluation of the law where
+    /// `add_with_rate` makes five (`add_rate`'s gradient is a central difference).
+    fn add_with_rate_value(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) -> bool {
+        let (s0, d1) = self.law.s0(at.r());
+        self.add_with_s0(at, loads, s0);
+        rate.q -= d1 * at.rdot();
+        rate.dq[1] -= d1;
+        true
     }
     fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
         dp[0] -= self.law.s0(at.r()).1;

@@ -325,6 +325,13 @@ pub trait Term: std::fmt::Debug + AsAny {
         self.add(at, loads);
         self.add_rate(at, rate)
     }
+    /// [`add_with_rate`](Term::add_with_rate) for a caller that reads only the rate's values q
+    /// and s, not their gradients dq, ds (the fused radial rhs, `model/radial_fused.rs`): a term
+    /// whose gradients cost evaluations of their own may leave them out; q, s and the loads are
+    /// the same bits. Default: `add_with_rate`.
+    fn add_with_rate_value(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) -> bool {
+        self.add_with_rate(at, loads, rate)
+    }
     /// Whether the term has shape loads proportional to ḃ_k ([`BdotLoads`]; default: none).
     fn has_bdot_loads(&self) -> bool {
         false
