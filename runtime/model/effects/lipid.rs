@@ -283,8 +283,10 @@ impl LipidLaw {
     }
 
     /// The generated tables' (chi, chib) at R and their R-derivatives: chi = Jτ′ − τ, chib = τ′.
+    /// The law is evaluated here; [`LipidLaw::stiffness_with`] and
+    /// [`LipidLaw::stiffness_dr_with`] take them, so the modes of one state share one evaluation.
     #[inline]
-    fn args(&self, r: f64) -> ((f64, f64), (f64, f64)) {
+    pub fn args(&self, r: f64) -> ((f64, f64), (f64, f64)) {
         let r0 = self.r0;
         let j = (r / r0) * (r / r0);
         let [tau, tj, tjj] = self.tension(j);
@@ -294,21 +296,38 @@ impl LipidLaw {
 
     /// Ŝ0 and its exact R-derivative.
     pub fn s0(&self, r: f64) -> (f64, f64) {
-        let ((u, v), (du, dv)) = self.args(r);
+        self.s0_with(self.args(r), r)
+    }
+
+    /// [`LipidLaw::s0`] from the [`LipidLaw::args`] at R.
+    #[inline]
+    pub fn s0_with(&self, args: ((f64, f64), (f64, f64)), r: f64) -> (f64, f64) {
+        let ((u, v), (du, dv)) = args;
         let r0 = self.r0;
         (m::s0(r, r0, u, v), m::s0_dr(r, r0, u, v) + du * m::s0(r, r0, 1.0, 0.0) + dv * m::s0(r, r0, 0.0, 1.0))
     }
 
     /// (Ŝ1, Ŝ2, Ŝ11, Ŝ12) of mode k at R.
     pub fn stiffness(&self, r: f64, k: f64) -> [f64; 4] {
-        let ((u, v), _) = self.args(r);
+        self.stiffness_with(self.args(r), r, k)
+    }
+
+    /// [`LipidLaw::stiffness`] from the [`LipidLaw::args`] at R.
+    #[inline]
+    pub fn stiffness_with(&self, args: ((f64, f64), (f64, f64)), r: f64, k: f64) -> [f64; 4] {
+        let ((u, v), _) = args;
         let r0 = self.r0;
         [m::s1(r, r0, u, v, k), m::s2(r, r0, u, v, k), m::s11(r, r0, u, v, k), m::s12(r, r0, u, v, k)]
     }
 
     /// Their exact R-derivatives.
     pub fn stiffness_dr(&self, r: f64, k: f64) -> [f64; 4] {
-        let ((u, v), (du, dv)) = self.args(r);
+        self.stiffness_dr_with(self.args(r), r, k)
+    }
+
+    /// [`LipidLaw::stiffness_dr`] from the [`LipidLaw::args`] at R.
+    pub fn stiffness_dr_with(&self, args: ((f64, f64), (f64, f64)), r: f64, k: f64) -> [f64; 4] {
+        let ((u, v), (du, dv)) = args;
         let r0 = self.r0;
         let chain = |f: fn(f64, f64, f64, f64, f64) -> f64, fdr: fn(f64, f64, f64, f64, f64) -> f64| {
             let mut d = fdr(r, r0, u, v, k);
@@ -332,13 +351,14 @@ pub struct LipidTerm {
 }
 
 impl LipidTerm {
-    /// [`Term::add`] with Ŝ0(R) given: −Ŝ0 in P, the modes' Ŝ1 a + Ŝ2 b and Ŝ11 a + Ŝ12 b.
+    /// [`Term::add`] with the law's [`LipidLaw::args`] and Ŝ0 at R given: −Ŝ0 in P, the modes'
+    /// Ŝ1 a + Ŝ2 b and Ŝ11 a + Ŝ12 b (the law evaluated once for all of them).
     #[inline]
-    fn add_with_s0(&self, at: &At<'_>, loads: &mut Loads<'_>, s0: f64) {
+    fn add_with_s0(&self, at: &At<'_>, loads: &mut Loads<'_>, args: ((f64, f64), (f64, f64)), s0: f64) {
         let r = at.r();
         loads.pressure -= s0;
         for m in 0..loads.gn.len() {
-            let [s1, s2, s11, s12] = self.law.stiffness(r, self.orders[m]);
+            let [s1, s2, s11, s12] = self.law.stiffness_with(args, r, self.orders[m]);
             let (a, b) = (at.a(m), at.b(m));
             loads.gn[m] += s1 * a + s2 * b;
             loads.gt[m] += s11 * a + s12 * b;
@@ -355,13 +375,15 @@ impl Term for LipidTerm {
     }
     #[inline]
     fn add(&self, at: &At<'_>, loads: &mut Loads<'_>) {
-        self.add_with_s0(at, loads, self.law.s0(at.r()).0);
+        let args = self.law.args(at.r());
+        self.add_with_s0(at, loads, args, self.law.s0_with(args, at.r()).0);
     }
     /// P's rate −Ŝ0′(R)Ṙ from the Ŝ0 evaluation the loads use: one evaluation of the law where
     /// `add_with_rate` makes five (`add_rate`'s gradient is a central difference).
     fn add_with_rate_value(&self, at: &At<'_>, loads: &mut Loads<'_>, rate: &mut PressureRate) -> bool {
-        let (s0, d1) = self.law.s0(at.r());
-        self.add_with_s0(at, loads, s0);
+        let args = self.law.args(at.r());
+        let (s0, d1) = self.law.s0_with(args, at.r());
+        self.add_with_s0(at, loads, args, s0);
         rate.q -= d1 * at.rdot();
         rate.dq[1] -= d1;
         true
@@ -371,11 +393,12 @@ impl Term for LipidTerm {
     }
     fn add_jacobian(&self, at: &At<'_>, jac: &mut LoadJacobian) {
         let (r, n) = (at.r(), jac.n);
-        jac.pressure[0] -= self.law.s0(r).1;
+        let args = self.law.args(r);
+        jac.pressure[0] -= self.law.s0_with(args, r).1;
         let lay = StateLayout::reduced(jac.modes());
         for m in 0..jac.modes() {
             let k = self.orders[m];
-            let (s, d) = (self.law.stiffness(r, k), self.law.stiffness_dr(r, k));
+            let (s, d) = (self.law.stiffness_with(args, r, k), self.law.stiffness_dr_with(args, r, k));
             let (a, b) = (at.a(m), at.b(m));
             let (ia, ib) = (lay.a(m), lay.b(m));
             let gn = &mut jac.gn[m * n..(m + 1) * n];
