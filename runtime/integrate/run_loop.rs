@@ -285,22 +285,23 @@ pub fn run(
                 *r = e.rate(t_pt, &z);
             }
             let mut crossed = events.iter().enumerate().any(|(i, e)| e.direction().crossed(g_last[i], g_now[i]));
-            // a pair of crossings between the points: the earliest extremum beyond zero becomes
+            // a pair of crossings between the points (of an event whose sign test saw nothing,
+            // also beside another event's crossing): the earliest extremum beyond zero becomes
             // the right end of the bracket (g of every event there)
+            let turns = |i: usize| !events[i].direction().crossed(g_last[i], g_now[i]) && extremum_between(g_last[i], r_last[i], r_now[i]);
             let mut t_chk = t_pt;
-            if !crossed && (0..events.len()).any(|i| extremum_between(g_last[i], r_last[i], r_now[i])) {
+            if (0..events.len()).any(turns) {
                 st.prepare_dense(sys);
-                for (i, e) in events.iter().enumerate() {
-                    if !extremum_between(g_last[i], r_last[i], r_now[i]) {
-                        continue;
-                    }
+                let mut hidden = false;
+                for i in (0..events.len()).filter(|&i| turns(i)) {
                     let mut zm = z.clone();
-                    if let Some(te) = hidden_crossing(*e, g_last[i], t_left, t_chk, &mut zm, |t, z| view.dense(st, t, z)) {
+                    if let Some(te) = hidden_crossing(events[i], g_last[i], t_left, t_chk, &mut zm, |t, z| view.dense(st, t, z)) {
                         t_chk = te;
-                        crossed = true;
+                        hidden = true;
                     }
                 }
-                if crossed {
+                if hidden {
+                    crossed = true;
                     view.dense(st, t_chk, &mut z);
                     for (g, e) in g_now.iter_mut().zip(events) {
                         *g = e.g(t_chk, &z);

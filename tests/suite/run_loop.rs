@@ -334,6 +334,32 @@ fn a_pair_of_crossings_inside_one_step_is_found_through_the_rate() {
     }
 }
 
+/// g = t − at, rising: a crossing any sign test sees.
+struct At(f64);
+impl Event for At {
+    fn g(&self, t: f64, _z: &[f64]) -> f64 {
+        t - self.0
+    }
+}
+
+#[test]
+fn a_pair_of_crossings_is_found_beside_another_events_crossing_in_the_same_step() {
+    // the dip of the test above, and a time event inside the dip (after the pair's first
+    // crossing): the step holding the pair holds the time event's crossing too, which the sign
+    // test sees; the pair's first crossing comes first and must end the run
+    let depth: f64 = 0.9999;
+    let t_exact = (std::f64::consts::PI - depth.acos()) / OMEGA;
+    let sys = Burst::new(0.0, 0.0, true);
+    let dip = Dip { depth, with_rate: true };
+    let later = At(t_exact + 0.002);
+    let mut st = stepper(&sys, &Method::Dop853 { rtol: 1e-6, atol: 1e-6 }, 0.0, &Y0, T_END).unwrap();
+    let events: [&dyn Event; 2] = [&later, &dip];
+    let schedule = Schedule { events: &events, ..Schedule::new(T_END, Output::Steps, 1_000_000) };
+    let fin = run(&mut *st, &sys, schedule, &mut |_, _| Control::Continue).unwrap();
+    assert_eq!(fin.reason, StopReason::Event { index: 1 }, "the dip's crossing at {t_exact}, not the time event's at {}", t_exact + 0.002);
+    assert!((fin.t - t_exact).abs() < 1e-4, "{} vs {t_exact}", fin.t);
+}
+
 /// A ball under gravity bouncing with restitution e: y'' = −1, at y = 0 (falling) v ← −e·v.
 struct Ball;
 impl OdeSystem for Ball {

@@ -134,8 +134,9 @@ impl RkFlow<'_> {
                     *ri = e.rate(te, y.as_ref());
                 }
                 let any_crossed = (0..events.len()).any(|i| events[i].direction().crossed(g[i], g_new[i]));
-                let turns = |i: &usize| run_loop::extremum_between(g[*i], r[*i], r_new[*i]);
-                let hidden = !any_crossed && (0..events.len()).any(|i| turns(&i));
+                // (as in the run loop: an event whose sign test saw nothing, beside another's crossing too)
+                let turns = |i: &usize| !events[*i].direction().crossed(g[*i], g_new[*i]) && run_loop::extremum_between(g[*i], r[*i], r_new[*i]);
+                let hidden = (0..events.len()).any(|i| turns(&i));
                 if located == MAX_SWITCHES_PER_STEP || !(any_crossed || hidden) {
                     std::mem::swap(&mut g, &mut g_new);
                     std::mem::swap(&mut r, &mut r_new);
@@ -156,14 +157,16 @@ impl RkFlow<'_> {
                             t_hi = t_x;
                         }
                     }
-                    if t_hi == te {
+                    if t_hi == te && !any_crossed {
                         std::mem::swap(&mut g, &mut g_new);
                         std::mem::swap(&mut r, &mut r_new);
                         break;
                     }
-                    dense(t_hi, z);
-                    for (gi, e) in g_new.iter_mut().zip(&events) {
-                        *gi = e.g(t_hi, z);
+                    if t_hi < te {
+                        dense(t_hi, z);
+                        for (gi, e) in g_new.iter_mut().zip(&events) {
+                            *gi = e.g(t_hi, z);
+                        }
                     }
                 }
                 let crossed = |i: usize| events[i].direction().crossed(g[i], g_new[i]);
