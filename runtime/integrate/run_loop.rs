@@ -212,6 +212,8 @@ pub fn run(
     };
     let t0 = st.t();
     let mut z = vec![0.0; schedule.observed.map_or(n, |o| o.len())];
+    // the observed components at the probes of a search that must leave z as it is
+    let mut scratch = z.clone();
     view.at(st, t0, &mut z);
     let finish = |t: f64, reason: StopReason, z: &[f64]| Ok(Finish { t, reason, z: z.to_vec() });
     if observer(t0, &z) == Control::Stop {
@@ -294,8 +296,7 @@ pub fn run(
                 st.prepare_dense(sys);
                 let mut hidden = false;
                 for i in (0..events.len()).filter(|&i| turns(i)) {
-                    let mut zm = z.clone();
-                    if let Some(te) = hidden_crossing(events[i], g_last[i], t_left, t_chk, &mut zm, |t, z| view.dense(st, t, z)) {
+                    if let Some(te) = hidden_crossing(events[i], g_last[i], t_left, t_chk, &mut scratch, |t, z| view.dense(st, t, z)) {
                         t_chk = te;
                         hidden = true;
                     }
@@ -359,7 +360,7 @@ pub fn run(
 }
 
 /// The earliest event crossed between the checked points `t_left` (g = `g_last`) and `t_pt`
-/// (g = `g_now`), located by bisection on the dense output; `z` is left at the located time.
+/// (g = `g_now`), located on the dense output ([`locate`]); `z` is left at the located time.
 /// `None`: no event crossed (z unchanged).
 #[allow(clippy::too_many_arguments)]
 fn first_event(
@@ -377,8 +378,8 @@ fn first_event(
         if !e.direction().crossed(g_last[index], g_now[index]) {
             continue;
         }
-        let mut zm = z.to_vec();
-        let hi = locate(*e, g_last[index], t_left, t_pt, &mut zm, |t, z| view.dense(st, t, z));
+        // z as the search's scratch: it is set to the earliest crossing below
+        let hi = locate(*e, g_last[index], t_left, t_pt, z, |t, z| view.dense(st, t, z));
         if found.as_ref().is_none_or(|f| hi < f.t) {
             found = Some(Located { index, t: hi });
         }

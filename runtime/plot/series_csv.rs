@@ -219,11 +219,10 @@ pub fn series_plot(csv_path: &Path, out_dir: &Path) -> Result<Saved, PlotError> 
     let mut figure = time_series(&title, std::slice::from_ref(&run));
     if let Some(pb) = table.bubble_pressure_pa() {
         // the reduced thermal model's p_b (issue 31) in a panel of its own, below the others
-        // on a log axis when it spans two decades (a collapse), as the shape panel does
+        // on a log axis by the shape panel's rule (`wants_log`: it grows or falls two decades)
         let t = run.t_s.iter().map(|t| t * 1e6).collect();
         let kpa: Vec<f64> = pb.iter().map(|p| p * 1e-3).collect();
-        let (lo, hi) = kpa.iter().filter(|p| p.is_finite() && **p > 0.0).fold((f64::INFINITY, 0.0f64), |(l, h), &p| (l.min(p), h.max(p)));
-        let y = if hi >= super::LOG_SPAN * lo { Axis::log("p_b [kPa]") } else { Axis::linear("p_b [kPa]") };
+        let y = if super::wants_log(std::slice::from_ref(&kpa), false) { Axis::log("p_b [kPa]") } else { Axis::linear("p_b [kPa]") };
         let mut panel = Panel::new(Axis::linear("t [µs]"), y);
         panel.push(Series::line("", t, kpa));
         figure.panels.push(panel);

@@ -385,7 +385,6 @@ impl Term for LipidTerm {
         let (s0, d1) = self.law.s0_with(args, at.r());
         self.add_with_s0(at, loads, args, s0);
         rate.q -= d1 * at.rdot();
-        rate.dq[1] -= d1;
         true
     }
     fn add_pressure_gradient(&self, at: &At<'_>, dp: &mut [f64; 2]) {
